@@ -1,0 +1,45 @@
+#pragma once
+// A participating medium: extinction sigma_t(x) (grey), RGB single-scattering albedo and a
+// Henyey-Greenstein g. Scattering coefficient = albedo * sigma_t.
+//
+// Free-flight sampling and transmittance are the only ways integrators touch sigma_t along a
+// ray, so each medium can use its closed form (homogeneous) or delta / ratio tracking against
+// a majorant (grids). Both are unbiased; nothing marches exp(-tau) with a fixed step.
+#include <memory>
+#include <string>
+
+#include "core/math.h"
+#include "core/rng.h"
+
+namespace vpm {
+
+class Medium {
+public:
+    Medium(const Rgb& albedo, double g) : albedo_(albedo), g_(g) {}
+    virtual ~Medium() = default;
+
+    // World-space box outside which sigma_t is zero.
+    virtual Bounds3 bounds() const = 0;
+
+    // Distance to the first real collision along `ray` in (0, tmax), or kInfinity when the ray
+    // leaves [0, tmax] without one. Distributed exactly as the free-flight distance.
+    virtual double sample_free_flight(const Ray& ray, double tmax, Rng& rng) const = 0;
+
+    // Unbiased estimate of exp(-integral_0^tmax sigma_t(ray(t)) dt); exact when a closed form exists.
+    virtual double transmittance(const Ray& ray, double tmax, Rng& rng) const = 0;
+
+    // Extinction at a point (1 / world length).
+    virtual double sigma_t(const Vec3& p) const = 0;
+
+    const Rgb& albedo() const { return albedo_; }
+    double g() const { return g_; }
+
+    // One line for logs and sidecars.
+    virtual std::string describe() const = 0;
+
+protected:
+    Rgb albedo_;
+    double g_;
+};
+
+}  // namespace vpm

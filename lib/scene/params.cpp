@@ -1,0 +1,371 @@
+#include "scene/params.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace vpm {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string format_number(double v) {
+    std::ostringstream s;
+    s.precision(12);
+    s << v;
+    return s.str();
+}
+
+std::string type_name(const toml::node& n) {
+    switch (n.type()) {
+        case toml::node_type::table: return "a table";
+        case toml::node_type::array: return "an array";
+        case toml::node_type::string: return "a string";
+        case toml::node_type::integer: return "an integer";
+        case toml::node_type::floating_point: return "a number";
+        case toml::node_type::boolean: return "a boolean";
+        default: return "a date/time";
+    }
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+    std::vector<std::string> parts;
+    std::string cur;
+    for (char c : s) {
+        if (c == sep) { parts.push_back(cur); cur.clear(); }
+        else cur += c;
+    }
+    parts.push_back(cur);
+    return parts;
+}
+
+bool is_index(const std::string& s) {
+    return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// Parses the right-hand side of --set as a TOML value; a bare word that is not TOML is a string.
+toml::table parse_override_value(const std::string& value) {
+    try {
+        return toml::parse("v = " + value);
+    } catch (const toml::parse_error&) {
+        toml::table t;
+        t.insert("v", value);
+        return t;
+    }
+}
+
+void apply_override(ConfigDocument& doc, const std::string& assignment) {
+    const auto eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw ConfigError("--set " + assignment + ": expected KEY=VALUE, e.g. media.0.sigma_t_scale=10");
+    const std::string key = assignment.substr(0, eq);
+    const auto parts = split(key, '.');
+    toml::node* cur = &doc.root;
+    for (size_t i = 0; i + 1 < parts.size(); ++i) {
+        const std::string& p = parts[i];
+        toml::node* next = nullptr;
+        if (auto* t = cur->as_table()) {
+            next = t->get(p);
+            if (!next) next = &t->insert(p, toml::table{}).first->second;
+        } else if (auto* a = cur->as_array(); a && is_index(p)) {
+            const size_t idx = std::stoul(p);
+            if (idx >= a->size())
+                throw ConfigError("--set " + assignment + ": index " + p + " is past the end of '" +
+                                  [&] { std::string s; for (size_t j = 0; j < i; ++j) s += (j ? "." : "") + parts[j]; return s; }() +
+                                  "', which has " + std::to_string(a->size()) + " entries");
+            next = a->get(idx);
+        }
+        if (!next || (!next->is_table() && !next->is_array()))
+            throw ConfigError("--set " + assignment + ": '" + p + "' is not a table or array in " + doc.file);
+        cur = next;
+    }
+    toml::table parsed = parse_override_value(assignment.substr(eq + 1));
+    toml::node* value = parsed.get("v");
+    const std::string& last = parts.back();
+    if (auto* t = cur->as_table()) {
+        t->insert_or_assign(last, std::move(*value));
+    } else if (auto* a = cur->as_array(); a && is_index(last) && std::stoul(last) < a->size()) {
+        a->replace(a->cbegin() + static_cast<std::ptrdiff_t>(std::stoul(last)), std::move(*value));
+    } else {
+        throw ConfigError("--set " + assignment + ": cannot set '" + last + "' here");
+    }
+    doc.overridden.insert(key);
+}
+
+}  // namespace
+
+std::shared_ptr<ConfigDocument> parse_config(const std::string& text, const std::string& name,
+                                             const fs::path& base_dir,
+                                             const std::vector<std::string>& overrides) {
+    auto doc = std::make_shared<ConfigDocument>();
+    doc->file = name;
+    doc->base_dir = base_dir;
+    try {
+        doc->root = toml::parse(text, name);
+    } catch (const toml::parse_error& e) {
+        throw ConfigError(name + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " +
+                          std::string(e.description()));
+    }
+    for (const auto& o : overrides) apply_override(*doc, o);
+    return doc;
+}
+
+std::shared_ptr<ConfigDocument> load_config(const std::string& path, const std::vector<std::string>& overrides) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw FileError(path + ": cannot open config file");
+    std::stringstream text;
+    text << in.rdbuf();
+    const fs::path base = fs::absolute(fs::path(path)).parent_path();
+    return parse_config(text.str(), path, base, overrides);
+}
+
+bool Range::contains(double v) const {
+    if (std::isnan(v)) return false;
+    if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+    if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+    return true;
+}
+
+std::string Range::to_string() const {
+    const bool has_lo = lo > -kInfinity, has_hi = hi < kInfinity;
+    if (!has_lo && !has_hi) return "any finite number";
+    if (has_lo && !has_hi) return std::string(lo_open ? "> " : ">= ") + format_number(lo);
+    if (!has_lo) return std::string(hi_open ? "< " : "<= ") + format_number(hi);
+    return std::string(lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) + (hi_open ? ")" : "]");
+}
+
+Params::Params(std::shared_ptr<const ConfigDocument> doc, toml::table* resolved)
+    : doc_(std::move(doc)), table_(&doc_->root), resolved_(resolved) {}
+
+Params::Params(std::shared_ptr<const ConfigDocument> doc, const toml::table* table, toml::table* resolved,
+               std::string prefix)
+    : doc_(std::move(doc)), table_(table), resolved_(resolved), prefix_(std::move(prefix)) {
+    if (!table_) {
+        empty_ = std::make_shared<toml::table>();
+        table_ = empty_.get();
+    }
+}
+
+std::string Params::path_of(const std::string& key) const { return prefix_ + key; }
+
+std::string Params::where(const std::string& key) const {
+    const std::string full = path_of(key);
+    if (doc_->overridden.count(full)) return "--set " + full;
+    const toml::node* n = table_->get(key);
+    const auto& src = n ? n->source() : table_->source();
+    if (src.begin.line > 0) return doc_->file + ":" + std::to_string(src.begin.line);
+    return doc_->file;
+}
+
+void Params::fail(const std::string& key, const std::string& message) const {
+    throw ConfigError(where(key) + ": " + path_of(key) + ": " + message);
+}
+
+bool Params::has(const std::string& key) const { return table_->get(key) != nullptr; }
+
+const toml::node* Params::lookup(const std::string& key) const {
+    used_.insert(key);
+    return table_->get(key);
+}
+
+double Params::number_at(const toml::node& node, const std::string& key) const {
+    if (auto v = node.value_exact<double>()) return *v;
+    if (auto v = node.value_exact<int64_t>()) return static_cast<double>(*v);
+    fail(key, "expected a number, got " + type_name(node));
+}
+
+double Params::real(const std::string& key, double fallback, Range range) {
+    const toml::node* n = lookup(key);
+    const double v = n ? number_at(*n, key) : fallback;
+    if (n && (!std::isfinite(v) || !range.contains(v)))
+        fail(key, "value " + format_number(v) + " is out of range; allowed: " + range.to_string());
+    resolved_->insert_or_assign(key, v);
+    return v;
+}
+
+double Params::real(const std::string& key, Range range) {
+    if (!has(key)) fail(key, "required number is missing; allowed: " + range.to_string());
+    return real(key, 0.0, range);
+}
+
+int64_t Params::integer(const std::string& key, int64_t fallback, Range range) {
+    const toml::node* n = lookup(key);
+    int64_t v = fallback;
+    if (n) {
+        if (auto i = n->value_exact<int64_t>()) v = *i;
+        else fail(key, "expected an integer, got " + type_name(*n));
+        if (!range.contains(static_cast<double>(v)))
+            fail(key, "value " + std::to_string(v) + " is out of range; allowed: " + range.to_string());
+    }
+    resolved_->insert_or_assign(key, v);
+    return v;
+}
+
+int64_t Params::integer(const std::string& key, Range range) {
+    if (!has(key)) fail(key, "required integer is missing; allowed: " + range.to_string());
+    return integer(key, 0, range);
+}
+
+bool Params::boolean(const std::string& key, bool fallback) {
+    const toml::node* n = lookup(key);
+    bool v = fallback;
+    if (n) {
+        if (auto b = n->value_exact<bool>()) v = *b;
+        else fail(key, "expected true or false, got " + type_name(*n));
+    }
+    resolved_->insert_or_assign(key, v);
+    return v;
+}
+
+std::string Params::string(const std::string& key, const std::string& fallback) {
+    const toml::node* n = lookup(key);
+    std::string v = fallback;
+    if (n) {
+        if (auto s = n->value_exact<std::string>()) v = *s;
+        else fail(key, "expected a string, got " + type_name(*n));
+    }
+    resolved_->insert_or_assign(key, v);
+    return v;
+}
+
+std::string Params::string(const std::string& key) {
+    if (!has(key)) fail(key, "required string is missing");
+    return string(key, "");
+}
+
+std::string Params::choice(const std::string& key, const std::string& fallback,
+                           const std::vector<std::string>& allowed) {
+    const std::string v = string(key, fallback);
+    for (const auto& a : allowed)
+        if (a == v) return v;
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + ("\"" + a + "\"");
+    fail(key, "unknown value \"" + v + "\"; allowed: " + list);
+}
+
+std::string Params::choice(const std::string& key, const std::vector<std::string>& allowed) {
+    if (!has(key)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + ("\"" + a + "\"");
+        fail(key, "required key is missing; allowed: " + list);
+    }
+    return choice(key, "", allowed);
+}
+
+Rgb Params::rgb(const std::string& key, const Rgb& fallback, Range range) {
+    const toml::node* n = lookup(key);
+    Rgb v = fallback;
+    if (n) {
+        if (const auto* a = n->as_array()) {
+            if (a->size() != 3) fail(key, "expected a number or [r, g, b], got an array of " + std::to_string(a->size()));
+            for (int c = 0; c < 3; ++c) v[c] = number_at(*a->get(static_cast<size_t>(c)), key);
+        } else {
+            v = Rgb::Constant(number_at(*n, key));
+        }
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(v[c]) || !range.contains(v[c]))
+                fail(key, "component " + format_number(v[c]) + " is out of range; allowed: " + range.to_string());
+    }
+    resolved_->insert_or_assign(key, toml::array{v[0], v[1], v[2]});
+    return v;
+}
+
+Rgb Params::rgb(const std::string& key, Range range) {
+    if (!has(key)) fail(key, "required colour is missing (a number or [r, g, b])");
+    return rgb(key, Rgb::Zero(), range);
+}
+
+Vec3 Params::vec3(const std::string& key, const Vec3& fallback) {
+    const toml::node* n = lookup(key);
+    Vec3 v = fallback;
+    if (n) {
+        const auto* a = n->as_array();
+        if (!a || a->size() != 3) fail(key, "expected [x, y, z], got " + type_name(*n));
+        for (int c = 0; c < 3; ++c) {
+            v[c] = number_at(*a->get(static_cast<size_t>(c)), key);
+            if (!std::isfinite(v[c])) fail(key, "components must be finite");
+        }
+    }
+    resolved_->insert_or_assign(key, toml::array{v[0], v[1], v[2]});
+    return v;
+}
+
+Vec3 Params::vec3(const std::string& key) {
+    if (!has(key)) fail(key, "required vector [x, y, z] is missing");
+    return vec3(key, Vec3::Zero());
+}
+
+std::vector<double> Params::reals(const std::string& key, const std::vector<double>& fallback, Range range) {
+    const toml::node* n = lookup(key);
+    std::vector<double> v = fallback;
+    if (n) {
+        const auto* a = n->as_array();
+        if (!a) fail(key, "expected an array of numbers, got " + type_name(*n));
+        v.clear();
+        for (const auto& e : *a) {
+            const double x = number_at(e, key);
+            if (!std::isfinite(x) || !range.contains(x))
+                fail(key, "element " + format_number(x) + " is out of range; allowed: " + range.to_string());
+            v.push_back(x);
+        }
+    }
+    toml::array out;
+    for (double x : v) out.push_back(x);
+    resolved_->insert_or_assign(key, std::move(out));
+    return v;
+}
+
+fs::path Params::path(const std::string& key, bool must_exist) {
+    const toml::node* n = lookup(key);
+    if (!n) fail(key, "required file path is missing");
+    const auto s = n->value_exact<std::string>();
+    if (!s) fail(key, "expected a file path string, got " + type_name(*n));
+    fs::path p(*s);
+    if (p.is_relative()) p = doc_->base_dir / p;
+    p = p.lexically_normal();
+    if (must_exist && !fs::exists(p)) fail(key, "file not found: " + p.string());
+    resolved_->insert_or_assign(key, p.string());
+    return p;
+}
+
+Params Params::table(const std::string& key) {
+    const toml::node* n = lookup(key);
+    if (n && !n->is_table()) fail(key, "expected a table, got " + type_name(*n));
+    auto* out = resolved_->insert_or_assign(key, toml::table{}).first->second.as_table();
+    return Params(doc_, n ? n->as_table() : nullptr, out, path_of(key) + ".");
+}
+
+std::vector<Params> Params::tables(const std::string& key) {
+    const toml::node* n = lookup(key);
+    std::vector<Params> result;
+    if (!n) return result;
+    const auto* a = n->as_array();
+    if (!a) fail(key, "expected an array of tables ([[" + path_of(key) + "]]), got " + type_name(*n));
+    auto* out = resolved_->insert_or_assign(key, toml::array{}).first->second.as_array();
+    for (size_t i = 0; i < a->size(); ++i) {
+        const auto* t = a->get(i)->as_table();
+        if (!t) fail(key, "entry " + std::to_string(i) + " is not a table");
+        out->push_back(toml::table{});
+    }
+    for (size_t i = 0; i < a->size(); ++i)
+        result.push_back(Params(doc_, a->get(i)->as_table(), out->get(i)->as_table(),
+                                path_of(key) + "." + std::to_string(i) + "."));
+    return result;
+}
+
+void Params::finish() const {
+    for (const auto& [k, node] : *table_) {
+        const std::string key(k.str());
+        if (!used_.count(key)) fail(key, "unknown key");
+    }
+}
+
+std::string to_toml_string(const toml::table& table) {
+    std::ostringstream s;
+    s << toml::toml_formatter(table);
+    return s.str();
+}
+
+}  // namespace vpm

@@ -1,0 +1,37 @@
+#pragma once
+// The scene's opaque surfaces (triangle meshes from OBJ/PLY, quads, boxes) in one Embree 3
+// scene. Only surfaces.cpp includes Embree; the rest of vpm sees this interface.
+// Materials: Lambertian with an RGB reflectance in [0, 1], or black (reflectance 0: an occluder).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "scene/params.h"
+
+namespace vpm {
+
+struct SurfaceHit {
+    double t = kInfinity;
+    Vec3 position = Vec3::Zero();
+    Vec3 normal = Vec3::UnitZ();   // unit geometric normal, flipped to face the incoming ray
+    Rgb reflectance = Rgb::Zero(); // Lambertian albedo; zero for black
+};
+
+class Surfaces {
+public:
+    // Builds one Embree device and scene from the [[shapes]] entries. Each entry's Params is
+    // read fully (unknown keys are reported by finish()). Throws ConfigError / FileError.
+    static std::unique_ptr<Surfaces> create(std::vector<Params>& shapes);
+    virtual ~Surfaces() = default;
+
+    // Closest hit in (epsilon, tmax); false when none.
+    virtual bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const = 0;
+    // Any hit in (epsilon, tmax).
+    virtual bool occluded(const Ray& ray, double tmax) const = 0;
+    virtual Bounds3 bounds() const = 0;
+    virtual size_t triangle_count() const = 0;
+    virtual std::string describe() const = 0;
+};
+
+}  // namespace vpm
