@@ -90,6 +90,8 @@ public:
     [[noreturn]] void fail(const std::string& key, const std::string& message) const;
     // Dotted path of `key` in this table ("media.0.g").
     std::string path_of(const std::string& key) const;
+    // "file:line" (or "--set key") of `key`, for messages and warnings.
+    std::string where(const std::string& key) const;
     const std::string& file() const { return doc_->file; }
     const std::string& prefix() const { return prefix_; }
 
@@ -97,7 +99,6 @@ private:
     Params(std::shared_ptr<const ConfigDocument> doc, const toml::table* table, toml::table* resolved,
            std::string prefix);
     const toml::node* lookup(const std::string& key) const;   // marks the key used
-    std::string where(const std::string& key) const;          // "file:line" for messages
     double number_at(const toml::node& node, const std::string& what) const;
 
     std::shared_ptr<const ConfigDocument> doc_;

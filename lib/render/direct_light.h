@@ -1,0 +1,21 @@
+#pragma once
+// Next-event estimation: one light sample per light, visibility and medium transmittance by
+// ratio tracking. Shared by the reference path tracer and the photon-map renderer so that both
+// compute single scattering and surface direct light identically.
+#include "core/math.h"
+#include "core/rng.h"
+#include "scene/scene.h"
+
+namespace vpm {
+
+// In-scattered radiance at a medium point x towards -ray_dir from all lights:
+// sum_l phase(ray_dir -> wi reversed) * Li * T. Multiply by the scattering albedo outside.
+Rgb direct_light_in_medium(const Scene& scene, const Vec3& x, const Vec3& ray_dir, double g, Rng& rng);
+
+// Reflected direct radiance of a Lambertian hit towards the viewer: reflectance/pi * Li cos * T.
+Rgb direct_light_on_surface(const Scene& scene, const SurfaceHit& hit, Rng& rng);
+
+// A ray leaving a surface point, offset along the normal against self-intersection.
+Ray spawn_ray(const Vec3& position, const Vec3& normal, const Vec3& dir);
+
+}  // namespace vpm

@@ -1,0 +1,25 @@
+#pragma once
+// The reference integrator: an unbiased volumetric path tracer over the same scene objects as
+// the photon-map renderer. Delta tracking for collisions (the collision weight is the albedo),
+// next-event estimation to every light at every vertex with ratio-tracked transmittance, HG
+// phase sampling, Lambertian surfaces, Russian roulette from rr_depth on. max_depth < 0 means
+// unlimited path length, which is what makes it unbiased.
+//
+// Emission is counted only through NEE after the first vertex; camera rays that escape see the
+// environment directly. Area lights are not geometry, so no path can hit one: nothing is counted twice.
+#include "render/integrator.h"
+#include "scene/scene.h"
+
+namespace vpm {
+
+class PathTracer : public Integrator {
+public:
+    explicit PathTracer(const Scene& scene) : scene_(scene) {}
+    Rgb radiance(const Ray& ray, Rng& rng) const override;
+    std::string name() const override { return "path"; }
+
+private:
+    const Scene& scene_;
+};
+
+}  // namespace vpm
