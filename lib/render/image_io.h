@@ -1,6 +1,8 @@
 #pragma once
-// Image files. Writers are atomic: they write "<path>.tmp-<pid>" and rename it over `path`, so
-// a failed or interrupted write never leaves a partial file and never destroys an old one.
+// Image files. Writers are atomic: they write "<path>.tmp-<pid>-<n>" (n: a per-process counter,
+// so concurrent writers never share a temporary) and rename it over `path`, so a failed or
+// interrupted write never leaves a partial file and never destroys an old one. A missing folder,
+// a parent that is not a folder, or a target that is a folder is refused with FileError.
 #include <filesystem>
 #include <string>
 
@@ -8,12 +10,14 @@
 
 namespace vpm {
 
-// OpenEXR, RGB 32-bit float, no compression loss. Throws FileError naming the path.
+// OpenEXR, RGB 32-bit float, ZIP (lossless) compression. Throws FileError naming the path.
+// read_exr accepts any EXR with R, G and B channels (HALF/UINT are converted to float) and
+// honours a data window that does not start at (0, 0).
 void write_exr(const std::filesystem::path& path, const Image& image);
 Image read_exr(const std::filesystem::path& path);
 
 // 8-bit sRGB PNG preview: pixel * 2^exposure, then clamp to [0, 1] (display only) and the sRGB
-// curve. Throws FileError.
+// curve. Pixels with a NaN channel are shown magenta. Throws FileError.
 void write_png_preview(const std::filesystem::path& path, const Image& image, double exposure = 0.0);
 
 // Writes text atomically (same rule as the images); for JSON sidecars and tables.

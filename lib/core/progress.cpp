@@ -1,0 +1,103 @@
+#include "core/progress.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+namespace vpm {
+namespace {
+
+constexpr int64_t kQuietMs = 1000;      // nothing is drawn during the first second
+constexpr int64_t kRedrawMs = 100;      // at most ~10 redraws a second
+constexpr int kBarWidth = 30;
+
+std::string format_seconds(double s) {
+    char buf[32];
+    if (s < 60.0) {
+        std::snprintf(buf, sizeof(buf), "%.1f s", s);
+    } else if (s < 3600.0) {
+        std::snprintf(buf, sizeof(buf), "%dm%02ds", int(s / 60.0), int(s) % 60);
+    } else {
+        std::snprintf(buf, sizeof(buf), "%dh%02dm", int(s / 3600.0), (int(s) / 60) % 60);
+    }
+    return buf;
+}
+
+}  // namespace
+
+Progress::Progress(std::string label, uint64_t total, bool enabled)
+    : label_(std::move(label)),
+      total_(total),
+      enabled_(enabled && total > 0 && ::isatty(2) == 1),
+      start_(std::chrono::steady_clock::now()) {}
+
+Progress::~Progress() { done(); }
+
+void Progress::advance(uint64_t amount) {
+    count_.fetch_add(amount, std::memory_order_relaxed);
+    if (!enabled_) return;
+    const int64_t now_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                               std::chrono::steady_clock::now() - start_)
+                               .count();
+    if (now_ms < kQuietMs) return;
+    int64_t last = last_draw_ms_.load(std::memory_order_relaxed);
+    if (now_ms - last < kRedrawMs) return;
+    // Only one thread wins the right to draw this frame; the others return at once.
+    if (!last_draw_ms_.compare_exchange_strong(last, now_ms, std::memory_order_relaxed)) return;
+    std::unique_lock<std::mutex> lock(draw_mutex_, std::try_to_lock);
+    if (!lock.owns_lock() || finished_) return;
+    draw(false);
+}
+
+void Progress::done() {
+    std::lock_guard<std::mutex> lock(draw_mutex_);
+    if (finished_) return;
+    finished_ = true;
+    if (enabled_ && drew_) draw(true);   // a run that never drew stays silent
+}
+
+// Called with draw_mutex_ held.
+void Progress::draw(bool final) {
+    const uint64_t count = std::min(count_.load(std::memory_order_relaxed), total_);
+    const double fraction = total_ > 0 ? double(count) / double(total_) : 1.0;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+
+    std::string bar(kBarWidth, ' ');
+    const int filled = int(fraction * kBarWidth);
+    for (int i = 0; i < filled && i < kBarWidth; ++i) bar[size_t(i)] = '=';
+    if (filled < kBarWidth) bar[size_t(filled)] = '>';
+
+    std::string line = "\r" + label_ + " [" + bar + "] ";
+    char pct[16];
+    std::snprintf(pct, sizeof(pct), "%3d%% ", int(fraction * 100.0));
+    line += pct;
+    line += format_seconds(elapsed);
+    if (!final) {
+        line += ", ETA ";
+        line += count > 0 ? format_seconds(elapsed * double(total_ - count) / double(count)) : "?";
+    }
+    line += "\x1b[K";   // clear the rest of the line (stderr is a terminal here)
+    if (final) line += "\n";
+    std::fwrite(line.data(), 1, line.size(), stderr);
+    std::fflush(stderr);
+    drew_ = true;
+}
+
+uint64_t peak_rss_bytes() {
+    struct rusage usage {};
+    if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+    return uint64_t(usage.ru_maxrss) * 1024u;   // Linux reports kilobytes
+}
+
+uint64_t physical_memory_bytes() {
+    const long pages = ::sysconf(_SC_PHYS_PAGES);
+    const long page_size = ::sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page_size <= 0) return 0;
+    return uint64_t(pages) * uint64_t(page_size);
+}
+
+}  // namespace vpm
