@@ -11,13 +11,6 @@
 #include "core/progress.h"
 #include "render/image_io.h"
 
-#ifndef VPM_GIT_REVISION
-#define VPM_GIT_REVISION "unknown"
-#endif
-#ifndef VPM_VERSION
-#define VPM_VERSION "0.1.0"   // keep in step with project(VERSION) in CMakeLists.txt
-#endif
-
 namespace vpm {
 
 struct RunRecord::Impl {
