@@ -226,11 +226,12 @@ std::unique_ptr<Light> make_light(Params& p) {
         light = std::make_unique<DirectionalLight>(direction.normalized(), p.rgb("irradiance", non_negative));
     } else if (type == "quad") {
         const Vec3 center = p.vec3("center");
-        const Vec3 edge_u = p.vec3("edge_u");
-        const Vec3 edge_v = p.vec3("edge_v");
-        if (edge_u.cross(edge_v).norm() == 0.0) p.fail("edge_v", "edge_u and edge_v must span a non-zero area");
+        // Half edges, as for quad shapes: the corners are center +- u +- v.
+        const Vec3 u = p.vec3("u");
+        const Vec3 v = p.vec3("v");
+        if (u.cross(v).norm() == 0.0) p.fail("v", "u and v must span a non-zero area");
         const Rgb radiance = p.rgb("radiance", non_negative);
-        light = std::make_unique<QuadLight>(center, edge_u, edge_v, radiance, p.boolean("two_sided", false));
+        light = std::make_unique<QuadLight>(center, 2.0 * u, 2.0 * v, radiance, p.boolean("two_sided", false));
     } else {
         light = std::make_unique<EnvironmentLight>(p.rgb("radiance", non_negative));
     }

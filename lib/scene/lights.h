@@ -6,8 +6,8 @@
 //   "spot"        position, look_at, intensity, cone_angle (deg,    uniformly inside the cone
 //                 half-angle in (0, 180], default 30)
 //   "directional" direction (travel direction), irradiance (W/m^2)  parallel light
-//   "quad"        center, edge_u, edge_v (full edges), radiance,    one-sided Lambertian emitter on
-//                 two_sided (false)                                 the side of edge_u x edge_v
+//   "quad"        center, u, v (half edges: corners center +- u +- v, one-sided Lambertian emitter on
+//                 as for quad shapes), radiance, two_sided (false)  the side of u x v
 //   "environment" radiance                                          constant radiance from every direction
 //
 // Area lights are not geometry: camera and scattered rays pass through them (they are seen

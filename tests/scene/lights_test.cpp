@@ -1,0 +1,113 @@
+// Lights: next-event estimates of irradiance against closed forms, and emission consistent with power().
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "scene/lights.h"
+
+using namespace vpm;
+
+namespace {
+
+std::unique_ptr<Light> light_from(const std::string& text) {
+    auto doc = parse_config(text, "light.toml", ".");
+    toml::table resolved;
+    Params root(doc, &resolved);
+    auto tables = root.tables("lights");
+    return make_light(tables.at(0));
+}
+
+// Monte Carlo irradiance at x on a surface with normal n, from NEE samples.
+void irradiance(const Light& light, const Vec3& x, const Vec3& n, int samples, double& mean, double& se) {
+    Rng rng(17, 3);
+    double sum = 0.0, sum2 = 0.0;
+    LightSample s;
+    for (int i = 0; i < samples; ++i) {
+        double e = 0.0;
+        if (light.sample_incident(x, rng, s)) e = s.weight[0] * std::max(0.0, s.wi.dot(n));
+        sum += e;
+        sum2 += e * e;
+    }
+    mean = sum / samples;
+    se = std::sqrt(std::max(0.0, sum2 / samples - mean * mean) / samples);
+}
+
+}  // namespace
+
+TEST(Lights, PointLightInverseSquare) {
+    auto light = light_from("[[lights]]\ntype='point'\nposition=[0,2,0]\nintensity=[3,3,3]\n");
+    double mean, se;
+    irradiance(*light, Vec3::Zero(), Vec3::UnitY(), 10, mean, se);
+    EXPECT_NEAR(mean, 3.0 / 4.0, 1e-12);
+    EXPECT_NEAR(light->power()[0], 3.0 * 4.0 * kPi, 1e-9);
+}
+
+TEST(Lights, QuadLightIrradianceOnAxis) {
+    // Square of half-edge a at height h, facing down; receiver on the axis facing up.
+    const double a = 0.5, h = 1.3, L = 2.0;
+    auto light = light_from("[[lights]]\ntype='quad'\ncenter=[0,1.3,0]\nu=[0.5,0,0]\nv=[0,0,0.5]\nradiance=2\n");
+    double mean, se;
+    irradiance(*light, Vec3::Zero(), Vec3::UnitY(), 400000, mean, se);
+    const double X = a / h, s = std::sqrt(1.0 + X * X);
+    const double expected = 4.0 * (L / 2.0) * 2.0 * (X / s) * std::atan(X / s);   // four corner rectangles
+    EXPECT_NEAR(mean, expected, 3.0 * se);
+    EXPECT_NEAR(light->power()[0], L * kPi * 1.0, 1e-12);   // area (2a)^2 = 1
+    // One-sided: nothing above it.
+    Rng rng(1, 1);
+    LightSample ls;
+    EXPECT_FALSE(light->sample_incident(Vec3(0, 3, 0), rng, ls));
+}
+
+TEST(Lights, EnvironmentIrradianceIsPiL) {
+    auto light = light_from("[[lights]]\ntype='environment'\nradiance=0.7\n");
+    double mean, se;
+    irradiance(*light, Vec3::Zero(), Vec3(0.3, 0.4, 0.5).normalized(), 400000, mean, se);
+    EXPECT_NEAR(mean, kPi * 0.7, 3.0 * se);
+    EXPECT_DOUBLE_EQ(light->escaped_radiance(Vec3::UnitX())[2], 0.7);
+}
+
+TEST(Lights, SpotLightConeAndPower) {
+    auto light = light_from("[[lights]]\ntype='spot'\nposition=[0,1,0]\nlook_at=[0,0,0]\nintensity=5\ncone_angle=30\n");
+    Rng rng(1, 1);
+    LightSample ls;
+    EXPECT_TRUE(light->sample_incident(Vec3(0.5, 0, 0), rng, ls));    // 26.6 deg off axis
+    EXPECT_FALSE(light->sample_incident(Vec3(0.7, 0, 0), rng, ls));   // 35 deg off axis
+    EXPECT_NEAR(light->power()[0], 5.0 * 2.0 * kPi * (1.0 - std::cos(kPi / 6.0)), 1e-12);
+    for (int i = 0; i < 1000; ++i) {
+        const EmissionSample e = light->sample_emission(rng);
+        ASSERT_GE(e.ray.dir.dot(-Vec3::UnitY()), std::cos(kPi / 6.0) - 1e-12);
+    }
+}
+
+TEST(Lights, EmissionOfLightsAtInfinityCoversTheScene) {
+    Bounds3 b{Vec3(-1, -2, -1), Vec3(3, 1, 2)};
+    const Vec3 centre = 0.5 * (b.lo + b.hi);
+    const double radius = 0.5 * (b.hi - b.lo).norm();
+    for (const char* text : {"[[lights]]\ntype='directional'\ndirection=[1,-2,0.5]\nirradiance=1.5\n",
+                             "[[lights]]\ntype='environment'\nradiance=0.2\n"}) {
+        auto light = light_from(text);
+        light->set_scene_bounds(b);
+        Rng rng(2, 2);
+        for (int i = 0; i < 2000; ++i) {
+            const EmissionSample e = light->sample_emission(rng);
+            // Starts outside the bounding sphere, travelling inwards.
+            ASSERT_GE((e.ray.origin - centre).norm(), radius * 0.999);
+            ASSERT_NEAR(e.power[0], light->power()[0], 1e-9 * light->power()[0]);
+        }
+        // power = irradiance x disc area (directional) or 4 pi x pi R^2 x L (environment)
+        const double disc = kPi * std::pow(radius * 1.001, 2);
+        const double expected = std::string(text).find("directional") != std::string::npos ? 1.5 * disc : 0.2 * 4.0 * kPi * disc;
+        EXPECT_NEAR(light->power()[0], expected, 1e-3 * expected);
+    }
+}
+
+TEST(Lights, ConfigErrors) {
+    EXPECT_THROW(light_from("[[lights]]\ntype='quad'\ncenter=[0,0,0]\nu=[1,0,0]\nv=[2,0,0]\nradiance=1\n"), ConfigError);
+    EXPECT_THROW(light_from("[[lights]]\ntype='point'\nposition=[0,0,0]\nintensity=-1\n"), ConfigError);
+    EXPECT_THROW(light_from("[[lights]]\ntype='spot'\nposition=[0,0,0]\nlook_at=[0,1,0]\nintensity=1\ncone_angle=0\n"), ConfigError);
+    try {
+        light_from("[[lights]]\ntype='point'\nposition=[0,0,0]\nintensity=1\ncolour=2\n");
+        FAIL();
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("light.toml:5: lights.0.colour: unknown key"), std::string::npos) << e.what();
+    }
+}
