@@ -22,8 +22,10 @@
 // are shifted by the same centre in double before rounding. Embree's float hit distance is then
 // refined in double against the plane of the hit triangle, and the normal is computed in double.
 // Self-intersection: every query ignores hits at t <= epsilon, with
-// epsilon = 1e-5 * (half the largest extent of the scene's bounds). Keep scenes free of single
-// shapes vastly larger than the region of interest (a 1e4-wide ground plane under a unit medium
+// epsilon = 1e-5 * (half the largest extent of the scene's bounds), judged by the refined double
+// distance: a float hit on the very surface a grazing ray starts from (float error / cos can
+// exceed any fixed epsilon) refines to t ~ 0 and is skipped, and the ray traced on.
+// Keep scenes free of single shapes vastly larger than the region of interest (a 1e4-wide ground plane under a unit medium
 // makes epsilon 0.05).
 #include "scene/surfaces.h"
 
@@ -173,32 +175,46 @@ public:
         rtcInitIntersectContext(&ctx);
         RTCRayHit rh;
         setup(ray, tmax, rh.ray);
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene_, &ctx, &rh);
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+        // A hit that the double-precision plane test puts at t <= epsilon is the surface the ray
+        // starts on, found by Embree's float test at a grazing angle: skip it and trace on.
+        for (int attempt = 0; attempt < 4; ++attempt) {
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(scene_, &ctx, &rh);
+            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
-        const Geometry& g = geoms_[rh.hit.geomID];
-        const auto& tri = g.triangles[rh.hit.primID];
-        const Vec3& a = g.vertices[tri[0]];
-        Vec3 n = (g.vertices[tri[1]] - a).cross(g.vertices[tri[2]] - a);
-        const double len = n.norm();
-        if (len > 0.0 && std::isfinite(len)) n /= len;
-        else n = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();   // degenerate in double
-        double t = rh.ray.tfar;
-        const double cos = n.dot(ray.dir);
-        if (std::abs(cos) > 1e-9) {   // refine the float distance against the double plane
-            const double tr = n.dot(a - ray.origin) / cos;
-            if (tr > eps_ && tr < tmax) t = tr;
+            const Geometry& g = geoms_[rh.hit.geomID];
+            const auto& tri = g.triangles[rh.hit.primID];
+            const Vec3& a = g.vertices[tri[0]];
+            Vec3 n = (g.vertices[tri[1]] - a).cross(g.vertices[tri[2]] - a);
+            const double len = n.norm();
+            if (len > 0.0 && std::isfinite(len)) n /= len;
+            else n = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();   // degenerate in double
+            double t = rh.ray.tfar;
+            const double cos = n.dot(ray.dir);
+            if (std::abs(cos) > 1e-12) {   // refine the float distance against the double plane
+                const double tr = n.dot(a - ray.origin) / cos;
+                if (tr >= tmax) return false;   // Embree's float tfar let it in; nothing is closer
+                if (tr <= eps_) {
+                    rh.ray.tnear = std::nextafter(rh.ray.tfar, INFINITY);
+                    rh.ray.tfar = float_tmax(tmax);
+                    if (!(rh.ray.tnear < rh.ray.tfar)) return false;
+                    continue;
+                }
+                t = tr;
+            }
+            hit.t = t;
+            hit.position = ray.at(t);
+            hit.normal = cos > 0.0 ? Vec3(-n) : n;
+            hit.reflectance = g.reflectance;
+            return true;
         }
-        hit.t = t;
-        hit.position = ray.at(t);
-        hit.normal = cos > 0.0 ? Vec3(-n) : n;
-        hit.reflectance = g.reflectance;
-        return true;
+        return false;
     }
 
+    // Embree's any-hit query; its positives are confirmed by intersect() so that the two agree
+    // (a grazing self-hit must not shadow). Unoccluded rays, the common case, cost one query.
     bool occluded(const Ray& ray, double tmax) const override {
         if (!scene_ || !(tmax > eps_)) return false;
         RTCIntersectContext ctx;
@@ -206,7 +222,9 @@ public:
         RTCRay r;
         setup(ray, tmax, r);
         rtcOccluded1(scene_, &ctx, &r);
-        return r.tfar < 0.0f;   // set to -inf on a hit
+        if (!(r.tfar < 0.0f)) return false;   // tfar is set to -inf on a hit
+        SurfaceHit h;
+        return intersect(ray, tmax, h);
     }
 
     Bounds3 bounds() const override { return bounds_; }
@@ -244,13 +262,17 @@ private:
         r.dir_y = static_cast<float>(ray.dir.y());
         r.dir_z = static_cast<float>(ray.dir.z());
         r.tnear = static_cast<float>(eps_);
-        float tf = tmax >= static_cast<double>(FLT_MAX) ? INFINITY : static_cast<float>(tmax);
-        if (static_cast<double>(tf) > tmax) tf = std::nextafter(tf, 0.0f);   // never beyond tmax
-        r.tfar = tf;
+        r.tfar = float_tmax(tmax);
         r.time = 0.0f;
         r.mask = 0xFFFFFFFFu;
         r.id = 0;
         r.flags = 0;
+    }
+
+    static float float_tmax(double tmax) {
+        float tf = tmax >= static_cast<double>(FLT_MAX) ? INFINITY : static_cast<float>(tmax);
+        if (static_cast<double>(tf) > tmax) tf = std::nextafter(tf, 0.0f);   // never beyond tmax
+        return tf;
     }
 
     void fail_on_error(const std::string& what) {
