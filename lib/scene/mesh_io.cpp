@@ -297,7 +297,7 @@ TriangleMesh load_ply(const std::string& path) {
         if (is_vertex) {
             if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) fail("vertex element lacks x, y or z");
             have_vertex = true;
-            mesh.vertices.reserve(e.count);
+            mesh.vertices.reserve(std::min(e.count, data.size()));   // a corrupt count must not allocate
         }
         if (is_face) {
             if (indices < 0) fail("face element lacks a vertex_indices list");

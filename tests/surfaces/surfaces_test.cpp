@@ -158,7 +158,9 @@ TEST(Surfaces, RaysStartingOnTheSurfaceDoNotHitTheirStart) {
         if (d.dot(n) < 0) d = -d;
         grazing += d.dot(n) < 1e-3;
         SurfaceHit h;
-        if (s->intersect(Ray{m * p, m.linear() * d}, kInfinity, h)) {
+        const bool out_hit = s->intersect(Ray{m * p, m.linear() * d}, kInfinity, h);
+        EXPECT_EQ(out_hit, s->occluded(Ray{m * p, m.linear() * d}, kInfinity));
+        if (out_hit) {
             // Only a ray skimming within float precision past an edge of the adjacent face may hit.
             const Vec3 q = m.inverse() * h.position;
             const double outside = (q.cwiseAbs() - Vec3::Ones()).maxCoeff();
@@ -168,6 +170,7 @@ TEST(Surfaces, RaysStartingOnTheSurfaceDoNotHitTheirStart) {
         double t0, t1;
         ASSERT_TRUE(box.intersect(Ray{p, -d}, kInfinity, t0, t1));
         const bool got = s->intersect(Ray{m * p, m.linear() * -d}, kInfinity, h);
+        EXPECT_EQ(got, s->occluded(Ray{m * p, m.linear() * -d}, kInfinity));
         if (t1 > 1e-3 && (!got || std::abs(h.t - t1) > 1e-9)) ++inward_wrong;
     }
     EXPECT_GT(grazing, 5000);
