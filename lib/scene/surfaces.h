@@ -21,8 +21,12 @@ struct SurfaceHit {
 class Surfaces {
 public:
     // Builds one Embree device and scene from the [[shapes]] entries. Each entry's Params is
-    // read fully (unknown keys are reported by finish()). Throws ConfigError / FileError.
+    // read fully (unknown keys are reported by finish()). Throws ConfigError / FileError, or
+    // Error when Embree fails. An empty list gives an empty Surfaces and builds no device.
+    // The keys of each shape type are documented at the top of surfaces.cpp.
     static std::unique_ptr<Surfaces> create(std::vector<Params>& shapes);
+    // Number of Embree devices created in this process so far (for "built only what is used").
+    static size_t devices_created();
     virtual ~Surfaces() = default;
 
     // Closest hit in (epsilon, tmax); false when none.
