@@ -1,7 +1,6 @@
 // Embree-backed surfaces: configuration keys, materials, and ray queries against analytic answers.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -306,22 +305,4 @@ TEST(Surfaces, ConcurrentQueriesMatchSerialOnes) {
         });
     for (auto& t : threads) t.join();
     EXPECT_EQ(serial, parallel);
-}
-
-// Speed is a benchmark's business; this prints one figure for the log and checks nothing.
-TEST(Surfaces, ReportRaysPerSecondForABox) {
-    auto s = build("[[shapes]]\ntype = 'box'\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n");
-    std::mt19937_64 rng(5);
-    std::uniform_real_distribution<double> u(-3, 3);
-    std::vector<Ray> rays;
-    for (int i = 0; i < 200000; ++i) rays.push_back(Ray{Vec3(u(rng), u(rng), u(rng)), random_dir(rng)});
-    size_t hits = 0;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (const Ray& r : rays) {
-        SurfaceHit h;
-        hits += s->intersect(r, kInfinity, h);
-    }
-    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("[ info ] box scene: %.2f Mrays/s closest-hit, single thread (%zu hits)\n",
-                rays.size() / sec * 1e-6, hits);
 }
