@@ -114,7 +114,8 @@ Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const 
             buf.d2[i] = n.d2;
         }
         Estimate<Rgb> est =
-            estimate_density<Rgb>(e, buf.w.data(), buf.d2.data(), found, complete, k, max_radius, 3, stats);
+            estimate_density<Rgb>(e, buf.w.data(), buf.d2.data(), found, complete, k, max_radius, 3, stats,
+                                  map.position_resolution());
         if (est.kind != EstimateCase::need_more) return est;
         want *= 2;   // rule (c): coincident photons fill the list, gather more
     }

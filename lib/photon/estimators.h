@@ -33,8 +33,10 @@
 //      of the whole sample: V(r_n)/|R| ~ Beta(n, 1), corrected stays unbiased for a uniform
 //      density). If k' is below the estimator's minimum (classic 1, corrected 2, mse_optimal 3)
 //      the estimate is 0 (counted as `insufficient`).
-//  (c) r_k = 0 (k or more photons coincide with the query), or V(r_k) not a positive finite
-//      number: the ball is extended to the first photon strictly farther away, at sorted position
+//  (c) r_k = 0 (k or more photons coincide with the query), r_k <= coincident_radius (the
+//      photon map passes its position resolution: stored float positions cannot resolve smaller
+//      distances, so such photons coincide as far as the map knows), or V(r_k) not a positive
+//      finite number: the ball is extended to the first photon strictly farther away, at sorted position
 //      m >= k (0-based), which then plays the k-th photon: the estimator is applied with
 //      k' = m + 1 and r = its distance (classic sums all m+1, corrected drops that first farther
 //      photon and keeps every coincident one). Counted as `extended`. If the list holds no
@@ -141,9 +143,11 @@ struct Estimate {
 // w[i], d2[i]: the `found` nearest photons sorted by distance. complete: no further photons exist
 // (within max_radius) beyond these. max_radius: kInfinity for none. dim: 2 or 3.
 // Throws vpm::Error if k < estimator_min_k(e). stats may be null; need_more is not counted.
+// coincident_radius: distances <= it count as 0 for rule (c).
 template <class T>
 Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t found, bool complete,
-                             size_t k, double max_radius, int dim, EstimatorStats* stats = nullptr) {
+                             size_t k, double max_radius, int dim, EstimatorStats* stats = nullptr,
+                             double coincident_radius = 0.0) {
     validate_estimator_k(e, k);
     Estimate<T> out;
     auto finish = [&](EstimateCase c) {
@@ -176,11 +180,13 @@ Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t f
             return finish(EstimateCase::insufficient);
         }
     }
+    const double c2 = coincident_radius * coincident_radius;
+    auto resolvable = [&](double dd) { return dd > c2 && ball_volume(dim, std::sqrt(dd)) > 0.0; };
     double r = std::sqrt(d2[kk - 1]);
     double v = ball_volume(dim, r);
-    if (!(v > 0.0) || !std::isfinite(v)) {   // rule (c)
+    if (!resolvable(d2[kk - 1]) || !std::isfinite(v)) {   // rule (c)
         size_t m = kk;
-        while (m < found && !(ball_volume(dim, std::sqrt(d2[m])) > 0.0)) ++m;
+        while (m < found && !resolvable(d2[m])) ++m;
         if (m >= found) {
             if (!complete) return finish(EstimateCase::need_more);
             if (limited) return fixed(EstimateCase::fixed_radius);

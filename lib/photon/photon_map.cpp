@@ -140,8 +140,12 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
     const float q[3] = {static_cast<float>(rel[0]), static_cast<float>(rel[1]), static_cast<float>(rel[2])};
     const bool limited = std::isfinite(max_radius);
     const double max_r2 = max_radius * max_radius;
-    // Float search bound with a small margin; the exact (double) test is applied below.
-    const float bound = limited ? static_cast<float>(max_r2 * (1.0 + 1e-5) + 1e-30)
+    // Float search bound with a margin covering the float rounding of stored positions and of
+    // the query (each <= 2^-24 of the coordinate magnitude per axis); the exact double test is
+    // applied below.
+    const double coord = rel.cwiseAbs().maxCoeff() + 0.5 * (bounds_.hi - bounds_.lo).cwiseAbs().maxCoeff();
+    const double slack = 8.0 * 0x1p-24 * coord;
+    const float bound = limited ? static_cast<float>((max_radius + slack) * (max_radius + slack) * (1.0 + 1e-6))
                                 : std::numeric_limits<float>::max();
     KnnRadiusResultSet rs(out.scratch_index.data(), out.scratch_d2.data(), k, bound);
     index_->tree.findNeighbors(rs, q, nanoflann::SearchParams());

@@ -66,6 +66,12 @@ public:
     // limit), sorted by distance (ties by stored index). Returns out.size().
     size_t knn(const Vec3& query, size_t k, double max_radius, NeighbourList& out) const;
 
+    // Distances below this cannot be resolved by the stored float positions (4 * 2^-24 times
+    // the largest half-extent of the bounds); estimators treat them as coincident (rule (c)).
+    double position_resolution() const {
+        return empty() ? 0.0 : 4.0 * 0x1p-24 * 0.5 * (bounds_.hi - bounds_.lo).cwiseAbs().maxCoeff();
+    }
+
     // Sum of decoded power of all photons (for energy checks).
     Rgb total_power() const;
 
