@@ -85,6 +85,10 @@ uint64_t stream_id(StudyScenario s, int dim, uint64_t i) {
     return (uint64_t(s) << 56) ^ (uint64_t(dim) << 48) ^ i;
 }
 
+// Per-trial generator: PCG streams that share a seed differ only in the increment and are
+// related sequences, so the state seed is mixed with the stream as well.
+Rng trial_rng(uint64_t seed, uint64_t stream) { return Rng(mix64(seed ^ mix64(stream + 0x632be59bd9b4e019ULL)), stream); }
+
 // Reduces samples[t * stride + offset] over t into a row.
 void reduce(const std::vector<double>& samples, size_t trials, size_t stride, size_t offset, StudyRow& row) {
     double sum = 0;
@@ -276,7 +280,7 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
                     std::vector<double> w(kmax), d2(kmax);
                     EstimatorStats& st = stats.local();
                     for (size_t t = range.begin(); t != range.end(); ++t) {
-                        Rng rng(opt.seed, stream_id(sc, dim, t));
+                        Rng rng = trial_rng(opt.seed, stream_id(sc, dim, t));
                         for (size_t i = 0; i < n; ++i) {
                             Vec3 p;
                             double wt = 1.0;
@@ -335,7 +339,7 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
                 say("study: photon_map: " + std::to_string(maps) + " maps of " + std::to_string(n) + " photons, " +
                     std::to_string(per_map) + " queries each");
                 tbb::parallel_for(size_t(0), maps, [&](size_t m) {
-                    Rng rng(opt.seed, stream_id(sc, dim, m));
+                    Rng rng = trial_rng(opt.seed, stream_id(sc, dim, m));
                     std::vector<PhotonInput> ph(n);
                     for (auto& p : ph) {
                         p.position = Vec3(rng.uniform(), rng.uniform(), rng.uniform());

@@ -40,7 +40,7 @@ public:
     PhotonMap();
     // Builds the map. Photons with non-finite position are rejected with vpm::Error.
     // leaf_size: kd-tree leaf size (nanoflann leaf_max_size).
-    explicit PhotonMap(const std::vector<PhotonInput>& photons, size_t leaf_size = 24);
+    explicit PhotonMap(const std::vector<PhotonInput>& photons, size_t leaf_size = 32);
     ~PhotonMap();
     PhotonMap(PhotonMap&&) noexcept;
     PhotonMap& operator=(PhotonMap&&) noexcept;

@@ -80,7 +80,7 @@ TEST(Estimators, RuleA_CorrectedWithMaxRadiusIsUnbiased) {
     double sum = 0, sum2 = 0;
     std::vector<double> d2(n), w(k), dk(k);
     for (size_t t = 0; t < T; ++t) {
-        Rng rng(99, t);
+        Rng rng(mix64(99 ^ mix64(t)), t);
         for (size_t i = 0; i < n; ++i) d2[i] = sample_uniform_ball(rng.uniform(), rng.uniform(), rng.uniform()).squaredNorm();
         std::nth_element(d2.begin(), d2.begin() + (k - 1), d2.end());
         std::sort(d2.begin(), d2.begin() + k);
@@ -219,7 +219,7 @@ std::vector<std::vector<McResult>> monte_carlo(int dim, const std::vector<size_t
     std::vector<std::vector<McResult>> out(ks.size(), std::vector<McResult>(3));
     std::vector<double> d2(n), w(kmax, phi);
     for (size_t t = 0; t < T; ++t) {
-        Rng rng(seed, t);
+        Rng rng(mix64(seed ^ mix64(t)), t);
         for (size_t i = 0; i < n; ++i) {
             if (dim == 2)
                 d2[i] = sample_uniform_disc(rng.uniform(), rng.uniform()).squaredNorm();
