@@ -62,7 +62,7 @@ def main():
                 if kind == "error":
                     ax.axhline(0.0, color="k", lw=0.5)
                     ax.set_ylabel("relative error  E[S]/truth - 1")
-                    ax.set_ylim(-0.6, 0.6)
+                    ax.set_ylim(-0.6, 1.1)
                 else:
                     ax.set_yscale("log")
                     ax.set_ylabel("relative MSE")
