@@ -4,6 +4,8 @@
 #include <tbb/global_control.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <sstream>
 
@@ -229,4 +231,24 @@ TEST(Study, WritersMatchGoldenFiles) {
     const std::string json = study_sidecar_json(r);
     EXPECT_NE(json.find("\"seed\": 1"), std::string::npos);
     EXPECT_NE(json.find("\"time_seconds\": 0.25"), std::string::npos);
+}
+
+// The command line: a tiny run writes the three files; a bad option fails with a message and
+// writes nothing.
+TEST(StudyCli, TinyRunWritesFilesAndBadOptionFails) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("vpm_study_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const std::string base = std::string(VPM_BINARY) + " study --out " + dir.string();
+    const int rc = std::system((base + " --dims 3 --k 3,5 --trials 200 --n 100 --scenarios uniform --no-plots "
+                                       "--quiet > /dev/null")
+                                   .c_str());
+    ASSERT_EQ(rc, 0);
+    for (const char* f : {"study.csv", "study.md", "study.json"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+    EXPECT_EQ(read((dir / "study.csv").string()).rfind("scenario,dim,k,estimator", 0), 0u);
+    fs::remove_all(dir);
+    const int bad = std::system((base + " --k 1,5 --quiet 2> /dev/null").c_str());
+    EXPECT_NE(bad, 0);
+    EXPECT_FALSE(fs::exists(dir / "study.csv"));
+    fs::remove_all(dir);
 }
