@@ -1,0 +1,111 @@
+// PhotonMap kNN query and build times against a bare nanoflann loop over the same points.
+// Not a test: prints figures. usage: bench_photon_map [max_points=1e6] [build_points=1e7]
+// (a plain main() so that the numbers are one run, single thread, same queries for both.)
+#include <nanoflann.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "core/progress.h"
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "photon/photon_map.h"
+
+using namespace vpm;
+
+namespace {
+
+struct Cloud {
+    std::vector<float> xyz;
+    size_t kdtree_get_point_count() const { return xyz.size() / 3; }
+    float kdtree_get_pt(uint32_t i, size_t d) const { return xyz[3 * i + d]; }
+    template <class B>
+    bool kdtree_get_bbox(B&) const { return false; }
+};
+using BareTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Cloud, float, uint32_t>,
+                                                     Cloud, 3, uint32_t>;
+
+std::vector<PhotonInput> make(size_t n, uint64_t seed) {
+    Rng rng(seed, 0);
+    std::vector<PhotonInput> v(n);
+    for (auto& p : v) {
+        p.position = Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+        p.direction = sample_uniform_sphere(rng.uniform(), rng.uniform());
+        p.power = Rgb::Constant(1.0 / double(n));
+    }
+    return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const size_t max_n = argc > 1 ? size_t(std::atof(argv[1])) : 1000000;
+    const size_t build_n = argc > 2 ? size_t(std::atof(argv[2])) : 10000000;
+    const size_t Q = 20000;
+    for (size_t n = 100000; n <= max_n; n *= 10) {
+        const auto in = make(n, 1);
+        Timer tb;
+        const PhotonMap map(in);
+        const double t_map = tb.seconds();
+        Cloud cloud;
+        cloud.xyz.reserve(3 * n);
+        for (const auto& p : in)
+            for (int a = 0; a < 3; ++a) cloud.xyz.push_back(float(p.position[a]));
+        Cloud sorted;   // the same points in the map's Morton order
+        sorted.xyz.reserve(3 * n);
+        for (size_t i = 0; i < n; ++i)
+            for (int a = 0; a < 3; ++a) sorted.xyz.push_back(float(map.position(i)[a]));
+        BareTree bare_sorted(3, sorted, nanoflann::KDTreeSingleIndexAdaptorParams(32));
+        Timer tb2;
+        BareTree bare(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(32));
+        const double t_bare = tb2.seconds();
+        std::printf("n=%zu  build: PhotonMap %.3f s (incl. Morton sort + encode), bare nanoflann %.3f s; "
+                    "memory %.2f bytes/photon\n",
+                    n, t_map, t_bare, double(map.memory_bytes()) / double(n));
+        Rng rng(2, 0);
+        std::vector<Vec3> qs(Q);
+        for (auto& q : qs) q = Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+        for (size_t k : {8, 32, 128}) {
+            NeighbourList nl;
+            double sink = 0;
+            Timer t1;
+            for (const auto& q : qs) {
+                map.knn(q, k, kInfinity, nl);
+                sink += nl.items.back().d2;
+            }
+            const double us_map = t1.seconds() / Q * 1e6;
+            std::vector<uint32_t> idx(k);
+            std::vector<float> d2(k);
+            Timer t2;
+            for (const auto& q : qs) {
+                const float qf[3] = {float(q.x()), float(q.y()), float(q.z())};
+                nanoflann::KNNResultSet<float, uint32_t> rs(k);
+                rs.init(idx.data(), d2.data());
+                bare.findNeighbors(rs, qf, nanoflann::SearchParams());
+                sink += d2[k - 1];
+            }
+            const double us_bare = t2.seconds() / Q * 1e6;
+            Timer t3;
+            for (const auto& q : qs) {
+                const float qf[3] = {float(q.x()), float(q.y()), float(q.z())};
+                nanoflann::KNNResultSet<float, uint32_t> rs(k);
+                rs.init(idx.data(), d2.data());
+                bare_sorted.findNeighbors(rs, qf, nanoflann::SearchParams());
+                sink += d2[k - 1];
+            }
+            const double us_sorted = t3.seconds() / Q * 1e6;
+            std::printf("  k=%3zu  PhotonMap::knn %.2f us/query | bare nanoflann: input order %.2f, Morton order %.2f "
+                        "us/query  [%g]\n",
+                        k, us_map, us_bare, us_sorted, sink > 0 ? 0.0 : 1.0);
+        }
+    }
+    if (build_n > 0) {
+        const auto in = make(build_n, 3);
+        Timer tb;
+        const PhotonMap map(in);
+        std::printf("n=%zu  build: PhotonMap %.3f s, memory %.2f bytes/photon (%.1f MB)\n", build_n, tb.seconds(),
+                    double(map.memory_bytes()) / double(build_n), map.memory_bytes() / 1e6);
+    }
+    return 0;
+}

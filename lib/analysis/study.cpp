@@ -1,0 +1,567 @@
+#include "analysis/study.h"
+
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <unistd.h>
+
+#include "core/henyey_greenstein.h"
+#include "core/progress.h"
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "photon/photon_map.h"
+
+namespace vpm {
+
+namespace {
+
+struct Pt {
+    double d2;
+    double w;
+};
+
+double unit_volume(int dim) { return ball_volume(dim, 1.0); }
+
+Vec3 uniform_point(int dim, Rng& rng) {
+    if (dim == 2) {
+        const Eigen::Vector2d p = sample_uniform_disc(rng.uniform(), rng.uniform());
+        return Vec3(p.x(), p.y(), 0.0);
+    }
+    const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    return sample_uniform_ball(u1, u2, u3);
+}
+
+double std_normal(Rng& rng) {   // Box-Muller (one of the pair)
+    const double u1 = 1.0 - rng.uniform(), u2 = rng.uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+}
+
+// Chi CDF with dim degrees of freedom (sigma 1): mass of the Gaussian within radius r.
+double gaussian_mass(int dim, double r) {
+    if (dim == 2) return -std::expm1(-0.5 * r * r);
+    return std::erf(r / std::sqrt(2.0)) - std::sqrt(2.0 / kPi) * r * std::exp(-0.5 * r * r);
+}
+
+// Volume (area) of B(q, r) inside the unit ball (disc), |q| = d.
+double lens_volume(int dim, double d, double r) {
+    if (r <= 1.0 - d) return ball_volume(dim, r);
+    if (r >= 1.0 + d) return ball_volume(dim, 1.0);
+    if (d <= 0.0) return ball_volume(dim, std::min(r, 1.0));
+    if (dim == 3) {
+        const double R = 1.0;
+        return kPi * (R + r - d) * (R + r - d) *
+               (d * d + 2 * d * r - 3 * r * r + 2 * d * R + 6 * r * R - 3 * R * R) / (12.0 * d);
+    }
+    const double R = 1.0;
+    const double a1 = std::clamp((d * d + r * r - R * R) / (2 * d * r), -1.0, 1.0);
+    const double a2 = std::clamp((d * d + R * R - r * r) / (2 * d * R), -1.0, 1.0);
+    const double s = (-d + r + R) * (d + r - R) * (d - r + R) * (d + r + R);
+    return r * r * std::acos(a1) + R * R * std::acos(a2) - 0.5 * std::sqrt(std::max(0.0, s));
+}
+
+std::string fmt(double v) {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    if (std::isnan(v)) return "nan";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+std::string fmt_fixed(double v, int prec) {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", prec, v);
+    return buf;
+}
+
+uint64_t stream_id(StudyScenario s, int dim, uint64_t i) {
+    return (uint64_t(s) << 56) ^ (uint64_t(dim) << 48) ^ i;
+}
+
+// Per-trial generator: PCG streams that share a seed differ only in the increment and are
+// related sequences, so the state seed is mixed with the stream as well.
+Rng trial_rng(uint64_t seed, uint64_t stream) { return Rng(mix64(seed ^ mix64(stream + 0x632be59bd9b4e019ULL)), stream); }
+
+// Reduces samples[t * stride + offset] over t into a row.
+void reduce(const std::vector<double>& samples, size_t trials, size_t stride, size_t offset, StudyRow& row) {
+    double sum = 0;
+    for (size_t t = 0; t < trials; ++t) sum += samples[t * stride + offset];
+    const double mean = sum / double(trials);
+    double ss = 0, se_sum = 0;
+    for (size_t t = 0; t < trials; ++t) {
+        const double d = samples[t * stride + offset] - mean;
+        ss += d * d;
+        const double e = samples[t * stride + offset] - 1.0;
+        se_sum += e * e;
+    }
+    const double var = trials > 1 ? ss / double(trials - 1) : 0.0;
+    const double mse = se_sum / double(trials);
+    double ss2 = 0;
+    for (size_t t = 0; t < trials; ++t) {
+        const double e = samples[t * stride + offset] - 1.0;
+        ss2 += (e * e - mse) * (e * e - mse);
+    }
+    row.trials = trials;
+    row.mean_error = mean - 1.0;
+    row.se_mean = std::sqrt(var / double(trials));
+    row.rel_variance = var;
+    row.rel_mse = mse;
+    row.se_mse = trials > 1 ? std::sqrt(ss2 / double(trials - 1) / double(trials)) : 0.0;
+}
+
+}  // namespace
+
+const char* scenario_name(StudyScenario s) {
+    switch (s) {
+        case StudyScenario::uniform: return "uniform";
+        case StudyScenario::gradient: return "gradient";
+        case StudyScenario::gaussian: return "gaussian";
+        case StudyScenario::boundary: return "boundary";
+        case StudyScenario::weighted: return "weighted";
+        case StudyScenario::photon_map: return "photon_map";
+        case StudyScenario::photon_pass: return "photon_pass";
+    }
+    return "unknown";
+}
+
+StudyScenario parse_scenario(const std::string& name) {
+    for (StudyScenario s : {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
+                            StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
+                            StudyScenario::photon_pass})
+        if (name == scenario_name(s)) return s;
+    throw Error("study: unknown scenario '" + name +
+                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass)");
+}
+
+std::vector<StudyScenario> default_scenarios() {
+    return {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
+            StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map};
+}
+
+std::vector<size_t> default_k_list() {
+    return {2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40, 50, 64, 80, 100, 128, 160, 200, 256};
+}
+
+Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w) {
+    const double kk = double(k);
+    const double f = n > 0 ? double(n - 1) / double(n) : 1.0;   // E[1/U^2] finite-n factor
+    Theory t;
+    double mean = 0, m2 = kInfinity;
+    switch (e) {
+        case Estimator::classic:
+            mean = kk / (kk - 1.0);
+            if (k > 2) m2 = kk * (c_w + kk - 1.0) * f / ((kk - 1.0) * (kk - 2.0));
+            break;
+        case Estimator::corrected:
+            mean = 1.0;
+            if (k > 2) m2 = (c_w + kk - 2.0) * f / (kk - 2.0);
+            break;
+        case Estimator::mse_optimal: {
+            const double c = (kk - 2.0) / (kk - 1.0);
+            mean = c;
+            if (k > 2) m2 = c * c * (c_w + kk - 2.0) * f / (kk - 2.0);
+            break;
+        }
+    }
+    t.error = mean - 1.0;
+    t.variance = std::isfinite(m2) ? m2 - mean * mean : kInfinity;
+    t.mse = std::isfinite(m2) ? t.variance + t.error * t.error : kInfinity;
+    return t;
+}
+
+Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
+                         const std::function<double(double)>& mass_fraction, double r_max,
+                         double phi_over_truth) {
+    validate_estimator_k(e, k);
+    const double kk = double(k), nn = double(n);
+    const double mu = kk / (nn + 1.0);
+    const double t_lo = std::log(mu) - (40.0 / std::max(1.0, kk - 2.0) + 12.0 / std::sqrt(kk));
+    const double t_hi = std::min(0.0, std::log(mu) + std::log1p(12.0 / std::sqrt(kk) + 60.0 / kk));
+    const int M = 4000;   // Simpson intervals (even)
+    const double h = (t_hi - t_lo) / M;
+    const double lbeta = std::lgamma(kk) + std::lgamma(nn - kk + 1.0) - std::lgamma(nn + 1.0);
+    double i1 = 0, i2 = 0;
+    for (int j = 0; j <= M; ++j) {
+        const double t = t_lo + h * j;
+        const double u = std::exp(t);
+        if (u >= 1.0) continue;
+        double lo = 0.0, hi = r_max;   // r = F^{-1}(u) by bisection
+        for (int it = 0; it < 64; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (mass_fraction(mid) < u ? lo : hi) = mid;
+        }
+        const double v = ball_volume(dim, 0.5 * (lo + hi));
+        const double lpdf = (kk - 1.0) * t + (nn - kk) * std::log1p(-u) - lbeta;
+        const double wgt = (j == 0 || j == M) ? 1.0 : (j % 2 ? 4.0 : 2.0);
+        const double g = std::exp(lpdf + t);   // pdf(u) du/dt
+        i1 += wgt * g / v;
+        i2 += wgt * g / (v * v);
+    }
+    i1 *= h / 3.0;
+    i2 *= h / 3.0;
+    double c = kk;
+    if (e == Estimator::corrected) c = kk - 1.0;
+    if (e == Estimator::mse_optimal) c = kk - 2.0;
+    Theory th;
+    const double mean = c * phi_over_truth * i1;
+    th.error = mean - 1.0;
+    if (k <= 2) {
+        th.variance = th.mse = kInfinity;
+    } else {
+        const double m2 = c * c * phi_over_truth * phi_over_truth * i2;
+        th.variance = m2 - mean * mean;
+        th.mse = th.variance + th.error * th.error;
+    }
+    return th;
+}
+
+std::vector<PhotonInput> study_photon_pass_source(uint64_t /*seed*/) {
+    return {};   // HOOK: the photon tracer does not exist yet (see study.h)
+}
+
+StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<void(const std::string&)>& log) {
+    Timer timer;
+    StudyResult res;
+    res.options = opt_in;
+    StudyOptions& opt = res.options;
+    if (opt.ks.empty()) opt.ks = default_k_list();
+    std::sort(opt.ks.begin(), opt.ks.end());
+    opt.ks.erase(std::unique(opt.ks.begin(), opt.ks.end()), opt.ks.end());
+    auto say = [&](const std::string& s) {
+        if (log) log(s);
+    };
+    if (opt.ks.front() < 2) throw Error("study: --k values must be >= 2 (got " + std::to_string(opt.ks.front()) + ")");
+    if (opt.trials < 2) throw Error("study: --trials must be >= 2");
+    const size_t kmax = opt.ks.back();
+    if (opt.n <= kmax)
+        throw Error("study: --n (" + std::to_string(opt.n) + ") must exceed the largest k (" + std::to_string(kmax) + ")");
+    for (int d : opt.dims)
+        if (d != 2 && d != 3) throw Error("study: --dims values must be 2 or 3 (got " + std::to_string(d) + ")");
+    if (!(std::abs(opt.gradient_slope) < 1.0)) throw Error("study: gradient slope must be in (-1, 1)");
+    if (!(opt.boundary_distance >= 0.0 && opt.boundary_distance <= 1.0))
+        throw Error("study: boundary distance must be in [0, 1]");
+    res.threads = tbb::this_task_arena::max_concurrency();
+    for (size_t k : opt.ks) {
+        const std::string w = estimator_warning(Estimator::corrected, k);
+        if (!w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
+    }
+    const size_t nk = opt.ks.size(), ne = kAllEstimators.size(), stride = nk * ne;
+    tbb::combinable<EstimatorStats> stats;
+
+    for (StudyScenario sc : opt.scenarios) {
+        if (sc == StudyScenario::photon_pass) {
+            if (study_photon_pass_source(opt.seed).empty()) {
+                res.notes.push_back("photon_pass: skipped; needs the photon tracer (hook study_photon_pass_source)");
+                say("study: photon_pass skipped (no photon tracer yet)");
+            }
+            continue;
+        }
+        for (int dim : opt.dims) {
+            if (sc == StudyScenario::photon_map && dim != 3) continue;
+            Timer t_sc;
+            size_t trials = opt.trials;
+            size_t n = opt.n;
+            std::vector<double> samples;
+            if (sc != StudyScenario::photon_map) {
+                samples.assign(trials * stride, 0.0);
+                const double vol = unit_volume(dim);
+                double phi = vol / double(n);   // truth = 1
+                if (sc == StudyScenario::gaussian) phi = std::pow(2.0 * kPi, 0.5 * dim) / double(n);
+                const double a = opt.gradient_slope, bd = opt.boundary_distance;
+                tbb::parallel_for(tbb::blocked_range<size_t>(0, trials), [&](const tbb::blocked_range<size_t>& range) {
+                    std::vector<Pt> pts(n);
+                    std::vector<double> w(kmax), d2(kmax);
+                    EstimatorStats& st = stats.local();
+                    for (size_t t = range.begin(); t != range.end(); ++t) {
+                        Rng rng = trial_rng(opt.seed, stream_id(sc, dim, t));
+                        for (size_t i = 0; i < n; ++i) {
+                            Vec3 p;
+                            double wt = 1.0;
+                            switch (sc) {
+                                case StudyScenario::gradient:
+                                    do p = uniform_point(dim, rng);
+                                    while (rng.uniform() * (1.0 + std::abs(a)) >= 1.0 + a * p.x());
+                                    break;
+                                case StudyScenario::gaussian:
+                                    p = Vec3(std_normal(rng), std_normal(rng), dim == 3 ? std_normal(rng) : 0.0);
+                                    break;
+                                case StudyScenario::boundary:
+                                    p = uniform_point(dim, rng) - Vec3(bd, 0.0, 0.0);
+                                    break;
+                                case StudyScenario::weighted:
+                                    p = uniform_point(dim, rng);
+                                    wt = -std::log1p(-rng.uniform());   // Exp(1)
+                                    break;
+                                default: p = uniform_point(dim, rng); break;
+                            }
+                            pts[i] = {p.squaredNorm(), wt * phi};
+                        }
+                        auto by_d2 = [](const Pt& x, const Pt& y) { return x.d2 < y.d2; };
+                        if (kmax < n) std::nth_element(pts.begin(), pts.begin() + (kmax - 1), pts.end(), by_d2);
+                        std::sort(pts.begin(), pts.begin() + kmax, by_d2);
+                        for (size_t i = 0; i < kmax; ++i) {
+                            w[i] = pts[i].w;
+                            d2[i] = pts[i].d2;
+                        }
+                        for (size_t ki = 0; ki < nk; ++ki)
+                            for (size_t ei = 0; ei < ne; ++ei) {
+                                const Estimator e = kAllEstimators[ei];
+                                if (opt.ks[ki] < estimator_min_k(e)) continue;
+                                samples[t * stride + ki * ne + ei] =
+                                    estimate_density<double>(e, w.data(), d2.data(), kmax, kmax >= n, opt.ks[ki],
+                                                             kInfinity, dim, &st)
+                                        .value;
+                            }
+                    }
+                });
+            } else {
+                // Real photon map: uniform photons in the unit cube, queries on a grid of
+                // well-separated interior points (balls never overlap or leave the cube).
+                n = opt.photon_map_size;
+                if (n <= kmax) throw Error("study: photon map size must exceed the largest k");
+                const double r_max = std::cbrt(3.0 * double(kmax) / (4.0 * kPi * double(n)));
+                const double margin = 1.3 * r_max;
+                const size_t g = std::max<size_t>(1, size_t((1.0 - 2.0 * margin) / (2.0 * margin)) + 1);
+                const double spacing = g > 1 ? (1.0 - 2.0 * margin) / double(g - 1) : 0.0;
+                const size_t per_map = g * g * g;
+                const size_t want = opt.photon_map_queries ? opt.photon_map_queries : std::max<size_t>(2, opt.trials / 4);
+                const size_t maps = (want + per_map - 1) / per_map;
+                trials = maps * per_map;
+                samples.assign(trials * stride, 0.0);
+                const double phi = 1.0 / double(n);   // power density 1
+                say("study: photon_map: " + std::to_string(maps) + " maps of " + std::to_string(n) + " photons, " +
+                    std::to_string(per_map) + " queries each");
+                tbb::parallel_for(size_t(0), maps, [&](size_t m) {
+                    Rng rng = trial_rng(opt.seed, stream_id(sc, dim, m));
+                    std::vector<PhotonInput> ph(n);
+                    for (auto& p : ph) {
+                        p.position = Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+                        const double u1 = rng.uniform(), u2 = rng.uniform();
+                        p.direction = sample_uniform_sphere(u1, u2);
+                        p.power = Rgb::Constant(phi);
+                    }
+                    const PhotonMap map(ph);
+                    NeighbourList list;
+                    std::vector<double> w(kmax), d2(kmax);
+                    EstimatorStats& st = stats.local();
+                    const Vec3 wo = Vec3::UnitZ();
+                    for (size_t q = 0; q < per_map; ++q) {
+                        const size_t ix = q % g, iy = (q / g) % g, iz = q / (g * g);
+                        const Vec3 x = Vec3::Constant(margin) + spacing * Vec3(double(ix), double(iy), double(iz));
+                        const size_t found = map.knn(x, kmax, kInfinity, list);
+                        for (size_t i = 0; i < found; ++i) {
+                            // same weighting as estimate_in_scattering; isotropic phase 1/(4 pi)
+                            w[i] = 4.0 * kPi * hg_eval(list[i].direction.dot(wo), 0.0) * list[i].power[1];
+                            d2[i] = list[i].d2;
+                        }
+                        const size_t t = m * per_map + q;
+                        for (size_t ki = 0; ki < nk; ++ki)
+                            for (size_t ei = 0; ei < ne; ++ei) {
+                                const Estimator e = kAllEstimators[ei];
+                                if (opt.ks[ki] < estimator_min_k(e)) continue;
+                                samples[t * stride + ki * ne + ei] =
+                                    estimate_density<double>(e, w.data(), d2.data(), found, found < kmax,
+                                                             opt.ks[ki], kInfinity, 3, &st)
+                                        .value;
+                            }
+                    }
+                });
+            }
+            // reduce and attach theory
+            for (size_t ki = 0; ki < nk; ++ki) {
+                const size_t k = opt.ks[ki];
+                for (size_t ei = 0; ei < ne; ++ei) {
+                    const Estimator e = kAllEstimators[ei];
+                    if (k < estimator_min_k(e)) continue;
+                    StudyRow row;
+                    row.scenario = scenario_name(sc);
+                    row.dim = dim;
+                    row.k = k;
+                    row.estimator = e;
+                    row.n = n;
+                    reduce(samples, trials, stride, ki * ne + ei, row);
+                    Theory th, lim;
+                    row.has_theory = true;
+                    switch (sc) {
+                        case StudyScenario::uniform:
+                        case StudyScenario::gradient:
+                        case StudyScenario::photon_map:
+                            th = uniform_theory(e, k, n, 1.0);
+                            lim = uniform_theory(e, k, 0, 1.0);
+                            row.theory_source = "exact";
+                            break;
+                        case StudyScenario::weighted:
+                            th = uniform_theory(e, k, n, 2.0);
+                            lim = uniform_theory(e, k, 0, 2.0);
+                            row.theory_source = "exact";
+                            break;
+                        case StudyScenario::gaussian:
+                            th = quadrature_theory(e, k, n, dim, [dim](double r) { return gaussian_mass(dim, r); },
+                                                   40.0, std::pow(2.0 * kPi, 0.5 * dim) / double(n));
+                            lim = th;
+                            row.theory_source = "quadrature";
+                            break;
+                        case StudyScenario::boundary: {
+                            const double bd = opt.boundary_distance, uv = unit_volume(dim);
+                            th = quadrature_theory(
+                                e, k, n, dim, [dim, bd, uv](double r) { return lens_volume(dim, bd, r) / uv; },
+                                1.0 + bd, uv / double(n));
+                            lim = th;
+                            row.theory_source = "quadrature";
+                            break;
+                        }
+                        default: row.has_theory = false; row.theory_source = "none"; break;
+                    }
+                    row.th_error = th.error;
+                    row.th_variance = th.variance;
+                    row.th_mse = th.mse;
+                    row.th_variance_limit = lim.variance;
+                    res.rows.push_back(row);
+                }
+            }
+            char buf[200];
+            std::snprintf(buf, sizeof buf, "study: %-10s %dD  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
+                          scenario_name(sc), dim, trials, nk, n, t_sc.seconds(), timer.seconds());
+            say(buf);
+        }
+    }
+    stats.combine_each([&](const EstimatorStats& s) { res.stats.merge(s); });
+    res.seconds = timer.seconds();
+    return res;
+}
+
+std::string study_csv(const StudyResult& r) {
+    std::ostringstream s;
+    s << "scenario,dim,k,estimator,n,trials,mean_rel_error,se_mean,rel_variance,rel_mse,se_mse,"
+         "theory_rel_error,theory_rel_variance,theory_rel_mse,theory_rel_variance_limit,theory_source\n";
+    for (const StudyRow& row : r.rows) {
+        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << estimator_name(row.estimator) << ','
+          << row.n << ',' << row.trials << ',' << fmt(row.mean_error) << ',' << fmt(row.se_mean) << ','
+          << fmt(row.rel_variance) << ',' << fmt(row.rel_mse) << ',' << fmt(row.se_mse) << ',';
+        if (row.has_theory)
+            s << fmt(row.th_error) << ',' << fmt(row.th_variance) << ',' << fmt(row.th_mse) << ','
+              << fmt(row.th_variance_limit);
+        else
+            s << ",,,";
+        s << ',' << row.theory_source << '\n';
+    }
+    return s.str();
+}
+
+std::string study_markdown(const StudyResult& r) {
+    std::ostringstream s;
+    s << "# Estimator study\n\n"
+      << "Relative error e - 1 of the kNN density estimate (truth = 1), mean +- standard error over "
+      << "the trials, with theory (exact finite-n order statistics, or quadrature over Beta(k, n-k+1)). "
+      << "classic: sum of k / V(r_k); corrected: sum of k-1 / V(r_k); mse_optimal: (k-2)/(k-1) * corrected.\n\n";
+    s << "seed " << r.options.seed << ", " << r.options.trials << " trials, n = " << r.options.n << ", "
+      << fmt_fixed(r.seconds, 1) << " s on " << r.threads << " threads\n\n";
+    std::string cur;
+    for (const StudyRow& row : r.rows) {
+        const std::string key = row.scenario + " " + std::to_string(row.dim) + "D";
+        if (key != cur) {
+            cur = key;
+            s << "\n## " << key << " (n = " << row.n << ", " << row.trials << " trials, theory: " << row.theory_source
+              << ")\n\n"
+              << "| k | estimator | rel. error +- SE | theory | rel. variance | theory | rel. MSE +- SE | theory |\n"
+              << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
+        }
+        s << "| " << row.k << " | " << estimator_name(row.estimator) << " | " << fmt(row.mean_error) << " +- "
+          << fmt(row.se_mean) << " | " << (row.has_theory ? fmt(row.th_error) : "") << " | " << fmt(row.rel_variance)
+          << " | " << (row.has_theory ? fmt(row.th_variance) : "") << " | " << fmt(row.rel_mse) << " +- "
+          << fmt(row.se_mse) << " | " << (row.has_theory ? fmt(row.th_mse) : "") << " |\n";
+    }
+    if (!r.notes.empty()) {
+        s << "\n## Notes\n\n";
+        for (const auto& n : r.notes) s << "- " << n << "\n";
+    }
+    s << "\nEstimator cases: " << r.stats.to_string() << "\n";
+    return s.str();
+}
+
+std::string study_summary_table(const StudyResult& r, const std::string& scenario, int dim,
+                                const std::vector<size_t>& ks) {
+    std::ostringstream s;
+    s << "| k | classic (theory) | corrected (theory) | mse_optimal (theory) | MSE classic / corrected / mse_optimal (theory) |\n"
+      << "|---:|---|---|---|---|\n";
+    for (size_t k : ks) {
+        const StudyRow* rows[3] = {nullptr, nullptr, nullptr};
+        for (const StudyRow& row : r.rows)
+            if (row.scenario == scenario && row.dim == dim && row.k == k) rows[size_t(row.estimator)] = &row;
+        if (!rows[0]) continue;
+        s << "| " << k;
+        for (const StudyRow* row : rows) {
+            if (!row) { s << " | n/a"; continue; }
+            s << " | " << fmt_fixed(row->mean_error, 4) << " +- " << fmt_fixed(row->se_mean, 4) << " ("
+              << fmt_fixed(row->th_error, 4) << ")";
+        }
+        s << " | ";
+        for (int i = 0; i < 3; ++i)
+            if (rows[i]) s << (i ? " / " : "") << fmt_fixed(rows[i]->rel_mse, 4);
+        s << " (";
+        for (int i = 0; i < 3; ++i)
+            if (rows[i]) s << (i ? " / " : "") << fmt_fixed(rows[i]->th_mse, 4);
+        s << ") |\n";
+    }
+    return s.str();
+}
+
+std::string study_sidecar_json(const StudyResult& r) {
+    nlohmann::json j;
+    const StudyOptions& o = r.options;
+    std::vector<std::string> sc;
+    for (auto s : o.scenarios) sc.push_back(scenario_name(s));
+    j["command"] = "study";
+    j["parameters"] = {{"dims", o.dims},       {"k", o.ks},
+                       {"trials", o.trials},   {"n", o.n},
+                       {"seed", o.seed},       {"scenarios", sc},
+                       {"gradient_slope", o.gradient_slope},
+                       {"boundary_distance", o.boundary_distance},
+                       {"photon_map_size", o.photon_map_size},
+                       {"photon_map_queries", o.photon_map_queries},
+                       {"weights", "Exp(1), c_w = 2 (weighted scenario)"}};
+    j["time_seconds"] = r.seconds;
+    j["threads"] = r.threads;
+    j["git_revision"] = VPM_GIT_REVISION;
+    std::time_t now = std::time(nullptr);
+    char buf[64];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+    j["finished_utc"] = buf;
+    j["notes"] = r.notes;
+    j["estimator_cases"] = {{"queries", r.stats.queries},         {"knn", r.stats.knn},
+                            {"fixed_radius", r.stats.fixed_radius}, {"all_photons", r.stats.all_photons},
+                            {"insufficient", r.stats.insufficient}, {"extended", r.stats.extended},
+                            {"degenerate", r.stats.degenerate},     {"empty", r.stats.empty}};
+    return j.dump(2) + "\n";
+}
+
+void study_write_file(const std::filesystem::path& path, const std::string& text) {
+    const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
+    {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        if (!f) throw FileError(path.string() + ": cannot open for writing");
+        f << text;
+        f.flush();
+        if (!f) {
+            f.close();
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw FileError(path.string() + ": write failed");
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw FileError(path.string() + ": cannot rename temporary file: " + ec.message());
+    }
+}
+
+}  // namespace vpm

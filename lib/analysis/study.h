@@ -1,0 +1,124 @@
+#pragma once
+// The estimator study (issue 4): Monte Carlo of the classic, corrected (k-1) and MSE-optimal
+// (k-2) kNN density estimators against exact order-statistics theory.
+//
+// Every scenario draws n points (photons) with a known density at the query point, normalised so
+// that the true power density there is 1; each estimate is therefore directly the relative
+// estimate e, and the study reports mean(e) - 1 (+- standard error), var(e) and mean((e-1)^2).
+// The estimates come from vpm::estimate_density (lib/photon/estimators.h), the same code the
+// renderer uses; the k nearest of the n points are found with nth_element (exact).
+//
+// Scenarios (theory_source says where the theory column comes from):
+//   uniform    n points uniform in the unit disc / ball, query at the centre (the seed's study).
+//              Exact finite-n theory: U = V(r_k)/|R| ~ Beta(k, n-k+1), E[1/U] = n/(k-1),
+//              E[1/U^2] = n(n-1)/((k-1)(k-2)); relative variance = limit * (n-k+1)/n.
+//   gradient   density proportional to 1 + a x_1 in the unit disc / ball, query at the centre.
+//              The linear part integrates to 0 over any centred ball, so r_k has exactly the
+//              uniform distribution: no proximity bias, theory identical to uniform ("exact").
+//   gaussian   isotropic Gaussian (sigma 1) centred on the query: proximity bias (ball mean <
+//              peak) competes with the k/(k-1) overestimation. Theory by quadrature over
+//              U ~ Beta(k, n-k+1) with r_k = F^{-1}(U), F the chi CDF ("quadrature").
+//   boundary   uniform in the unit disc / ball, query at distance boundary_distance from the
+//              centre: once r_k exceeds the distance to the edge the ball sticks out (boundary
+//              bias). Theory by quadrature with F = lens volume / |R|. Truth: the interior
+//              density (1).
+//   weighted   uniform as above, each photon with power w ~ Exp(1) (E[w] = 1, c_w = E[w^2]/E[w]^2
+//              = 2): corrected relative variance (c_w + k - 2)(n-1)/(n(k-2)) - 1 -> c_w/(k-2).
+//   photon_map (3D) uniform photons in the unit cube stored in the real PhotonMap (compressed
+//              records, nanoflann kd-tree), queried with estimate_in_scattering (isotropic
+//              phase) at well-separated interior points. Exact uniform theory with n = map size.
+//   photon_pass  NOT AVAILABLE YET: photons from a photon pass in a homogeneous medium need the
+//              renderer's photon tracer. Hook: study_photon_pass_source() below returns no
+//              photons until the tracer exists; the scenario is then skipped with a note.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "photon/estimators.h"
+
+namespace vpm {
+
+enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass };
+const char* scenario_name(StudyScenario s);
+StudyScenario parse_scenario(const std::string& name);   // throws vpm::Error listing allowed names
+std::vector<StudyScenario> default_scenarios();           // all but photon_pass
+
+struct StudyOptions {
+    std::vector<int> dims = {2, 3};
+    std::vector<size_t> ks;            // empty: default_k_list()
+    size_t trials = 10000;             // per scenario and dimension
+    size_t n = 1000;                   // points per trial (must exceed the largest k)
+    uint64_t seed = 20130619;
+    std::vector<StudyScenario> scenarios = default_scenarios();
+    double gradient_slope = 0.9;       // density 1 + a x_1, |a| < 1
+    double boundary_distance = 0.9;    // query distance from the centre, in [0, 1]
+    size_t photon_map_size = 100000;   // photons per map in the photon_map scenario
+    size_t photon_map_queries = 0;     // estimates in the photon_map scenario (0: trials / 4)
+};
+
+// 2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40, 50, 64, 80, 100, 128, 160, 200, 256
+std::vector<size_t> default_k_list();
+
+struct StudyRow {
+    std::string scenario;
+    int dim = 3;
+    size_t k = 0;
+    Estimator estimator = Estimator::classic;
+    size_t n = 0, trials = 0;
+    double mean_error = 0, se_mean = 0;   // mean(e) - 1 and its standard error
+    double rel_variance = 0;              // sample variance of e
+    double rel_mse = 0, se_mse = 0;       // mean((e - 1)^2) and its standard error
+    // theory (finite n where it differs from the limit); variance/MSE may be +inf (k = 2)
+    bool has_theory = false;
+    std::string theory_source;            // exact | quadrature | none
+    double th_error = 0, th_variance = 0, th_mse = 0;
+    double th_variance_limit = 0;         // n -> infinity (uniform-type scenarios), else = th_variance
+};
+
+struct StudyResult {
+    StudyOptions options;
+    std::vector<StudyRow> rows;
+    std::vector<std::string> notes;
+    EstimatorStats stats;
+    double seconds = 0;
+    int threads = 1;
+};
+
+// Theory for the uniform-type scenarios: unit ball/disc, n points, i.i.d. weights with
+// c_w = E[w^2]/E[w]^2 (1 for unit weights). Returns (relative error, variance, MSE); +inf
+// variance/MSE at k = 2 for classic and corrected. n = 0 gives the n -> infinity limit.
+struct Theory {
+    double error = 0, variance = 0, mse = 0;
+};
+Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w = 1.0);
+
+// Quadrature theory for unit weights: n points with mass fraction F(r) within distance r of the
+// query (F increasing, F(r_max) = 1), phi_over_truth = photon power / true density.
+Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
+                         const std::function<double(double)>& mass_fraction, double r_max,
+                         double phi_over_truth);
+
+// Photons from an actual photon pass in a homogeneous medium, for the photon_pass scenario.
+// HOOK: returns an empty vector until the photon tracer (lib/photon tracing) exists; then it
+// should trace photons through a homogeneous medium and return them with their true density.
+std::vector<PhotonInput> study_photon_pass_source(uint64_t seed);
+
+// Runs the study; log receives progress lines (may be empty).
+StudyResult run_estimator_study(const StudyOptions& options,
+                                const std::function<void(const std::string&)>& log = {});
+
+// Writers (the numbers are formatted here, in C++).
+std::string study_csv(const StudyResult& r);
+std::string study_markdown(const StudyResult& r);
+std::string study_sidecar_json(const StudyResult& r);
+// Compact table: one scenario and dimension, chosen k, "mean +- se (theory)" per estimator.
+std::string study_summary_table(const StudyResult& r, const std::string& scenario, int dim,
+                                const std::vector<size_t>& ks);
+
+// Writes text to path via a temporary file and rename (no partial file on failure).
+void study_write_file(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace vpm

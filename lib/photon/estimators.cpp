@@ -1,0 +1,124 @@
+#include "photon/estimators.h"
+
+#include <sstream>
+
+#include "core/henyey_greenstein.h"
+
+namespace vpm {
+
+const char* estimator_name(Estimator e) {
+    switch (e) {
+        case Estimator::classic: return "classic";
+        case Estimator::corrected: return "corrected";
+        case Estimator::mse_optimal: return "mse_optimal";
+    }
+    return "unknown";
+}
+
+Estimator parse_estimator(const std::string& name) {
+    for (Estimator e : kAllEstimators)
+        if (name == estimator_name(e)) return e;
+    throw Error("estimator: unknown value '" + name + "' (allowed: classic, corrected, mse_optimal)");
+}
+
+size_t estimator_min_k(Estimator e) {
+    switch (e) {
+        case Estimator::classic: return 1;
+        case Estimator::corrected: return 2;
+        case Estimator::mse_optimal: return 3;
+    }
+    return 1;
+}
+
+void validate_estimator_k(Estimator e, size_t k) {
+    if (k < estimator_min_k(e))
+        throw Error(std::string("estimator ") + estimator_name(e) + ": k = " + std::to_string(k) +
+                    " is out of range (allowed: k >= " + std::to_string(estimator_min_k(e)) + ")");
+}
+
+std::string estimator_warning(Estimator e, size_t k) {
+    if (e == Estimator::corrected && k == 2)
+        return "estimator corrected with k = 2 is unbiased but has infinite variance "
+               "(relative variance 1/(k-2)); use k >= 3";
+    return {};
+}
+
+double ball_volume(int dim, double r) {
+    if (dim == 2) return kPi * r * r;
+    if (dim == 3) return (4.0 / 3.0) * kPi * r * r * r;
+    throw Error("ball_volume: dimension " + std::to_string(dim) + " is out of range (allowed: 2, 3)");
+}
+
+const char* estimate_case_name(EstimateCase c) {
+    switch (c) {
+        case EstimateCase::knn: return "knn";
+        case EstimateCase::fixed_radius: return "fixed_radius";
+        case EstimateCase::all_photons: return "all_photons";
+        case EstimateCase::insufficient: return "insufficient";
+        case EstimateCase::extended: return "extended";
+        case EstimateCase::degenerate: return "degenerate";
+        case EstimateCase::empty: return "empty";
+        case EstimateCase::need_more: return "need_more";
+    }
+    return "unknown";
+}
+
+void EstimatorStats::count(EstimateCase c) {
+    ++queries;
+    switch (c) {
+        case EstimateCase::knn: ++knn; break;
+        case EstimateCase::fixed_radius: ++fixed_radius; break;
+        case EstimateCase::all_photons: ++all_photons; break;
+        case EstimateCase::insufficient: ++insufficient; break;
+        case EstimateCase::extended: ++extended; break;
+        case EstimateCase::degenerate: ++degenerate; break;
+        case EstimateCase::empty: ++empty; break;
+        case EstimateCase::need_more: --queries; break;
+    }
+}
+
+void EstimatorStats::merge(const EstimatorStats& o) {
+    queries += o.queries;
+    knn += o.knn;
+    fixed_radius += o.fixed_radius;
+    all_photons += o.all_photons;
+    insufficient += o.insufficient;
+    extended += o.extended;
+    degenerate += o.degenerate;
+    empty += o.empty;
+}
+
+std::string EstimatorStats::to_string() const {
+    std::ostringstream s;
+    s << "queries=" << queries << " knn=" << knn << " fixed_radius=" << fixed_radius
+      << " all_photons=" << all_photons << " insufficient=" << insufficient << " extended=" << extended
+      << " degenerate=" << degenerate << " empty=" << empty;
+    return s.str();
+}
+
+Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const Vec3& w_o, double g,
+                                     Estimator e, size_t k, double max_radius, GatherBuffers& buf,
+                                     EstimatorStats* stats) {
+    validate_estimator_k(e, k);
+    size_t want = k;
+    for (;;) {
+        const size_t found = map.knn(x, want, max_radius, buf.list);
+        const bool complete = found < want || found == map.size();
+        if (buf.w.size() < found) {
+            buf.w.resize(found);
+            buf.d2.resize(found);
+        }
+        for (size_t i = 0; i < found; ++i) {
+            const Neighbour& n = buf.list[i];
+            buf.w[i] = hg_eval(n.direction.dot(w_o), g) * n.power;
+            buf.d2[i] = n.d2;
+        }
+        Estimate<Rgb> est =
+            estimate_density<Rgb>(e, buf.w.data(), buf.d2.data(), found, complete, k, max_radius, 3, stats,
+                                  map.position_resolution());
+        if (est.kind != EstimateCase::need_more) return est;
+        want *= 2;   // rule (c): coincident photons fill the list, gather more
+    }
+}
+
+}  // namespace vpm

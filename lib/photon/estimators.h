@@ -1,0 +1,225 @@
+#pragma once
+// The kNN density estimators: every estimator vpm has lives in this file (and estimators.cpp).
+//
+// Inputs are the neighbours of a query sorted by distance: their weighted powers
+// w_i = f(w_i, w_o) Phi_i (or unit weights in the study) and squared distances. r_k is the distance
+// of the k-th nearest, V(r) the ball volume: dim 2 -> pi r^2, dim 3 -> 4/3 pi r^3.
+//
+//   classic     S = sum_{i=1..k}   w_i / V(r_k)                 bias +1/(k-1), needs k >= 1
+//   corrected   S = sum_{i=1..k-1} w_i / V(r_k)                 unbiased,      needs k >= 2
+//               (drops the k-th, farthest photon; infinite variance at k = 2)
+//   mse_optimal S = (k-2)/(k-1) * sum_{i=1..k-1} w_i / V(r_k)   bias -1/(k-1), needs k >= 3
+//
+// Definition of mse_optimal for weighted photons: for unit weights it is (k-2)/V(r_k), the scale
+// that minimises the MSE of c/V(r_k) (relative MSE 1/(k-1), DESIGN.md section 1). We write it as
+// the corrected estimate shrunk by (k-2)/(k-1) rather than as (k-2)/k * classic: both agree for
+// unit weights, but the k-1 inner photons are independent of r_k given r_k while the k-th sits
+// exactly on the sphere, so the corrected sum is the lower-variance base. With i.i.d. weights
+// independent of position, corrected has relative variance c_w/(k-2), c_w = E[w^2]/E[w]^2, and
+// the MSE-optimal shrink of it would be (k-2)/(k-2+c_w); we keep (k-2)/(k-1) (exact for equal
+// weights, which is what Russian-roulette photon maps have) so the estimator needs no knowledge
+// of the weight distribution. Its relative bias is -1/(k-1) for any weights.
+//
+// Rules for incomplete or degenerate neighbourhoods (estimate_density below; each is tested):
+//  (a) fewer than k photons within a finite max_radius R: fixed-radius estimate
+//      sum of all found w_i / V(R), nothing dropped. R does not depend on the photons, so
+//      E[sum_{x_i in B(R)} w_i] = integral of the density over B(R): unbiased for the ball mean.
+//      Moreover the combination "corrected when r_k <= R, else fixed radius R" is exactly
+//      unbiased for a Poisson process of intensity rho: with N = count in B(R), mu = rho V(R),
+//      E[(k-1)/V(r_k); r_k <= R] = rho P(N >= k-1) and E[N/V(R); N < k] = rho P(N <= k-2), which
+//      sum to rho. (tests/photon/test_estimators.cpp checks this by Monte Carlo.)
+//  (b) no max_radius (infinite) and fewer than k photons exist in total: use them all, with the
+//      radius at the farthest one, i.e. apply the estimator with k' = count (the kNN estimator
+//      of the whole sample: V(r_n)/|R| ~ Beta(n, 1), corrected stays unbiased for a uniform
+//      density). If k' is below the estimator's minimum (classic 1, corrected 2, mse_optimal 3)
+//      the estimate is 0 (counted as `insufficient`).
+//  (c) r_k = 0 (k or more photons coincide with the query), r_k <= coincident_radius (the
+//      photon map passes its position resolution: stored float positions cannot resolve smaller
+//      distances, so such photons coincide as far as the map knows), or V(r_k) not a positive
+//      finite number: the ball is extended to the first photon strictly farther away, at sorted position
+//      m >= k (0-based), which then plays the k-th photon: the estimator is applied with
+//      k' = m + 1 and r = its distance (classic sums all m+1, corrected drops that first farther
+//      photon and keeps every coincident one). Counted as `extended`. If the list holds no
+//      farther photon and more exist, the caller must gather more (kind need_more; the PhotonMap
+//      helper does this by doubling k). If none exist: with finite max_radius, rule (a); else
+//      the estimate is 0 and counted as `degenerate`. Never Inf or NaN.
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/math.h"
+#include "photon/photon_map.h"
+
+namespace vpm {
+
+
+enum class Estimator { classic, corrected, mse_optimal };
+constexpr std::array<Estimator, 3> kAllEstimators = {Estimator::classic, Estimator::corrected,
+                                                     Estimator::mse_optimal};
+
+const char* estimator_name(Estimator e);
+// Throws vpm::Error naming the allowed values.
+Estimator parse_estimator(const std::string& name);
+// Smallest k the estimator is defined for (classic 1, corrected 2, mse_optimal 3).
+size_t estimator_min_k(Estimator e);
+// Throws vpm::Error when k is below estimator_min_k(e), with the allowed range in the message.
+void validate_estimator_k(Estimator e, size_t k);
+// Non-empty warning for a valid but ill-advised choice (corrected with k = 2: infinite variance).
+std::string estimator_warning(Estimator e, size_t k);
+
+// Ball volume: dim 2 -> pi r^2, dim 3 -> 4/3 pi r^3 (throws vpm::Error for other dims).
+double ball_volume(int dim, double r);
+
+template <class T>
+inline T zero_value() { return T(0.0); }
+template <>
+inline Rgb zero_value<Rgb>() { return Rgb::Zero(); }
+
+template <class T>
+inline T sum_first(const T* w, size_t m) {
+    T s = zero_value<T>();
+    for (size_t i = 0; i < m; ++i) s += w[i];
+    return s;
+}
+
+// --- one function per estimator: w sorted by distance, k entries, volume = V(r_k) > 0 ----------
+template <class T>
+inline T estimate_classic(const T* w, size_t k, double volume) {
+    return sum_first(w, k) / volume;
+}
+template <class T>
+inline T estimate_corrected(const T* w, size_t k, double volume) {
+    return sum_first(w, k - 1) / volume;   // drop the k-th (farthest) photon
+}
+template <class T>
+inline T estimate_mse_optimal(const T* w, size_t k, double volume) {
+    return sum_first(w, k - 1) * (double(k - 2) / (double(k - 1) * volume));
+}
+
+template <class T>
+inline T apply_estimator(Estimator e, const T* w, size_t k, double volume) {
+    switch (e) {
+        case Estimator::classic: return estimate_classic(w, k, volume);
+        case Estimator::corrected: return estimate_corrected(w, k, volume);
+        case Estimator::mse_optimal: return estimate_mse_optimal(w, k, volume);
+    }
+    return zero_value<T>();
+}
+
+// --- the rules ----------------------------------------------------------------------------------
+enum class EstimateCase {
+    knn,            // >= k photons, r_k > 0: the estimator proper
+    fixed_radius,   // rule (a)
+    all_photons,    // rule (b), k' = count >= min k
+    insufficient,   // rule (b) with too few photons for the estimator: 0
+    extended,       // rule (c), ball extended to the first strictly farther photon
+    degenerate,     // rule (c) with nothing farther and no max radius: 0
+    empty,          // no photon found: 0
+    need_more       // rule (c) needs more neighbours than the list holds (caller gathers more)
+};
+const char* estimate_case_name(EstimateCase c);
+
+struct EstimatorStats {
+    uint64_t queries = 0, knn = 0, fixed_radius = 0, all_photons = 0, insufficient = 0,
+             extended = 0, degenerate = 0, empty = 0;
+    void count(EstimateCase c);
+    void merge(const EstimatorStats& o);
+    std::string to_string() const;
+};
+
+template <class T>
+struct Estimate {
+    T value = zero_value<T>();
+    double radius = 0.0;   // radius of the ball used
+    size_t k_used = 0;     // the k the estimator was applied with (count for fixed radius)
+    EstimateCase kind = EstimateCase::empty;
+};
+
+// w[i], d2[i]: the `found` nearest photons sorted by distance. complete: no further photons exist
+// (within max_radius) beyond these. max_radius: kInfinity for none. dim: 2 or 3.
+// Throws vpm::Error if k < estimator_min_k(e). stats may be null; need_more is not counted.
+// coincident_radius: distances <= it count as 0 for rule (c).
+template <class T>
+Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t found, bool complete,
+                             size_t k, double max_radius, int dim, EstimatorStats* stats = nullptr,
+                             double coincident_radius = 0.0) {
+    validate_estimator_k(e, k);
+    Estimate<T> out;
+    auto finish = [&](EstimateCase c) {
+        out.kind = c;
+        if (stats && c != EstimateCase::need_more) stats->count(c);
+        return out;
+    };
+    const bool limited = std::isfinite(max_radius);
+    auto fixed = [&](EstimateCase c) {   // rule (a)
+        const double v = ball_volume(dim, max_radius);
+        out.radius = max_radius;
+        out.k_used = found;
+        if (!(v > 0.0) || !std::isfinite(v)) return finish(EstimateCase::degenerate);
+        out.value = sum_first(w, found) / v;
+        return finish(c);
+    };
+    if (found == 0) {
+        out.radius = limited ? max_radius : 0.0;
+        return finish(EstimateCase::empty);
+    }
+    size_t kk = k;
+    EstimateCase kind = EstimateCase::knn;
+    if (found < k) {
+        if (!complete) throw Error("estimate_density: fewer than k neighbours but the list is not complete");
+        if (limited) return fixed(EstimateCase::fixed_radius);
+        kk = found;   // rule (b)
+        kind = EstimateCase::all_photons;
+        if (kk < estimator_min_k(e)) {
+            out.radius = std::sqrt(d2[found - 1]);
+            return finish(EstimateCase::insufficient);
+        }
+    }
+    const double c2 = coincident_radius * coincident_radius;
+    auto resolvable = [&](double dd) { return dd > c2 && ball_volume(dim, std::sqrt(dd)) > 0.0; };
+    double r = std::sqrt(d2[kk - 1]);
+    double v = ball_volume(dim, r);
+    if (!resolvable(d2[kk - 1]) || !std::isfinite(v)) {   // rule (c)
+        size_t m = kk;
+        while (m < found && !resolvable(d2[m])) ++m;
+        if (m >= found) {
+            if (!complete) return finish(EstimateCase::need_more);
+            if (limited) return fixed(EstimateCase::fixed_radius);
+            out.radius = r;
+            out.k_used = found;
+            return finish(EstimateCase::degenerate);
+        }
+        kk = m + 1;
+        r = std::sqrt(d2[m]);
+        v = ball_volume(dim, r);
+        kind = EstimateCase::extended;
+    }
+    out.value = apply_estimator(e, w, kk, v);
+    out.radius = r;
+    out.k_used = kk;
+    return finish(kind);
+}
+
+// --- photon-map front end ---------------------------------------------------------------------
+// Reusable per-thread buffers for estimate_in_scattering (no allocation once grown).
+struct GatherBuffers {
+    NeighbourList list;
+    std::vector<Rgb> w;
+    std::vector<double> d2;
+};
+
+// S(x, w_o) = sum hg(dot(d_p, w_o), g) Phi_p / V(r_k) with the chosen estimator and the rules above
+// (dim 3). w_o is the outgoing *travel* direction of the scattered light (towards the camera:
+// minus the camera ray's direction), d_p the photon's incoming travel direction (hg_eval
+// convention). Convention: photons are stored at every real collision, so S is the
+// collision-weighted in-scattering density and a camera ray gains albedo(x) * S per unit length.
+Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const Vec3& w_o, double g,
+                                     Estimator e, size_t k, double max_radius, GatherBuffers& buf,
+                                     EstimatorStats* stats = nullptr);
+
+}  // namespace vpm

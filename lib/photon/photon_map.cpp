@@ -1,0 +1,186 @@
+#include "photon/photon_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nanoflann.hpp>
+#include <numeric>
+#include <string>
+
+#include "core/error.h"
+
+namespace vpm {
+
+namespace {
+
+// nanoflann dataset adaptor over the compact records (float positions relative to the centre).
+struct RecordAdaptor {
+    const Photon* data = nullptr;
+    size_t n = 0;
+    size_t kdtree_get_point_count() const { return n; }
+    float kdtree_get_pt(uint32_t i, size_t d) const { return data[i].p[d]; }
+    template <class BBox>
+    bool kdtree_get_bbox(BBox&) const { return false; }
+};
+
+using Metric = nanoflann::L2_Simple_Adaptor<float, RecordAdaptor, float, uint32_t>;
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, RecordAdaptor, 3, uint32_t>;
+
+// k nearest with an upper bound on the squared distance: the tree prunes with
+// min(current k-th distance, radius^2), so a small max_radius makes queries cheaper.
+class KnnRadiusResultSet {
+public:
+    using DistanceType = float;
+    using IndexType = uint32_t;
+    KnnRadiusResultSet(uint32_t* idx, float* d2, size_t capacity, float radius2)
+        : idx_(idx), d2_(d2), cap_(capacity), radius2_(radius2) {}
+    size_t size() const { return count_; }
+    bool full() const { return count_ == cap_; }
+    float worstDist() const { return count_ == cap_ ? d2_[cap_ - 1] : radius2_; }
+    bool addPoint(float dist, uint32_t index) {
+        if (dist >= worstDist()) return true;
+        size_t i = count_ < cap_ ? count_ : cap_ - 1;
+        for (; i > 0 && d2_[i - 1] > dist; --i) {
+            d2_[i] = d2_[i - 1];
+            idx_[i] = idx_[i - 1];
+        }
+        d2_[i] = dist;
+        idx_[i] = index;
+        if (count_ < cap_) ++count_;
+        return true;
+    }
+
+private:
+    uint32_t* idx_;
+    float* d2_;
+    size_t cap_;
+    size_t count_ = 0;
+    float radius2_;
+};
+
+// Spreads the low 21 bits of v to every third bit.
+uint64_t spread_bits(uint64_t v) {
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
+}  // namespace
+
+struct PhotonMap::Index {
+    RecordAdaptor adaptor;
+    Tree tree;
+    Index(const Photon* data, size_t n, size_t leaf)
+        : adaptor{data, n}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(leaf)) {}
+};
+
+PhotonMap::PhotonMap() = default;
+PhotonMap::~PhotonMap() = default;
+PhotonMap::PhotonMap(PhotonMap&&) noexcept = default;
+PhotonMap& PhotonMap::operator=(PhotonMap&&) noexcept = default;
+
+PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
+    if (in.size() >= std::numeric_limits<uint32_t>::max())
+        throw Error("photon map: too many photons (" + std::to_string(in.size()) + ", max 2^32-2)");
+    double max_power = 0.0;
+    for (size_t i = 0; i < in.size(); ++i) {
+        const PhotonInput& p = in[i];
+        if (!p.position.allFinite())
+            throw Error("photon map: photon " + std::to_string(i) + " has a non-finite position");
+        if (!all_finite(p.power))
+            throw Error("photon map: photon " + std::to_string(i) + " has non-finite power");
+        bounds_.extend(p.position);
+        max_power = std::max(max_power, p.power.maxCoeff());
+    }
+    if (in.empty()) return;
+    centre_ = 0.5 * (bounds_.lo + bounds_.hi);
+    power_scale_ = max_power > 0.0 ? max_power : 1.0;
+    const double inv_scale = 1.0 / power_scale_;
+
+    // Morton order over the bounds for cache coherence of leaves and of neighbouring queries.
+    const Vec3 extent = (bounds_.hi - bounds_.lo).cwiseMax(Vec3::Constant(1e-300));
+    std::vector<std::pair<uint64_t, uint32_t>> keys(in.size());
+    for (size_t i = 0; i < in.size(); ++i) {
+        const Vec3 t = ((in[i].position - bounds_.lo).array() / extent.array()).matrix();
+        uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double q = std::min(std::max(t[a], 0.0), 1.0) * 2097151.0;
+            code |= spread_bits(static_cast<uint64_t>(q)) << a;
+        }
+        keys[i] = {code, static_cast<uint32_t>(i)};
+    }
+    std::sort(keys.begin(), keys.end());
+
+    photons_.resize(in.size());
+    for (size_t j = 0; j < in.size(); ++j) {
+        const PhotonInput& p = in[keys[j].second];
+        Photon& r = photons_[j];
+        const Vec3 rel = p.position - centre_;
+        for (int a = 0; a < 3; ++a) r.p[a] = static_cast<float>(rel[a]);
+        encode_direction(p.direction, r.dir);
+        encode_power(p.power, inv_scale, r.power);
+        r.reserved = 0;
+    }
+    index_ = std::make_unique<Index>(photons_.data(), photons_.size(), std::max<size_t>(1, leaf_size));
+}
+
+size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourList& out) const {
+    out.items.clear();
+    if (k == 0 || photons_.empty() || !(max_radius >= 0.0)) return 0;
+    k = std::min(k, photons_.size());
+    if (out.scratch_index.size() < k) {
+        out.scratch_index.resize(k);
+        out.scratch_d2.resize(k);
+    }
+    const Vec3 rel = query - centre_;
+    const float q[3] = {static_cast<float>(rel[0]), static_cast<float>(rel[1]), static_cast<float>(rel[2])};
+    const bool limited = std::isfinite(max_radius);
+    const double max_r2 = max_radius * max_radius;
+    // Float search bound with a margin covering the float rounding of stored positions and of
+    // the query (each <= 2^-24 of the coordinate magnitude per axis); the exact double test is
+    // applied below.
+    const double coord = rel.cwiseAbs().maxCoeff() + 0.5 * (bounds_.hi - bounds_.lo).cwiseAbs().maxCoeff();
+    const double slack = 8.0 * 0x1p-24 * coord;
+    const float bound = limited ? static_cast<float>((max_radius + slack) * (max_radius + slack) * (1.0 + 1e-6))
+                                : std::numeric_limits<float>::max();
+    KnnRadiusResultSet rs(out.scratch_index.data(), out.scratch_d2.data(), k, bound);
+    index_->tree.findNeighbors(rs, q, nanoflann::SearchParams());
+    const size_t found = rs.size();
+    if (out.items.capacity() < k) out.items.reserve(k);
+    for (size_t i = 0; i < found; ++i) {
+        const uint32_t idx = out.scratch_index[i];
+        const Photon& p = photons_[idx];
+        const Vec3 d = rel - Vec3(p.p[0], p.p[1], p.p[2]);
+        const double d2 = d.squaredNorm();
+        if (limited && d2 > max_r2) continue;
+        Neighbour n;
+        n.index = idx;
+        n.d2 = d2;
+        n.power = decode_power(p.power, power_scale_);
+        n.direction = decode_direction(p.dir);
+        out.items.push_back(n);
+    }
+    std::sort(out.items.begin(), out.items.end(), [](const Neighbour& a, const Neighbour& b) {
+        return a.d2 < b.d2 || (a.d2 == b.d2 && a.index < b.index);
+    });
+    return out.items.size();
+}
+
+Rgb PhotonMap::total_power() const {
+    Rgb sum = Rgb::Zero();
+    for (const Photon& p : photons_) sum += decode_power(p.power, power_scale_);
+    return sum;
+}
+
+size_t PhotonMap::index_bytes() const {
+    if (!index_) return 0;
+    return index_->tree.usedMemory(index_->tree);
+}
+
+size_t PhotonMap::memory_bytes() const { return photons_.size() * sizeof(Photon) + index_bytes(); }
+
+}  // namespace vpm

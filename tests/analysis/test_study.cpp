@@ -1,0 +1,254 @@
+// The estimator study: Monte Carlo against theory, theory cross-checks, determinism, writers.
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <unistd.h>
+#include <fstream>
+#include <sstream>
+
+#include "analysis/study.h"
+
+using namespace vpm;
+
+namespace {
+
+const StudyRow* find(const StudyResult& r, const std::string& sc, int dim, size_t k, Estimator e) {
+    for (const auto& row : r.rows)
+        if (row.scenario == sc && row.dim == dim && row.k == k && row.estimator == e) return &row;
+    return nullptr;
+}
+
+std::string read(const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+StudyResult uniform_run() {
+    StudyOptions o;
+    o.scenarios = {StudyScenario::uniform};
+    o.dims = {2, 3};
+    o.ks = {3, 5, 10, 50};
+    o.trials = 10000;
+    o.n = 400;
+    o.seed = 42;
+    return run_estimator_study(o);
+}
+
+}  // namespace
+
+// Issue 4: measured means agree with theory within 3 SE for k in {3, 5, 10, 50}, 2D and 3D.
+// The SE used is the larger of the sample SE and the exact one (for k = 3 the sample variance
+// itself has infinite variance: E[1/U^4] diverges for k <= 4).
+TEST(Study, UniformMeansAgreeWithTheory) {
+    const StudyResult r = uniform_run();
+    for (int dim : {2, 3})
+        for (size_t k : {3, 5, 10, 50})
+            for (Estimator e : kAllEstimators) {
+                const StudyRow* row = find(r, "uniform", dim, k, e);
+                ASSERT_NE(row, nullptr);
+                ASSERT_TRUE(row->has_theory);
+                const double se = std::max(row->se_mean, std::sqrt(row->th_variance / double(row->trials)));
+                EXPECT_NEAR(row->mean_error, row->th_error, 3 * se)
+                    << dim << "D k=" << k << " " << estimator_name(e);
+                EXPECT_EQ(row->trials, 10000u);
+            }
+    // and the theory itself: classic 1/(k-1), corrected 0, k-2 scale -1/(k-1)
+    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::classic)->th_error, 0.25);
+    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::corrected)->th_error, 0.0);
+    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::mse_optimal)->th_error, -0.25);
+    // classic is significantly biased at every k: the test is decisive
+    for (size_t k : {3, 5, 10, 50}) {
+        const StudyRow* c = find(r, "uniform", 3, k, Estimator::classic);
+        EXPECT_GT(c->mean_error / c->se_mean, 5.0) << k;
+    }
+}
+
+// Issue 4: the k-2 scale has lower measured MSE than both others for k in {5, 10, 50}.
+TEST(Study, MseOptimalHasLowestMse) {
+    const StudyResult r = uniform_run();
+    for (int dim : {2, 3})
+        for (size_t k : {5, 10, 50}) {
+            const double m = find(r, "uniform", dim, k, Estimator::mse_optimal)->rel_mse;
+            EXPECT_LT(m, find(r, "uniform", dim, k, Estimator::corrected)->rel_mse) << dim << "D k=" << k;
+            EXPECT_LT(m, find(r, "uniform", dim, k, Estimator::classic)->rel_mse) << dim << "D k=" << k;
+        }
+}
+
+TEST(Study, TheoryLimitsAndInfiniteVariance) {
+    const Theory c = uniform_theory(Estimator::classic, 10, 0);
+    EXPECT_DOUBLE_EQ(c.error, 1.0 / 9.0);
+    EXPECT_NEAR(c.variance, 100.0 / (81.0 * 8.0), 1e-15);
+    EXPECT_NEAR(c.mse, 1.0 / 8.0 + 3.0 / (9.0 * 8.0), 1e-15);
+    const Theory k1 = uniform_theory(Estimator::corrected, 10, 0);
+    EXPECT_NEAR(k1.variance, 1.0 / 8.0, 1e-15);
+    const Theory k2 = uniform_theory(Estimator::mse_optimal, 10, 0);
+    EXPECT_NEAR(k2.mse, 1.0 / 9.0, 1e-15);
+    EXPECT_NEAR(k2.error, -1.0 / 9.0, 1e-15);
+    EXPECT_TRUE(std::isinf(uniform_theory(Estimator::corrected, 2, 1000).variance));
+    EXPECT_TRUE(std::isinf(uniform_theory(Estimator::classic, 2, 1000).mse));
+    // finite n: variance = limit * (n-k+1)/n
+    EXPECT_NEAR(uniform_theory(Estimator::corrected, 10, 100).variance, 1.0 / 8.0 * 91.0 / 100.0, 1e-15);
+    // weighted: c_w / (k-2) in the limit
+    EXPECT_NEAR(uniform_theory(Estimator::corrected, 10, 0, 2.0).variance, 2.0 / 8.0, 1e-15);
+}
+
+// The quadrature used for the gaussian and boundary scenarios reproduces the closed form.
+TEST(Study, QuadratureMatchesClosedForm) {
+    for (int dim : {2, 3})
+        for (size_t k : {3, 10, 50, 256})
+            for (Estimator e : kAllEstimators) {
+                const size_t n = 1000;
+                const Theory q = quadrature_theory(
+                    e, k, n, dim, [dim](double r) { return std::pow(std::min(r, 1.0), dim); }, 1.0,
+                    ball_volume(dim, 1.0) / double(n));
+                const Theory t = uniform_theory(e, k, n);
+                EXPECT_NEAR(q.error, t.error, 1e-6) << dim << " " << k;
+                EXPECT_NEAR(q.variance, t.variance, 1e-6 * t.variance) << dim << " " << k;
+            }
+}
+
+// Non-uniform and boundary scenarios agree with their quadrature theory; weighted photons with
+// the c_w variance law; the real photon map with the exact uniform theory.
+TEST(Study, BeyondTheSeedScenariosAgreeWithTheory) {
+    StudyOptions o;
+    o.scenarios = {StudyScenario::gradient, StudyScenario::gaussian, StudyScenario::boundary,
+                   StudyScenario::weighted, StudyScenario::photon_map, StudyScenario::photon_pass};
+    o.dims = {3};
+    o.ks = {5, 20, 100};
+    o.trials = 3000;
+    o.n = 400;
+    o.photon_map_size = 20000;
+    o.photon_map_queries = 1500;
+    o.seed = 7;
+    const StudyResult r = run_estimator_study(o);
+    for (const auto& row : r.rows) {
+        ASSERT_TRUE(row.has_theory);
+        const double se = std::max(row.se_mean, std::sqrt(row.th_variance / double(row.trials)));
+        EXPECT_NEAR(row.mean_error, row.th_error, 3.5 * se) << row.scenario << " k=" << row.k << " "
+                                                            << estimator_name(row.estimator);
+    }
+    // proximity bias of the gaussian is visible at k = 100 (corrected is no longer unbiased)
+    EXPECT_LT(find(r, "gaussian", 3, 100, Estimator::corrected)->th_error, -0.05);
+    // boundary bias at k = 100: the ball sticks out of the unit ball
+    EXPECT_LT(find(r, "boundary", 3, 100, Estimator::corrected)->th_error, -0.05);
+    // weighted: corrected relative variance ~ c_w/(k-2) (c_w = 2), not 1/(k-2)
+    const StudyRow* w = find(r, "weighted", 3, 20, Estimator::corrected);
+    EXPECT_NEAR(w->rel_variance / w->th_variance, 1.0, 0.1);
+    EXPECT_GT(w->rel_variance, 1.6 / 18.0);
+    bool noted = false;
+    for (const auto& n : r.notes) noted |= n.find("photon_pass") != std::string::npos;
+    EXPECT_TRUE(noted);
+}
+
+TEST(Study, IdenticalOnAnyThreadCount) {
+    StudyOptions o;
+    o.scenarios = {StudyScenario::uniform, StudyScenario::photon_map};
+    o.dims = {3};
+    o.ks = {4, 16};
+    o.trials = 500;
+    o.n = 200;
+    o.photon_map_size = 5000;
+    o.photon_map_queries = 200;
+    std::string one, two;
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+        one = study_csv(run_estimator_study(o));
+    }
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+        two = study_csv(run_estimator_study(o));
+    }
+    EXPECT_EQ(one, two);
+    o.seed += 1;
+    EXPECT_NE(one, study_csv(run_estimator_study(o)));
+}
+
+TEST(Study, RejectsBadOptions) {
+    StudyOptions o;
+    o.ks = {1, 5};
+    EXPECT_THROW(run_estimator_study(o), Error);
+    o.ks = {5, 300};
+    o.n = 300;
+    EXPECT_THROW(run_estimator_study(o), Error);
+    o.n = 1000;
+    o.dims = {4};
+    EXPECT_THROW(run_estimator_study(o), Error);
+    EXPECT_THROW(parse_scenario("foo"), Error);
+}
+
+// Golden files for the writers, on a hand-made result (no randomness involved).
+TEST(Study, WritersMatchGoldenFiles) {
+    StudyResult r;
+    r.options.trials = 100;
+    r.options.n = 50;
+    r.options.seed = 1;
+    r.seconds = 0.25;
+    r.threads = 2;
+    StudyRow a;
+    a.scenario = "uniform";
+    a.dim = 3;
+    a.k = 2;
+    a.estimator = Estimator::corrected;
+    a.n = 50;
+    a.trials = 100;
+    a.mean_error = 0.0123;
+    a.se_mean = 0.05;
+    a.rel_variance = 0.7;
+    a.rel_mse = 0.70015;
+    a.se_mse = 0.3;
+    a.has_theory = true;
+    a.theory_source = "exact";
+    a.th_error = 0;
+    a.th_variance = kInfinity;
+    a.th_mse = kInfinity;
+    a.th_variance_limit = kInfinity;
+    StudyRow b = a;
+    b.k = 3;
+    b.estimator = Estimator::classic;
+    b.mean_error = 0.4875;
+    b.th_error = 0.5;
+    b.th_variance = 2.205;
+    b.th_mse = 2.455;
+    b.th_variance_limit = 2.25;
+    StudyRow c = b;
+    c.scenario = "photon_pass";
+    c.has_theory = false;
+    c.theory_source = "none";
+    r.rows = {a, b, c};
+    r.notes = {"a note"};
+    const std::string dir = std::string(VPM_TEST_DATA_DIR) + "/study/";
+    if (std::getenv("VPM_UPDATE_GOLDEN")) {   // regenerate after an intended format change
+        std::ofstream(dir + "golden.csv") << study_csv(r);
+        std::ofstream(dir + "golden.md") << study_markdown(r);
+    }
+    EXPECT_EQ(study_csv(r), read(dir + "golden.csv"));
+    EXPECT_EQ(study_markdown(r), read(dir + "golden.md"));
+    const std::string json = study_sidecar_json(r);
+    EXPECT_NE(json.find("\"seed\": 1"), std::string::npos);
+    EXPECT_NE(json.find("\"time_seconds\": 0.25"), std::string::npos);
+}
+
+// The command line: a tiny run writes the three files; a bad option fails with a message and
+// writes nothing.
+TEST(StudyCli, TinyRunWritesFilesAndBadOptionFails) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("vpm_study_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const std::string base = std::string(VPM_BINARY) + " study --out " + dir.string();
+    const int rc = std::system((base + " --dims 3 --k 3,5 --trials 200 --n 100 --scenarios uniform --no-plots "
+                                       "--quiet > /dev/null")
+                                   .c_str());
+    ASSERT_EQ(rc, 0);
+    for (const char* f : {"study.csv", "study.md", "study.json"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+    EXPECT_EQ(read((dir / "study.csv").string()).rfind("scenario,dim,k,estimator", 0), 0u);
+    fs::remove_all(dir);
+    const int bad = std::system((base + " --k 1,5 --quiet 2> /dev/null").c_str());
+    EXPECT_NE(bad, 0);
+    EXPECT_FALSE(fs::exists(dir / "study.csv"));
+    fs::remove_all(dir);
+}

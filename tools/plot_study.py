@@ -1,0 +1,83 @@
+#!/usr/bin/python3
+"""Plots for `vpm study`: relative error vs k with theory curves and error bars (like the seed's
+figure) and relative MSE vs k for the three scales. The numbers all come from study.csv (C++).
+
+usage: /usr/bin/python3 tools/plot_study.py OUT/study.csv OUT_DIR
+writes OUT_DIR/study_error_<scenario>.png and OUT_DIR/study_mse_<scenario>.png
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+COLOURS = {"classic": "tab:red", "corrected": "tab:blue", "mse_optimal": "tab:green"}
+
+
+def num(s):
+    if s in ("", None):
+        return float("nan")
+    if s in ("inf", "-inf"):
+        return float(s)
+    return float(s)
+
+
+def main():
+    if len(sys.argv) != 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    rows = list(csv.DictReader(open(sys.argv[1], newline="")))
+    out = sys.argv[2]
+    scenarios = sorted({r["scenario"] for r in rows}, key=lambda s: [r["scenario"] for r in rows].index(s))
+    for sc in scenarios:
+        sub = [r for r in rows if r["scenario"] == sc]
+        dims = sorted({int(r["dim"]) for r in sub})
+        for kind in ("error", "mse"):
+            fig, axes = plt.subplots(1, len(dims), figsize=(6 * len(dims), 4.5), squeeze=False)
+            for ax, dim in zip(axes[0], dims):
+                for est, col in COLOURS.items():
+                    rr = [r for r in sub if int(r["dim"]) == dim and r["estimator"] == est]
+                    if not rr:
+                        continue
+                    k = [int(r["k"]) for r in rr]
+                    if kind == "error":
+                        y = [num(r["mean_rel_error"]) for r in rr]
+                        e = [num(r["se_mean"]) for r in rr]
+                        th = [num(r["theory_rel_error"]) for r in rr]
+                        ax.errorbar(k, y, yerr=e, fmt="o", ms=3, color=col, capsize=2, label=f"{est} (measured)")
+                    else:
+                        y = [num(r["rel_mse"]) for r in rr]
+                        e = [num(r["se_mse"]) for r in rr]
+                        th = [num(r["theory_rel_mse"]) for r in rr]
+                        ax.errorbar(k, y, yerr=e, fmt="o", ms=3, color=col, capsize=2, label=f"{est} (measured)")
+                    kt = [kk for kk, t in zip(k, th) if math.isfinite(t)]
+                    tt = [t for t in th if math.isfinite(t)]
+                    if tt:
+                        ax.plot(kt, tt, "-", color=col, lw=1, alpha=0.7, label=f"{est} (theory)")
+                ax.set_xscale("log")
+                if kind == "error":
+                    ax.axhline(0.0, color="k", lw=0.5)
+                    ax.set_ylabel("relative error  E[S]/truth - 1")
+                    ax.set_ylim(-0.6, 1.1)
+                else:
+                    ax.set_yscale("log")
+                    ax.set_ylabel("relative MSE")
+                ax.set_xlabel("k")
+                ax.set_title(f"{sc}, {dim}D (n = {sub[0]['n']}, {sub[0]['trials']} trials)")
+                ax.grid(True, which="both", alpha=0.3)
+                ax.legend(fontsize=7)
+            fig.tight_layout()
+            path = os.path.join(out, f"study_{kind}_{sc}.png")
+            tmp = path + f".tmp-{os.getpid()}.png"
+            fig.savefig(tmp, dpi=110)
+            os.replace(tmp, path)
+            plt.close(fig)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

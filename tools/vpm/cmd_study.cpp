@@ -1,0 +1,135 @@
+// vpm study [--out DIR] [--dims 2,3] [--k LIST] [--trials T] [--seed S] [--n N] [--scenarios LIST]
+//           [--threads N] [--no-plots] [--quiet]
+// Writes study.csv, study.md, study.json (sidecar) and, when /usr/bin/python3 with matplotlib is
+// available, study_error.png / study_mse.png via tools/plot_study.py.
+#include "cmd_study.h"
+
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "analysis/study.h"
+#include "core/error.h"
+
+namespace vpm {
+
+namespace {
+
+template <class T>
+std::vector<T> parse_list(const std::string& text, const char* what) {
+    std::vector<T> out;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        if (item.empty()) continue;
+        try {
+            size_t pos = 0;
+            const long long v = std::stoll(item, &pos);
+            if (pos != item.size() || v < 0) throw std::invalid_argument(item);
+            out.push_back(static_cast<T>(v));
+        } catch (const std::exception&) {
+            throw Error(std::string("study: ") + what + ": '" + item + "' is not a non-negative integer");
+        }
+    }
+    if (out.empty()) throw Error(std::string("study: ") + what + ": empty list");
+    return out;
+}
+
+std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+}  // namespace
+
+int run_study(int argc, char** argv) {
+    CLI::App app{"Estimator study: bias, variance and MSE of the classic (k), corrected (k-1) and\n"
+                 "MSE-optimal (k-2) kNN density estimators against exact order-statistics theory\n"
+                 "(Garcia, Urena & Sbert, EGSR 2013), plus non-uniform, boundary, weighted and\n"
+                 "real-photon-map scenarios.",
+                 "vpm study"};
+    StudyOptions opt;
+    std::string out_dir = "out/study", dims = "2,3", ks, scenarios;
+    bool quiet = false, no_plots = false;
+    int threads = 0;
+    app.add_option("--out", out_dir, "output folder (created)")->capture_default_str();
+    app.add_option("--dims", dims, "dimensions, comma-separated (2: disc / pi r^2, 3: ball / 4/3 pi r^3)")
+        ->capture_default_str();
+    app.add_option("--k", ks, "k values, comma-separated (default 2..256 log-spaced)");
+    app.add_option("--trials", opt.trials, "trials per scenario and dimension")->capture_default_str();
+    app.add_option("--n", opt.n, "points per trial (must exceed the largest k)")->capture_default_str();
+    app.add_option("--seed", opt.seed, "random seed (results are identical on any thread count)")
+        ->capture_default_str();
+    app.add_option("--scenarios", scenarios,
+                   "comma-separated: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass "
+                   "(default: all but photon_pass)");
+    app.add_option("--photon-map-size", opt.photon_map_size, "photons per map in the photon_map scenario")
+        ->capture_default_str();
+    app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
+    app.add_flag("--no-plots", no_plots, "do not run tools/plot_study.py");
+    app.add_flag("--quiet", quiet, "no progress lines");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    try {
+        opt.dims = parse_list<int>(dims, "--dims");
+        if (!ks.empty()) opt.ks = parse_list<size_t>(ks, "--k");
+        if (!scenarios.empty()) {
+            opt.scenarios.clear();
+            std::stringstream ss(scenarios);
+            std::string item;
+            while (std::getline(ss, item, ','))
+                if (!item.empty()) opt.scenarios.push_back(parse_scenario(item));
+        }
+        std::unique_ptr<tbb::global_control> gc;
+        if (threads > 0)
+            gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+        auto log = [quiet](const std::string& s) {
+            if (!quiet) std::cerr << s << std::endl;
+        };
+        const StudyResult res = run_estimator_study(opt, log);
+        const std::filesystem::path out(out_dir);
+        std::error_code ec;
+        std::filesystem::create_directories(out, ec);
+        if (ec) throw FileError(out.string() + ": cannot create folder: " + ec.message());
+        study_write_file(out / "study.csv", study_csv(res));
+        study_write_file(out / "study.md", study_markdown(res));
+        study_write_file(out / "study.json", study_sidecar_json(res));
+        for (const auto& n : res.notes) log("note: " + n);
+        for (int dim : res.options.dims) {
+            bool has = false;
+            for (const auto& r : res.rows) has |= r.scenario == "uniform" && r.dim == dim;
+            if (!has || quiet) continue;
+            std::cout << "uniform " << dim << "D, relative error (theory):\n"
+                      << study_summary_table(res, "uniform", dim, {3, 5, 10, 50, 100}) << "\n";
+        }
+        log("study: wrote " + (out / "study.csv").string() + ", study.md, study.json in " +
+            std::to_string(res.seconds) + " s");
+        if (!no_plots) {
+            const std::filesystem::path script = std::filesystem::path(VPM_SOURCE_DIR) / "tools" / "plot_study.py";
+            if (std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
+                const std::string cmd = "/usr/bin/python3 " + shell_quote(script.string()) + " " +
+                                        shell_quote((out / "study.csv").string()) + " " + shell_quote(out.string());
+                const int rc = std::system(cmd.c_str());
+                if (rc != 0) log("study: plotting failed (exit " + std::to_string(rc) + "); the tables are written");
+            } else {
+                log("study: plots skipped (/usr/bin/python3 or " + script.string() + " missing)");
+            }
+        }
+        return 0;
+    } catch (const Error& e) {
+        std::cerr << "vpm study: " << e.what() << std::endl;
+        return 2;
+    }
+}
+
+}  // namespace vpm
