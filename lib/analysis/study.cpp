@@ -535,33 +535,8 @@ std::string study_sidecar_json(const StudyResult& r) {
     std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
     j["finished_utc"] = buf;
     j["notes"] = r.notes;
-    j["estimator_cases"] = {{"queries", r.stats.queries},         {"knn", r.stats.knn},
-                            {"fixed_radius", r.stats.fixed_radius}, {"all_photons", r.stats.all_photons},
-                            {"insufficient", r.stats.insufficient}, {"extended", r.stats.extended},
-                            {"degenerate", r.stats.degenerate},     {"empty", r.stats.empty}};
+    for (const auto& [name, count] : r.stats.fields()) j["estimator_cases"][name] = count;
     return j.dump(2) + "\n";
-}
-
-void study_write_file(const std::filesystem::path& path, const std::string& text) {
-    const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) throw FileError(path.string() + ": cannot open for writing");
-        f << text;
-        f.flush();
-        if (!f) {
-            f.close();
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            throw FileError(path.string() + ": write failed");
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw FileError(path.string() + ": cannot rename temporary file: " + ec.message());
-    }
 }
 
 }  // namespace vpm

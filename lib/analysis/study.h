@@ -118,7 +118,4 @@ std::string study_sidecar_json(const StudyResult& r);
 std::string study_summary_table(const StudyResult& r, const std::string& scenario, int dim,
                                 const std::vector<size_t>& ks);
 
-// Writes text to path via a temporary file and rename (no partial file on failure).
-void study_write_file(const std::filesystem::path& path, const std::string& text);
-
 }  // namespace vpm

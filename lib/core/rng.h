@@ -21,7 +21,8 @@ public:
         inc_ = (mix64(stream ^ 0x5851f42d4c957f2dULL) << 1u) | 1u;
         state_ = 0;
         next_u32();
-        state_ += mix64(seed);
+        // The stream also enters the state: PCG streams that share a state are related sequences.
+        state_ += mix64(seed + mix64(stream));
         next_u32();
     }
 

@@ -88,11 +88,15 @@ void EstimatorStats::merge(const EstimatorStats& o) {
     empty += o.empty;
 }
 
+std::vector<std::pair<std::string, uint64_t>> EstimatorStats::fields() const {
+    return {{"queries", queries},         {"knn", knn},           {"fixed_radius", fixed_radius},
+            {"all_photons", all_photons}, {"insufficient", insufficient}, {"extended", extended},
+            {"degenerate", degenerate},   {"empty", empty}};
+}
+
 std::string EstimatorStats::to_string() const {
     std::ostringstream s;
-    s << "queries=" << queries << " knn=" << knn << " fixed_radius=" << fixed_radius
-      << " all_photons=" << all_photons << " insufficient=" << insufficient << " extended=" << extended
-      << " degenerate=" << degenerate << " empty=" << empty;
+    for (const auto& [name, count] : fields()) s << (name == "queries" ? "" : " ") << name << "=" << count;
     return s.str();
 }
 

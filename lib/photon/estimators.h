@@ -130,6 +130,7 @@ struct EstimatorStats {
     void count(EstimateCase c);
     void merge(const EstimatorStats& o);
     std::string to_string() const;
+    std::vector<std::pair<std::string, uint64_t>> fields() const;   // name, count; for tables and JSON
 };
 
 template <class T>

@@ -7,7 +7,10 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "render/image_io.h"
+#include "photon/photon_map.h"
+#include "photon/photon_tracer.h"
 #include "render/path_tracer.h"
+#include "render/photon_map_integrator.h"
 
 namespace vpm {
 
@@ -17,6 +20,57 @@ nlohmann::json toml_to_json(const toml::table& table) {
     std::ostringstream s;
     s << toml::json_formatter(table);
     return nlohmann::json::parse(s.str());
+}
+
+nlohmann::json rgb_json(const Rgb& c) { return nlohmann::json::array({c[0], c[1], c[2]}); }
+
+// The photon pass and the kd-tree, with their timings, energy balance and memory in the record.
+PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options, RunRecord& record) {
+    const PhotonSettings& ps = scene.photons;
+    PhotonTraceSettings ts;
+    ts.count = uint64_t(ps.count);
+    ts.seed = scene.render.seed;
+    ts.stream_offset = options.stream_offset;
+    ts.store_direct = ps.direct == "photon_map";
+    ts.max_bounces = ps.max_bounces;
+    ts.progress = options.progress;
+    PhotonTraceResult traced = trace_photons(scene, ts);
+    record.phase("trace", traced.seconds);
+    const size_t stored = traced.photons.size();
+    record.set("photons.emitted", traced.paths);
+    record.set("photons.stored", uint64_t(stored));
+    record.set("photons.collisions", traced.collisions);
+    record.set("photons.truncated_paths", traced.truncated_paths);
+    record.set("photons.paths_per_second", traced.seconds > 0 ? double(traced.paths) / traced.seconds : 0.0);
+    record.set("photons.energy.emitted", rgb_json(traced.energy.emitted));
+    record.set("photons.energy.absorbed", rgb_json(traced.energy.absorbed));
+    record.set("photons.energy.escaped", rgb_json(traced.energy.escaped));
+    record.set("photons.energy.truncated", rgb_json(traced.energy.truncated));
+    record.set("photons.energy.relative_imbalance", traced.energy.relative_imbalance());
+    if (options.log)
+        *options.log << "trace: " << traced.paths << " photon paths, " << traced.collisions << " collisions, "
+                      << stored << " stored in " << traced.seconds << " s; energy imbalance "
+                      << traced.energy.relative_imbalance() << ", truncated paths " << traced.truncated_paths << "\n";
+
+    // Warn before building a map larger than the budget (records + index, measured per photon).
+    const double projected = double(stored) * double(bytes_per_photon() + 4);
+    const double budget = ps.memory_budget_fraction * double(physical_memory_bytes());
+    if (projected > budget && options.log)
+        *options.log << "warning: the photon map will take about " << projected / 1e9 << " GB, over the budget of "
+                      << budget / 1e9 << " GB (photons.memory_budget_fraction)\n";
+
+    const Timer build_timer;
+    PhotonMap map(traced.photons);
+    std::vector<PhotonInput>().swap(traced.photons);
+    record.phase("build", build_timer.seconds());
+    record.set("photons.bytes_per_photon", uint64_t(bytes_per_photon()));
+    record.set("photons.map_bytes", uint64_t(map.memory_bytes()));
+    record.set("photons.map_bytes_per_photon", stored ? double(map.memory_bytes()) / double(stored) : 0.0);
+    if (options.log)
+        *options.log << "build: kd-tree over " << stored << " photons in " << build_timer.seconds() << " s, "
+                      << map.memory_bytes() / 1e6 << " MB (" << (stored ? double(map.memory_bytes()) / double(stored) : 0.0)
+                      << " bytes/photon)\n";
+    return map;
 }
 
 }  // namespace
@@ -31,10 +85,13 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     result.record.set("build_log", scene.build_log);
 
     std::unique_ptr<Integrator> integrator;
+    PhotonMap map;
     if (scene.render.integrator == "path") {
         integrator = std::make_unique<PathTracer>(scene);
     } else {
-        throw Error("integrator '" + scene.render.integrator + "' is not available in this build");
+        if (scene.has_media()) map = build_volume_photon_map(scene, options, result.record);
+        else if (options.log) *options.log << "photons: no media, so no volume photon map (no photon pass)\n";
+        integrator = std::make_unique<PhotonMapIntegrator>(scene, map);
     }
 
     RenderOptions ro;
@@ -49,6 +106,11 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     result.record.set("render.samples", result.stats.samples);
     result.record.set("render.samples_per_second", result.stats.samples_per_second());
     result.record.set("render.nonfinite_samples", result.stats.nonfinite_samples);
+    if (const auto* pm = dynamic_cast<const PhotonMapIntegrator*>(integrator.get())) {
+        const EstimatorStats st = pm->stats();
+        for (const auto& [name, count] : st.fields()) result.record.set("photons.estimate_cases." + name, count);
+        if (options.log) *options.log << "estimates: " << st.to_string() << "\n";
+    }
     if (options.log) {
         *options.log << "render: " << ro.width << "x" << ro.height << " at " << ro.spp << " spp in "
                       << result.stats.seconds << " s (" << result.stats.samples_per_second() / 1e6

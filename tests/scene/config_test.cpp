@@ -173,3 +173,12 @@ TEST(Config, HomogeneousSceneBuildsNeitherEmbreeNorOpenVdb) {
     EXPECT_TRUE(said_embree);
     EXPECT_TRUE(said_vdb);
 }
+
+TEST(Config, OnlyScenesWithShapesCreateAnEmbreeDevice) {
+    const size_t before = Surfaces::devices_created();
+    build(kMinimal);
+    EXPECT_EQ(Surfaces::devices_created(), before);
+    auto scene = build(std::string(kMinimal) + "\n[[shapes]]\ntype = \"quad\"\ncenter = [0, -1, 0]\nu = [2, 0, 0]\nv = [0, 0, 2]\n");
+    EXPECT_EQ(Surfaces::devices_created(), before + 1);
+    EXPECT_TRUE(scene->uses_embree());
+}

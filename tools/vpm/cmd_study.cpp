@@ -15,6 +15,8 @@
 #include <sstream>
 
 #include "analysis/study.h"
+#include "command.h"
+#include "render/image_io.h"
 #include "core/error.h"
 
 namespace vpm {
@@ -101,9 +103,9 @@ int run_study(int argc, char** argv) {
         std::error_code ec;
         std::filesystem::create_directories(out, ec);
         if (ec) throw FileError(out.string() + ": cannot create folder: " + ec.message());
-        study_write_file(out / "study.csv", study_csv(res));
-        study_write_file(out / "study.md", study_markdown(res));
-        study_write_file(out / "study.json", study_sidecar_json(res));
+        write_text_atomic(out / "study.csv", study_csv(res));
+        write_text_atomic(out / "study.md", study_markdown(res));
+        write_text_atomic(out / "study.json", study_sidecar_json(res));
         for (const auto& n : res.notes) log("note: " + n);
         for (int dim : res.options.dims) {
             bool has = false;
@@ -133,3 +135,5 @@ int run_study(int argc, char** argv) {
 }
 
 }  // namespace vpm
+
+VPM_REGISTER_COMMAND({"study", "the estimator study: bias, variance and MSE of classic, corrected and (k-2) scales", vpm::run_study});

@@ -1,0 +1,75 @@
+#include "render/photon_map_integrator.h"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "core/sampling.h"
+#include "render/direct_light.h"
+
+namespace vpm {
+
+struct PhotonMapIntegrator::ThreadState {
+    struct Local {
+        GatherBuffers buffers;
+        EstimatorStats stats;
+    };
+    mutable tbb::enumerable_thread_specific<Local> local;
+};
+
+PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMap& map)
+    : scene_(scene), map_(map), estimator_(parse_estimator(scene.photons.estimator)), k_(size_t(scene.photons.k)),
+      max_radius_(scene.photons.max_radius > 0 ? scene.photons.max_radius : kInfinity),
+      nee_(scene.photons.direct == "nee"), threads_(std::make_unique<ThreadState>()) {}
+
+PhotonMapIntegrator::~PhotonMapIntegrator() = default;
+
+EstimatorStats PhotonMapIntegrator::stats() const {
+    EstimatorStats total;
+    for (const auto& l : threads_->local) total.merge(l.stats);
+    return total;
+}
+
+Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
+    const int max_depth = scene_.render.max_depth;
+    Ray ray = camera_ray;
+    Rgb throughput = Rgb::Ones();
+    Rgb radiance = Rgb::Zero();
+    for (int depth = 0;; ++depth) {
+        SurfaceHit hit;
+        const bool hit_surface = scene_.intersect(ray, kInfinity, hit);
+        const MediumEvent event = scene_.sample_medium(ray, hit_surface ? hit.t : kInfinity, rng);
+        if (!event && !hit_surface) {
+            if (depth == 0) radiance += throughput * scene_.escaped_radiance(ray.dir);
+            break;
+        }
+        if (max_depth >= 0 && depth + 1 > max_depth) break;
+        if (event) {
+            const Vec3 x = ray.at(event.t);
+            const Medium& m = *event.medium;
+            const Rgb weight = throughput * m.albedo();
+            if ((weight == 0.0).all()) break;
+            if (nee_) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
+            double sigma_t = 0.0;   // overlapping media: photons of all of them are in the map
+            for (const auto& other : scene_.media) sigma_t += other->sigma_t(x);
+            if (sigma_t > 0.0 && !map_.empty()) {
+                auto& local = threads_->local.local();
+                const Estimate<Rgb> s = estimate_in_scattering(map_, x, -ray.dir, m.g(), estimator_, k_, max_radius_,
+                                                               local.buffers, &local.stats);
+                radiance += weight * s.value / sigma_t;
+            }
+            break;
+        }
+        if ((hit.reflectance == 0.0).all()) break;
+        radiance += throughput * direct_light_on_surface(scene_, hit, rng);
+        throughput *= hit.reflectance;
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        ray = spawn_ray(hit.position, hit.normal, Frame(hit.normal).to_world(sample_cosine_hemisphere(u1, u2)).normalized());
+        if (depth + 1 >= scene_.render.rr_depth) {
+            const double q = std::min(0.95, throughput.maxCoeff());
+            if (rng.uniform() >= q) break;
+            throughput /= q;
+        }
+    }
+    return radiance;
+}
+
+}  // namespace vpm

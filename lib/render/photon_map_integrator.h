@@ -1,0 +1,46 @@
+#pragma once
+// The photon-map renderer (integrator = "photon_map").
+//
+// A camera path is traced exactly like the reference path tracer until its first real collision
+// in a medium (delta tracking: the collision estimator, so the line integral adds no bias).
+// There the in-scattered radiance is taken from the volume photon map and the path ends:
+//
+//     L += throughput * albedo(x) * S(x, w_o) / sigma_t(x)
+//
+// S is the kNN estimate of the collision-weighted in-scattering density (photons are stored at
+// every real collision, so S estimates sigma_t * integral f L dw); dividing by sigma_t(x) undoes
+// the collision pdf. With direct = "nee", single scattering is added by next-event estimation and
+// the map holds only photons that scattered before (photon tracer's store_direct = false).
+// Surfaces on the way get direct light by NEE and continue the path with a diffuse bounce, so
+// light reaching the medium via walls is found at the next medium collision. The estimator's
+// bias is then the only bias in the image.
+#include <memory>
+
+#include "photon/estimators.h"
+#include "photon/photon_map.h"
+#include "render/integrator.h"
+#include "scene/scene.h"
+
+namespace vpm {
+
+class PhotonMapIntegrator : public Integrator {
+public:
+    PhotonMapIntegrator(const Scene& scene, const PhotonMap& map);
+    ~PhotonMapIntegrator() override;
+    Rgb radiance(const Ray& ray, Rng& rng) const override;
+    std::string name() const override { return "photon_map"; }
+    // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
+    EstimatorStats stats() const;
+
+private:
+    struct ThreadState;
+    const Scene& scene_;
+    const PhotonMap& map_;
+    Estimator estimator_;
+    size_t k_;
+    double max_radius_;
+    bool nee_;
+    std::unique_ptr<ThreadState> threads_;
+};
+
+}  // namespace vpm
