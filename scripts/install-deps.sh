@@ -9,7 +9,7 @@ packages=(
   libembree-dev libopenexr-dev libimath-dev libeigen3-dev
   libgtest-dev libbenchmark-dev libnanoflann-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libpng-dev
-  python3-matplotlib
+  python3-matplotlib ccache
 )
 
 missing=()
