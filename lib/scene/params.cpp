@@ -94,6 +94,46 @@ void apply_override(ConfigDocument& doc, const std::string& assignment) {
     doc.overridden.insert(key);
 }
 
+// Copies `over` into `base`: tables merge key by key, everything else (values, arrays, arrays of
+// tables) replaces what the base had.
+void merge_into(toml::table& base, const toml::table& over) {
+    for (const auto& [key, node] : over) {
+        toml::node* existing = base.get(key);
+        if (existing && existing->is_table() && node.is_table()) merge_into(*existing->as_table(), *node.as_table());
+        else base.insert_or_assign(key, node);
+    }
+}
+
+// A config may start from another: `base = "default.toml"` (relative to the including file).
+// The including file's keys win. Paths inside each file resolve relative to that file.
+void apply_base(ConfigDocument& doc, int depth) {
+    const toml::node* base = doc.root.get("base");
+    if (!base) return;
+    const auto name = base->value_exact<std::string>();
+    const std::string where = doc.file + ":" + std::to_string(base->source().begin.line) + ": base: ";
+    if (!name) throw ConfigError(where + "expected a config file path string");
+    if (depth > 8) throw ConfigError(where + "more than 8 nested base configs (a cycle?)");
+    fs::path path(*name);
+    if (path.is_relative()) path = doc.base_dir / path;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ConfigError(where + "cannot open " + path.string());
+    std::stringstream text;
+    text << in.rdbuf();
+    ConfigDocument parent;
+    parent.file = path.lexically_normal().string();
+    parent.base_dir = path.parent_path();
+    try {
+        parent.root = toml::parse(text.str(), parent.file);
+    } catch (const toml::parse_error& e) {
+        throw ConfigError(parent.file + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " +
+                          std::string(e.description()));
+    }
+    apply_base(parent, depth + 1);
+    doc.root.erase("base");
+    merge_into(parent.root, doc.root);
+    doc.root = std::move(parent.root);
+}
+
 }  // namespace
 
 std::shared_ptr<ConfigDocument> parse_config(const std::string& text, const std::string& name,
@@ -108,6 +148,7 @@ std::shared_ptr<ConfigDocument> parse_config(const std::string& text, const std:
         throw ConfigError(name + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " +
                           std::string(e.description()));
     }
+    apply_base(*doc, 0);
     for (const auto& o : overrides) apply_override(*doc, o);
     return doc;
 }
@@ -155,8 +196,9 @@ std::string Params::where(const std::string& key) const {
     if (doc_->overridden.count(full)) return "--set " + full;
     const toml::node* n = table_->get(key);
     const auto& src = n ? n->source() : table_->source();
-    if (src.begin.line > 0) return doc_->file + ":" + std::to_string(src.begin.line);
-    return doc_->file;
+    const std::string file = src.path ? *src.path : doc_->file;   // keys from a base config name it
+    if (src.begin.line > 0) return file + ":" + std::to_string(src.begin.line);
+    return file;
 }
 
 void Params::fail(const std::string& key, const std::string& message) const {
@@ -323,7 +365,10 @@ fs::path Params::path(const std::string& key, bool must_exist) {
     const auto s = n->value_exact<std::string>();
     if (!s) fail(key, "expected a file path string, got " + type_name(*n));
     fs::path p(*s);
-    if (p.is_relative()) p = doc_->base_dir / p;
+    // Relative to the file the key was written in (a base config may live elsewhere).
+    const auto& src = n->source();
+    const fs::path dir = src.path && *src.path != doc_->file ? fs::path(*src.path).parent_path() : doc_->base_dir;
+    if (p.is_relative()) p = dir / p;
     p = p.lexically_normal();
     if (must_exist && !fs::exists(p)) fail(key, "file not found: " + p.string());
     resolved_->insert_or_assign(key, p.string());

@@ -2,6 +2,9 @@
 // --set overrides validate like the file; the resolved config round-trips.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "core/error.h"
 #include "scene/scene.h"
 
@@ -181,4 +184,25 @@ TEST(Config, OnlyScenesWithShapesCreateAnEmbreeDevice) {
     auto scene = build(std::string(kMinimal) + "\n[[shapes]]\ntype = \"quad\"\ncenter = [0, -1, 0]\nu = [2, 0, 0]\nv = [0, 0, 2]\n");
     EXPECT_EQ(Surfaces::devices_created(), before + 1);
     EXPECT_TRUE(scene->uses_embree());
+}
+
+TEST(Config, BaseConfigIsMergedUnderTheIncludingFile) {
+    const auto dir = std::filesystem::temp_directory_path() / "vpm_config_base_test";
+    std::filesystem::create_directories(dir);
+    {
+        std::ofstream(dir / "base.toml") << kMinimal;
+    }
+    auto scene = build("base = \"" + (dir / "base.toml").string() + "\"\n[render]\nspp = 5\n[photons]\nk = 9\n");
+    EXPECT_EQ(scene->render.spp, 5);
+    EXPECT_EQ(scene->render.width, 8);   // from the base
+    EXPECT_EQ(scene->photons.k, 9);
+    EXPECT_EQ(scene->media.size(), 1u);
+    // An error in a key that came from the base names the base file and its line.
+    {
+        std::ofstream(dir / "bad.toml") << std::string(kMinimal) + "\n[photons]\nkk = 3\n";
+    }
+    const std::string msg = error_of("base = \"" + (dir / "bad.toml").string() + "\"\n");
+    EXPECT_NE(msg.find("bad.toml:25: photons.kk: unknown key"), std::string::npos) << msg;
+    EXPECT_NE(error_of("base = \"/nonexistent.toml\"\n").find("test.toml:1: base: cannot open"), std::string::npos);
+    std::filesystem::remove_all(dir);
 }
