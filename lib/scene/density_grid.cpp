@@ -77,6 +77,27 @@ void DensityGrid::set_voxel(const Vec3i& ijk, float value) {
 
 void DensityGrid::finalize() {
     if (blocks_.empty()) return;
+    // Dense blocks holding one value throughout (e.g. all-zero leaves of a simulation's padding)
+    // become constants: less memory, and lookups there need no data access.
+    {
+        std::vector<float> kept;
+        kept.reserve(data_.size());
+        for (Block& b : blocks_) {
+            if (b.dense < 0) continue;
+            const float* v = data_.data() + static_cast<size_t>(b.dense) * kVoxels;
+            bool uniform = true;
+            for (int i = 1; i < kVoxels && uniform; ++i) uniform = (v[i] == v[0]);
+            if (uniform && std::isfinite(v[0])) {
+                b.value = v[0];
+                b.dense = -1;
+            } else {
+                b.dense = static_cast<int32_t>(kept.size() / kVoxels);
+                kept.insert(kept.end(), v, v + kVoxels);
+            }
+        }
+        data_.swap(kept);
+        data_.shrink_to_fit();
+    }
     max_value_ = 0.0f;
     min_value_ = 0.0f;
     bool first = true;

@@ -51,7 +51,8 @@ public:
     // The pointer is valid until the next call that makes a block dense.
     float* dense_block(const Vec3i& block);
     void set_voxel(const Vec3i& ijk, float value);
-    // Computes the majorant grid and statistics. Must be called before tracking.
+    // Turns uniform dense blocks into constants, computes the majorant grid and statistics.
+    // Must be called before tracking; afterwards the grid is not modified any more.
     void finalize();
 
     // Metadata carried along from the file.

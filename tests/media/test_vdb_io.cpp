@@ -89,15 +89,25 @@ TEST(VdbIo, SharedSmokeSampleLoads) {
     EXPECT_TRUE(std::isfinite(g.max_density()));
     EXPECT_GT(g.max_density(), 0.0f);
     EXPECT_GE(g.min_density(), 0.0f);
-    // Every stored voxel finite and non-negative.
-    int64_t bad = 0;
+    // Every stored voxel finite and non-negative; where the smoke is.
+    int64_t bad = 0, nonzero = 0;
+    Vec3 centroid = Vec3::Zero();
+    double mass = 0;
     for (int x = g.voxel_lo().x(); x <= g.voxel_hi().x(); ++x)
         for (int y = g.voxel_lo().y(); y <= g.voxel_hi().y(); ++y)
             for (int z = g.voxel_lo().z(); z <= g.voxel_hi().z(); ++z) {
                 const float v = g.voxel(x, y, z);
                 if (!std::isfinite(v) || v < 0.0f) ++bad;
+                if (v > 0.0f) {
+                    ++nonzero;
+                    mass += v;
+                    centroid += v * Vec3(x, y, z);
+                }
             }
     EXPECT_EQ(bad, 0);
+    std::cout << "[smoke.vdb] " << nonzero << " voxels > 0, total density " << mass << ", centroid (index) ["
+              << (centroid / std::max(mass, 1e-30)).transpose() << "]\n";
+    EXPECT_GT(nonzero, 0);
 }
 
 TEST(VdbIo, RoundTripKeepsValuesAndTransform) {
