@@ -363,6 +363,12 @@ void write_vdb_test_grid(const std::string& path, const std::string& name, const
         base = g;
     } else if (kind == "empty_float") {
         base = openvdb::FloatGrid::create(0.0f);
+    } else if (kind == "frustum_float") {
+        auto g = openvdb::FloatGrid::create(0.0f);
+        g->tree().setValueOn(openvdb::Coord(1, 2, 3), 1.0f);
+        g->setTransform(openvdb::math::Transform::createFrustumTransform(
+            openvdb::BBoxd(openvdb::Vec3d(0.0), openvdb::Vec3d(16.0)), 0.5, 2.0));
+        base = g;
     } else {
         throw std::invalid_argument("write_vdb_test_grid: unknown kind '" + kind + "'");
     }

@@ -29,8 +29,9 @@ std::vector<VdbGridInfo> list_vdb_grids(const std::string& path);
 // and renames, so no partial file is left behind. Throws FileError on failure.
 void write_vdb_density(const std::string& path, const std::string& name, const DensityGrid& grid);
 
-// Test helper: writes a small VDB with one grid of another value type ("vec3s", "int32") or an
-// empty float grid ("empty_float"), to exercise the loader's errors.
+// Test helper: writes a small VDB with one grid of another value type ("vec3s", "int32"), an
+// empty float grid ("empty_float") or a float grid with a frustum transform ("frustum_float"),
+// to exercise the loader's errors.
 void write_vdb_test_grid(const std::string& path, const std::string& name, const std::string& kind);
 
 }  // namespace vpm

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "scene/grid_medium.h"
 #include "scene/params.h"
+#include "scene/transform_params.h"
 #include "scene/vdb_io.h"
 
 using namespace vpm;
@@ -300,6 +301,18 @@ transform = { scale = 2, rotate = [0, 1, 0, 90], translate = [0, 1, 0] }
     expect_config_error("[[media]]\nfile = \"box.vdb\"\ntransform = { scale = 0 }\n", "scale");
     expect_config_error("[[media]]\nfile = \"box.vdb\"\ntransform = { rotate = [0, 0, 0, 10] }\n", "rotate");
     expect_config_error("[[media]]\nfile = \"box.vdb\"\ntransform = { sclae = 2 }\n", "sclae");
+}
+
+TEST(TransformParams, ScaleThenRotateThenTranslate) {
+    auto doc = parse_config("[t]\nscale = [1, 2, 3]\nrotate = [0, 0, 2, 90]\ntranslate = [10, 0, 0]\n", "t.toml", ".");
+    toml::table resolved;
+    Params root(doc, &resolved);
+    Params t = root.table("t");
+    const Eigen::Affine3d m = read_transform(t);
+    // (1,1,1) -> scale (1,2,3) -> rotate 90 deg about z (-2,1,3) -> translate (8,1,3).
+    EXPECT_TRUE((m * Vec3(1, 1, 1)).isApprox(Vec3(8, 1, 3), 1e-12)) << (m * Vec3(1, 1, 1)).transpose();
+    Params none = root.table("absent");
+    EXPECT_TRUE(read_transform(none).matrix().isIdentity());
 }
 
 TEST(GridMediumTiming, PlumeLookupsAndDeltaTracking) {

@@ -210,3 +210,10 @@ TEST(VdbIoErrors, EmptyGrid) {
     write_vdb_test_grid(path, "density", "empty_float");
     expect_error<FileError>([&] { load_vdb_density(path, "density"); }, {path, "empty"});
 }
+
+TEST(VdbIoErrors, FrustumTransform) {
+    TempDir dir;
+    const std::string path = dir.file("frustum.vdb");
+    write_vdb_test_grid(path, "density", "frustum_float");
+    expect_error<FileError>([&] { load_vdb_density(path, "density"); }, {path, "not affine"});
+}
