@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <thread>
 #include <vector>
 
 #include "core/error.h"
@@ -255,6 +256,31 @@ TEST(GridMedium, DenseVoxelInVacuumCostsLittleForMissingRays) {
     const auto r = estimate(2, [&](int) { return m.transmittance(hit, kInfinity, rng, &hs); });
     EXPECT_EQ(r.mean, 0.0);
     std::cout << "ray through the dense voxel: " << double(hs.lookups) / 2 << " lookups\n";
+}
+
+TEST(GridMedium, ConcurrentTrackingIsDeterministic) {
+    // The medium is shared const state: two threads get exactly the single-threaded results.
+    const GridMedium m(load_vdb_density(kMediaDir + "/plume.vdb", "density"), 30.0, Rgb::Constant(1.0), 0.0);
+    const Bounds3 b = m.bounds();
+    auto run = [&](uint64_t stream, std::vector<double>& out) {
+        Rng rng(2024, stream);
+        for (int i = 0; i < 20000; ++i) {
+            Ray ray;
+            ray.origin = Vec3(b.lo.x() + rng.uniform() * (b.hi.x() - b.lo.x()), b.lo.y() + rng.uniform() * (b.hi.y() - b.lo.y()),
+                              b.lo.z() + rng.uniform() * (b.hi.z() - b.lo.z()));
+            ray.dir = Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5).normalized();
+            out.push_back(m.transmittance(ray, kInfinity, rng));
+            out.push_back(m.sample_free_flight(ray, kInfinity, rng));
+        }
+    };
+    std::vector<double> a0, a1, b0, b1;
+    run(0, a0);
+    run(1, a1);
+    std::thread t0([&] { run(0, b0); }), t1([&] { run(1, b1); });
+    t0.join();
+    t1.join();
+    EXPECT_EQ(a0, b0);
+    EXPECT_EQ(a1, b1);
 }
 
 TEST(GridMedium, FactoryReadsKeysAndReportsErrors) {
