@@ -12,16 +12,19 @@ int floor_div8(int v) { return v >> 3; }   // arithmetic shift: floor for negati
 
 DensityGrid::DensityGrid(const Vec3i& voxel_lo, const Vec3i& voxel_hi) : voxel_lo_(voxel_lo), voxel_hi_(voxel_hi) {
     if ((voxel_hi.array() < voxel_lo.array()).any()) return;   // empty
+    // The block array is flat (12 bytes per block with its majorant): cap it at 2^26 blocks
+    // (768 MB), e.g. a 4096 x 4096 x 2048 voxel bounding box.
+    constexpr size_t kMaxBlocks = size_t(1) << 26;
     size_t total = 1;
     for (int a = 0; a < 3; ++a) {
         // One padding block below: interpolation at (8*lo - 1, 8*lo) already sees voxel 8*lo.
         block_lo_[a] = floor_div8(voxel_lo[a]) - 1;
         nblocks_[a] = floor_div8(voxel_hi[a]) - block_lo_[a] + 1;
-        total *= static_cast<size_t>(nblocks_[a]);
+        const size_t n = static_cast<size_t>(nblocks_[a]);
+        if (n > kMaxBlocks / total)
+            throw std::length_error("DensityGrid: the bounding box spans more than 2^26 blocks of 8^3 voxels");
+        total *= n;
     }
-    if (total > (size_t(1) << 28))
-        throw std::length_error("DensityGrid: bounding box of " + std::to_string(total) +
-                                " blocks of 8^3 voxels is too large for the flat block array");
     blocks_.assign(total, Block{});
     majorant_.assign(total, 0.0f);
     index_bounds_.lo = voxel_lo.cast<double>() - Vec3::Ones();

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "core/rng.h"
@@ -168,4 +169,11 @@ TEST(DensityGrid, TraverseVisitsContiguousBlocks) {
             return true;
         });
     }
+}
+
+TEST(DensityGrid, HugeBoundingBoxIsRefused) {
+    EXPECT_THROW(DensityGrid(Vec3i(-1000000000, 0, 0), Vec3i(1000000000, 1000000000, 1000000000)), std::length_error);
+    EXPECT_THROW(DensityGrid(Vec3i(0, 0, 0), Vec3i(8 * 1024, 8 * 1024, 8 * 1024)), std::length_error);
+    const DensityGrid ok(Vec3i(0, 0, 0), Vec3i(63, 63, 63));
+    EXPECT_EQ(ok.block_total(), 9u * 9u * 9u);   // 8 blocks + 1 padding block per axis
 }
