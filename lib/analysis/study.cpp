@@ -1,3 +1,4 @@
+#include "core/build_info.h"
 #include "analysis/study.h"
 
 #include <tbb/combinable.h>
@@ -529,7 +530,7 @@ std::string study_sidecar_json(const StudyResult& r) {
                        {"weights", "Exp(1), c_w = 2 (weighted scenario)"}};
     j["time_seconds"] = r.seconds;
     j["threads"] = r.threads;
-    j["git_revision"] = VPM_GIT_REVISION;
+    j["git_revision"] = git_revision();
     std::time_t now = std::time(nullptr);
     char buf[64];
     std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));

@@ -1,3 +1,4 @@
+#include "core/build_info.h"
 #include "render/run_record.h"
 
 #include <tbb/info.h>
@@ -42,8 +43,8 @@ RunRecord& RunRecord::operator=(RunRecord&&) noexcept = default;
 
 RunRecord RunRecord::with_environment(int argc, const char* const* argv, int threads) {
     RunRecord r;
-    r.set("git_revision", VPM_GIT_REVISION);
-    r.set("vpm_version", VPM_VERSION);
+    r.set("git_revision", git_revision());
+    r.set("vpm_version", vpm_version());
 
     char host[HOST_NAME_MAX + 1] = {};
     if (::gethostname(host, sizeof(host) - 1) != 0) host[0] = '\0';

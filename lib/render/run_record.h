@@ -22,7 +22,7 @@ public:
     RunRecord(RunRecord&&) noexcept;
     RunRecord& operator=(RunRecord&&) noexcept;
 
-    // A record with the standard fields: "git_revision" (VPM_GIT_REVISION), "vpm_version",
+    // A record with the standard fields: "git_revision" (git_revision()), "vpm_version",
     // "hostname", "threads" (tbb::info::default_concurrency() unless `threads` > 0),
     // "physical_memory_bytes", "date_utc" (ISO-8601, e.g. "2026-11-22T01:17:20Z") and, when
     // argv is given, "command_line" (array of strings).

@@ -111,7 +111,7 @@ TEST(GridMedium, BoxVdbThroughWholeBox) {
     ray.dir = Vec3(1, 0, 0);
     EXPECT_NEAR(optical_depth(m, ray, 6.0), sigma * 1.0, 1e-6);
     Rng rng(3);
-    const auto r = estimate(40000, [&](int) { return m.transmittance(ray, kInfinity, rng); });
+    const auto r = estimate(400000, [&](int) { return m.transmittance(ray, kInfinity, rng); });
     EXPECT_NEAR(r.mean, std::exp(-sigma), 3 * r.se);
     EXPECT_GT(std::abs(r.mean - std::exp(-1.07 * sigma)), 3 * r.se);
 }

@@ -1,6 +1,7 @@
 // `vpm make-media [--out DIR]`: writes plume.vdb, box.vdb, blob.vdb and sphere.vdb, each with one
 // float grid "density" in [0, 1]. Fully deterministic (own hash-based value noise, no RNG state).
 #include "cmd_make_media.h"
+#include "command.h"
 
 #include <cmath>
 #include <cstdint>
@@ -158,3 +159,5 @@ int run_make_media(int argc, char** argv) {
 }
 
 }  // namespace vpm
+
+VPM_REGISTER_COMMAND({"make-media", "write the procedural VDB files of media/ (plume, box, blob, sphere)", vpm::run_make_media});
