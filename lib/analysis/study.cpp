@@ -19,6 +19,8 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/photon_map.h"
+#include "scene/scene.h"
+#include "photon/photon_tracer.h"
 
 namespace vpm {
 
@@ -143,7 +145,8 @@ StudyScenario parse_scenario(const std::string& name) {
 
 std::vector<StudyScenario> default_scenarios() {
     return {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
-            StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map};
+            StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
+            StudyScenario::photon_pass};
 }
 
 std::vector<size_t> default_k_list() {
@@ -223,9 +226,90 @@ Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
     return th;
 }
 
-std::vector<PhotonInput> study_photon_pass_source(uint64_t /*seed*/) {
-    return {};   // HOOK: the photon tracer does not exist yet (see study.h)
+PhotonPassMap study_photon_pass_map(size_t emitted, uint64_t seed, uint64_t map_index) {
+    static const char* kFurnace = R"(
+[[lights]]
+type = "environment"
+radiance = 0.5
+[[media]]
+type = "homogeneous"
+shape = "sphere"
+radius = 6.0
+sigma_t_scale = 0.6
+albedo = 1.0
+g = 0.3
+)";
+    const auto scene = Scene::build(parse_config(kFurnace, "study photon_pass furnace", "."));
+    PhotonTraceSettings ts;
+    ts.count = emitted;
+    ts.seed = seed;
+    ts.stream_offset = map_index;
+    ts.store_direct = true;
+    ts.progress = false;
+    PhotonPassMap out;
+    out.photons = trace_photons(*scene, ts).photons;
+    out.truth = 0.6 * 4.0 * kPi * 0.5;
+    out.query_radius = 3.5;   // 2.5 from the boundary at radius 6: kNN balls stay well inside
+    return out;
 }
+
+namespace {
+
+// photon_pass: maps from the furnace's photon pass; queries on a grid of points within the
+// central region, spaced so that their kNN balls do not overlap. Samples are estimate / truth.
+void run_photon_pass(const StudyOptions& opt, size_t kmax, size_t stride,
+                     tbb::combinable<EstimatorStats>& stats, std::vector<double>& samples, size_t& trials,
+                     size_t& n, const std::function<void(const std::string&)>& say) {
+    const size_t nk = opt.ks.size(), ne = kAllEstimators.size();
+    const size_t want = opt.photon_map_queries ? opt.photon_map_queries : std::max<size_t>(2, opt.trials / 4);
+    std::vector<std::vector<double>> per_map;
+    size_t done = 0;
+    for (uint64_t m = 0; done < want; ++m) {
+        const PhotonPassMap pass = study_photon_pass_map(opt.photon_map_size, opt.seed, m + 1);
+        const PhotonMap map(pass.photons);
+        if (m == 0) n = map.size();
+        // Density from the stored count is only used to space the queries.
+        const double volume = 4.0 / 3.0 * kPi * 216.0;
+        const double r_max = std::cbrt(3.0 * double(kmax) * volume / (4.0 * kPi * double(map.size())));
+        const double spacing = 2.6 * r_max;
+        const int g = std::max(1, int(2.0 * pass.query_radius / spacing));
+        std::vector<Vec3> queries;
+        for (int ix = 0; ix < g; ++ix)
+            for (int iy = 0; iy < g; ++iy)
+                for (int iz = 0; iz < g; ++iz) {
+                    const Vec3 x = Vec3(ix, iy, iz) * spacing - Vec3::Constant(0.5 * (g - 1) * spacing);
+                    if (x.norm() <= pass.query_radius && done + queries.size() < want) queries.push_back(x);
+                }
+        std::vector<double> local(queries.size() * stride, 0.0);
+        tbb::parallel_for(size_t(0), queries.size(), [&](size_t q) {
+            NeighbourList list;
+            std::vector<double> w(kmax), d2(kmax);
+            EstimatorStats& st = stats.local();
+            const size_t found = map.knn(queries[q], kmax, kInfinity, list);
+            for (size_t i = 0; i < found; ++i) {
+                w[i] = list[i].power[1] / pass.truth;   // isotropic radiance: unweighted power
+                d2[i] = list[i].d2;
+            }
+            for (size_t ki = 0; ki < nk; ++ki)
+                for (size_t ei = 0; ei < ne; ++ei) {
+                    const Estimator e = kAllEstimators[ei];
+                    if (opt.ks[ki] < estimator_min_k(e)) continue;
+                    local[q * stride + ki * ne + ei] =
+                        estimate_density<double>(e, w.data(), d2.data(), found, found < kmax, opt.ks[ki], kInfinity, 3, &st)
+                            .value;
+                }
+        });
+        done += queries.size();
+        per_map.push_back(std::move(local));
+        say("study: photon_pass: map " + std::to_string(m + 1) + ", " + std::to_string(map.size()) + " photons stored, " +
+            std::to_string(done) + "/" + std::to_string(want) + " queries");
+    }
+    samples.clear();
+    for (const auto& l : per_map) samples.insert(samples.end(), l.begin(), l.end());
+    trials = samples.size() / stride;
+}
+
+}  // namespace
 
 StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<void(const std::string&)>& log) {
     Timer timer;
@@ -257,20 +341,14 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     tbb::combinable<EstimatorStats> stats;
 
     for (StudyScenario sc : opt.scenarios) {
-        if (sc == StudyScenario::photon_pass) {
-            if (study_photon_pass_source(opt.seed).empty()) {
-                res.notes.push_back("photon_pass: skipped; needs the photon tracer (hook study_photon_pass_source)");
-                say("study: photon_pass skipped (no photon tracer yet)");
-            }
-            continue;
-        }
         for (int dim : opt.dims) {
-            if (sc == StudyScenario::photon_map && dim != 3) continue;
+            const bool real_map = sc == StudyScenario::photon_map || sc == StudyScenario::photon_pass;
+            if (real_map && dim != 3) continue;
             Timer t_sc;
             size_t trials = opt.trials;
             size_t n = opt.n;
             std::vector<double> samples;
-            if (sc != StudyScenario::photon_map) {
+            if (!real_map) {
                 samples.assign(trials * stride, 0.0);
                 const double vol = unit_volume(dim);
                 double phi = vol / double(n);   // truth = 1
@@ -322,6 +400,8 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
                             }
                     }
                 });
+            } else if (sc == StudyScenario::photon_pass) {
+                run_photon_pass(opt, kmax, stride, stats, samples, trials, n, say);
             } else {
                 // Real photon map: uniform photons in the unit cube, queries on a grid of
                 // well-separated interior points (balls never overlap or leave the cube).
@@ -394,6 +474,7 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
                         case StudyScenario::uniform:
                         case StudyScenario::gradient:
                         case StudyScenario::photon_map:
+                        case StudyScenario::photon_pass:
                             th = uniform_theory(e, k, n, 1.0);
                             lim = uniform_theory(e, k, 0, 1.0);
                             row.theory_source = "exact";

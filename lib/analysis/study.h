@@ -27,9 +27,10 @@
 //   photon_map (3D) uniform photons in the unit cube stored in the real PhotonMap (compressed
 //              records, nanoflann kd-tree), queried with estimate_in_scattering (isotropic
 //              phase) at well-separated interior points. Exact uniform theory with n = map size.
-//   photon_pass  NOT AVAILABLE YET: photons from a photon pass in a homogeneous medium need the
-//              renderer's photon tracer. Hook: study_photon_pass_source() below returns no
-//              photons until the tracer exists; the scenario is then skipped with a note.
+//   photon_pass (3D) photons from the renderer's photon pass in a volume furnace (see
+//              study_photon_pass_map), in the real PhotonMap. Photons left by one random walk are
+//              correlated, so the Poisson theory is a reference, not an identity: the difference
+//              is the finding.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -44,7 +45,7 @@ namespace vpm {
 enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass };
 const char* scenario_name(StudyScenario s);
 StudyScenario parse_scenario(const std::string& name);   // throws vpm::Error listing allowed names
-std::vector<StudyScenario> default_scenarios();           // all but photon_pass
+std::vector<StudyScenario> default_scenarios();           // all of them
 
 struct StudyOptions {
     std::vector<int> dims = {2, 3};
@@ -55,7 +56,7 @@ struct StudyOptions {
     std::vector<StudyScenario> scenarios = default_scenarios();
     double gradient_slope = 0.9;       // density 1 + a x_1, |a| < 1
     double boundary_distance = 0.9;    // query distance from the centre, in [0, 1]
-    size_t photon_map_size = 100000;   // photons per map in the photon_map scenario
+    size_t photon_map_size = 100000;   // photons per map (photon_map), emitted per map (photon_pass)
     size_t photon_map_queries = 0;     // estimates in the photon_map scenario (0: trials / 4)
 };
 
@@ -101,10 +102,17 @@ Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
                          const std::function<double(double)>& mass_fraction, double r_max,
                          double phi_over_truth);
 
-// Photons from an actual photon pass in a homogeneous medium, for the photon_pass scenario.
-// HOOK: returns an empty vector until the photon tracer (lib/photon tracing) exists; then it
-// should trace photons through a homogeneous medium and return them with their true density.
-std::vector<PhotonInput> study_photon_pass_source(uint64_t seed);
+// One photon map from an actual photon pass, for the photon_pass scenario: the renderer's photon
+// tracer in a volume furnace (a non-absorbing homogeneous sphere of radius 6, sigma_t 0.6, under a
+// constant environment). There the radiance is the environment's everywhere, so the collision
+// power density is known exactly: truth = sigma_t * 4 pi L_env. Photons are stored at every
+// collision; queries stay within `query_radius` of the centre, far from the boundary.
+struct PhotonPassMap {
+    std::vector<PhotonInput> photons;
+    double truth = 0.0;           // collision power density (W / m^3)
+    double query_radius = 0.0;
+};
+PhotonPassMap study_photon_pass_map(size_t emitted, uint64_t seed, uint64_t map_index);
 
 // Runs the study; log receives progress lines (may be empty).
 StudyResult run_estimator_study(const StudyOptions& options,

@@ -71,8 +71,8 @@ int run_study(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--scenarios", scenarios,
                    "comma-separated: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass "
-                   "(default: all but photon_pass)");
-    app.add_option("--photon-map-size", opt.photon_map_size, "photons per map in the photon_map scenario")
+                   "(default: all)");
+    app.add_option("--photon-map-size", opt.photon_map_size, "photons per map (photon_map) / photons emitted per map (photon_pass)")
         ->capture_default_str();
     app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_study.py");
