@@ -261,7 +261,9 @@ void run_photon_pass(const StudyOptions& opt, size_t kmax, size_t stride,
                      tbb::combinable<EstimatorStats>& stats, std::vector<double>& samples, size_t& trials,
                      size_t& n, const std::function<void(const std::string&)>& say) {
     const size_t nk = opt.ks.size(), ne = kAllEstimators.size();
-    const size_t want = opt.photon_map_queries ? opt.photon_map_queries : std::max<size_t>(2, opt.trials / 4);
+    // Each query needs its own ball of ~k_max photons from a fresh photon pass, so this scenario
+    // costs ~trials x k_max traced collisions: it takes a tenth of the trials by default.
+    const size_t want = opt.photon_map_queries ? opt.photon_map_queries : std::max<size_t>(2, opt.trials / 10);
     std::vector<std::vector<double>> per_map;
     size_t done = 0;
     for (uint64_t m = 0; done < want; ++m) {

@@ -1,0 +1,132 @@
+// `vpm render` as a user runs it: outputs, sidecar contents, the build log, and determinism
+// across thread counts.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "render/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        path = fs::temp_directory_path() /
+               ("vpm_render_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+};
+
+// Runs the vpm binary; returns the exit code, stderr in `err`.
+int run_vpm(const std::string& args, const fs::path& dir, std::string& err) {
+    const fs::path err_file = dir / "stderr.txt";
+    const std::string cmd = std::string(VPM_BINARY) + " " + args + " 2> " + err_file.string() + " > /dev/null";
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(err_file);
+    std::stringstream s;
+    s << in.rdbuf();
+    err = s.str();
+    return WEXITSTATUS(status);
+}
+
+nlohmann::json read_json(const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+}
+
+const std::string kConfig = std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml";
+const std::string kSmall = " --set render.width=24 --set render.height=16 --set render.spp=4";
+
+}  // namespace
+
+TEST(RenderCli, WritesExrPngAndSidecarWithPhaseTimings) {
+    TempDir t;
+    std::string err;
+    const fs::path out = t.path / "img.exr";
+    ASSERT_EQ(run_vpm("render " + kConfig + kSmall + " -o " + out.string(), t.path, err), 0) << err;
+    EXPECT_TRUE(fs::exists(out));
+    EXPECT_TRUE(fs::exists(t.path / "img.png"));
+    const auto j = read_json(t.path / "img.json");
+    for (const char* phase : {"load", "render", "write"}) {
+        ASSERT_TRUE(j["phases"].contains(phase)) << phase;
+        EXPECT_GE(j["phases"][phase]["seconds"].get<double>(), 0.0);
+        EXPECT_GT(j["phases"][phase]["peak_rss_bytes"].get<double>(), 0.0);
+    }
+    EXPECT_EQ(j["config"]["render"]["width"], 24);
+    EXPECT_EQ(j["config"]["render"]["output"], out.string());
+    EXPECT_EQ(j["render"]["nonfinite_samples"], 0);
+    EXPECT_GT(j["render"]["samples_per_second"].get<double>(), 0.0);
+    EXPECT_TRUE(j.contains("git_revision"));
+    EXPECT_TRUE(j.contains("seed"));
+    // The run log says what was built: a homogeneous scene builds neither Embree nor OpenVDB.
+    EXPECT_NE(err.find("Embree: not built (no shapes)"), std::string::npos) << err;
+    EXPECT_NE(err.find("OpenVDB: not used (no grid media)"), std::string::npos) << err;
+    const vpm::Image image = vpm::read_exr(out);
+    EXPECT_EQ(image.width, 24);
+    EXPECT_EQ(image.height, 16);
+}
+
+TEST(RenderCli, SameImageForOneAndTwoThreads) {
+    TempDir t;
+    std::string err;
+    for (const char* threads : {"1", "2"}) {
+        const std::string out = (t.path / (std::string("t") + threads + ".exr")).string();
+        ASSERT_EQ(run_vpm("render " + kConfig + kSmall + " --set render.integrator=photon_map --set photons.count=20000 "
+                          "--threads " + threads + " -q -o " + out, t.path, err), 0) << err;
+    }
+    const vpm::Image a = vpm::read_exr(t.path / "t1.exr"), b = vpm::read_exr(t.path / "t2.exr");
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_EQ(a.rgb, b.rgb);
+    EXPECT_EQ(read_json(t.path / "t2.json")["threads"], 2);
+}
+
+TEST(RenderCli, PhotonMapRunRecordsItsPhasesAndEnergy) {
+    TempDir t;
+    std::string err;
+    const fs::path out = t.path / "pm.exr";
+    ASSERT_EQ(run_vpm("render " + kConfig + kSmall + " --set render.integrator=photon_map --set photons.count=20000 -o " +
+                      out.string(), t.path, err), 0) << err;
+    const auto j = read_json(t.path / "pm.json");
+    for (const char* phase : {"trace", "build", "render"}) EXPECT_TRUE(j["phases"].contains(phase)) << phase;
+    EXPECT_GT(j["photons"]["stored"].get<double>(), 0.0);
+    EXPECT_LE(j["photons"]["bytes_per_photon"].get<double>(), 32.0);
+    EXPECT_LT(j["photons"]["energy"]["relative_imbalance"].get<double>(), 1e-6);
+    EXPECT_NE(err.find("trace: 20000 photon paths"), std::string::npos) << err;
+}
+
+TEST(RenderCli, PathTracerRunsNoPhotonPass) {
+    TempDir t;
+    std::string err;
+    ASSERT_EQ(run_vpm("render " + kConfig + kSmall + " -o " + (t.path / "pt.exr").string(), t.path, err), 0) << err;
+    EXPECT_FALSE(read_json(t.path / "pt.json")["phases"].contains("trace"));
+    EXPECT_EQ(err.find("trace:"), std::string::npos) << err;
+}
+
+TEST(RenderCli, BadConfigFailsWithOneLineAndNoOutput) {
+    TempDir t;
+    std::string err;
+    const fs::path out = t.path / "bad.exr";
+    EXPECT_EQ(run_vpm("render " + kConfig + " --set media.0.g=1.5 -o " + out.string(), t.path, err), 1);
+    EXPECT_NE(err.find("media.0.g: value 1.5 is out of range; allowed: (-1, 1)"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(t.path / "bad.json"));
+}
+
+TEST(RenderCli, HelpOnEverySubcommand) {
+    TempDir t;
+    std::string err;
+    for (const char* cmd : {"render", "study", "make-media"})
+        EXPECT_EQ(run_vpm(std::string(cmd) + " --help", t.path, err), 0) << cmd << ": " << err;
+    EXPECT_EQ(run_vpm("--help", t.path, err), 0);
+    EXPECT_EQ(run_vpm("nonsense", t.path, err), 2);
+}
