@@ -227,19 +227,10 @@ Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
 }
 
 PhotonPassMap study_photon_pass_map(size_t emitted, uint64_t seed, uint64_t map_index) {
-    static const char* kFurnace = R"(
-[[lights]]
-type = "environment"
-radiance = 0.5
-[[media]]
-type = "homogeneous"
-shape = "sphere"
-radius = 6.0
-sigma_t_scale = 0.6
-albedo = 1.0
-g = 0.3
-)";
-    const auto scene = Scene::build(parse_config(kFurnace, "study photon_pass furnace", "."));
+    // The same furnace the renderer's bias test uses; its truth follows from the scene itself.
+    const auto scene = Scene::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml");
+    const double sigma_t = scene->media.at(0)->sigma_t(Vec3::Zero());
+    const double radiance = scene->escaped_radiance(Vec3::UnitZ())[1];
     PhotonTraceSettings ts;
     ts.count = emitted;
     ts.seed = seed;
@@ -248,8 +239,9 @@ g = 0.3
     ts.progress = false;
     PhotonPassMap out;
     out.photons = trace_photons(*scene, ts).photons;
-    out.truth = 0.6 * 4.0 * kPi * 0.5;
-    out.query_radius = 3.5;   // 2.5 from the boundary at radius 6: kNN balls stay well inside
+    out.truth = sigma_t * 4.0 * kPi * radiance;
+    // 2.5 from the sphere's boundary at radius 6: kNN balls stay well inside.
+    out.query_radius = 0.5 * (scene->media[0]->bounds().hi - scene->media[0]->bounds().lo).x() - 2.5;
     return out;
 }
 

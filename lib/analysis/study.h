@@ -103,8 +103,8 @@ Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
                          double phi_over_truth);
 
 // One photon map from an actual photon pass, for the photon_pass scenario: the renderer's photon
-// tracer in a volume furnace (a non-absorbing homogeneous sphere of radius 6, sigma_t 0.6, under a
-// constant environment). There the radiance is the environment's everywhere, so the collision
+// tracer in the volume furnace of configs/uniform_furnace.toml (a non-absorbing homogeneous
+// sphere under a constant environment). There the radiance is the environment's everywhere, so the collision
 // power density is known exactly: truth = sigma_t * 4 pi L_env. Photons are stored at every
 // collision; queries stay within `query_radius` of the centre, far from the boundary.
 struct PhotonPassMap {

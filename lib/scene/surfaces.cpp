@@ -41,28 +41,12 @@
 
 #include "core/error.h"
 #include "scene/mesh_io.h"
+#include "scene/transform_params.h"
 
 namespace vpm {
 namespace {
 
 std::atomic<size_t> g_devices_created{0};
-
-// Object-to-world transform of a [shapes.transform] table (the caller calls finish() on it).
-// A colleague's lib/scene/transform_params.h has the same signature; the lead will dedupe.
-Eigen::Affine3d read_transform(Params& p) {
-    const Rgb s = p.rgb("scale", Rgb::Ones());
-    if ((s == 0.0).any()) p.fail("scale", "components must be non-zero");
-    const std::vector<double> r = p.reals("rotate", {1.0, 0.0, 0.0, 0.0});
-    if (r.size() != 4) p.fail("rotate", "expected [axis_x, axis_y, axis_z, degrees]");
-    const Vec3 axis(r[0], r[1], r[2]);
-    if (!(axis.norm() > 0.0)) p.fail("rotate", "the rotation axis must be non-zero");
-    const Vec3 t = p.vec3("translate", Vec3::Zero());
-    Eigen::Affine3d m = Eigen::Affine3d::Identity();
-    m.translate(t);
-    m.rotate(Eigen::AngleAxisd(r[3] * kPi / 180.0, axis.normalized()));
-    m.scale(Vec3(s[0], s[1], s[2]));
-    return m;
-}
 
 struct ErrorLog {
     std::mutex mutex;

@@ -5,8 +5,9 @@
 namespace vpm {
 
 Eigen::Affine3d read_transform(Params& table) {
-    // "A number or a 3-array, each component in range" is exactly what rgb() parses.
-    const Rgb s = table.rgb("scale", Rgb::Ones(), Range::positive());
+    // "A number or a 3-array" is exactly what rgb() parses. Negative components mirror.
+    const Rgb s = table.rgb("scale", Rgb::Ones());
+    if ((s == 0.0).any()) table.fail("scale", "components must be non-zero");
     const std::vector<double> r = table.reals("rotate", {0.0, 0.0, 1.0, 0.0});
     if (r.size() != 4) table.fail("rotate", "expected [axis_x, axis_y, axis_z, degrees]");
     const Vec3 axis(r[0], r[1], r[2]);

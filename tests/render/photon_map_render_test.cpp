@@ -18,34 +18,10 @@ using namespace vpm;
 
 namespace {
 
-constexpr double kEnv = 0.5;
 
 std::unique_ptr<Scene> furnace() {
-    const std::string text = R"(
-[render]
-width = 24
-height = 24
-spp = 1
-integrator = "photon_map"
-[camera]
-position = [0, 0, 0]
-look_at = [0, 0, -1]
-fov = 90
-[photons]
-count = 100000
-direct = "photon_map"
-[[lights]]
-type = "environment"
-radiance = 0.5
-[[media]]
-type = "homogeneous"
-shape = "sphere"
-radius = 6
-sigma_t_scale = 0.6
-albedo = 1.0
-g = 0.3
-)";
-    return Scene::build(parse_config(text, "furnace.toml", "."));
+    return Scene::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
+                       {"render.width=24", "render.height=24", "render.spp=1", "photons.count=100000"});
 }
 
 // Mean image value (green channel).
@@ -82,6 +58,7 @@ TEST(PhotonMapRender, ClassicOverestimatesByKOverKMinusOneCorrectedDoesNot) {
     // checks use the standard error over maps, and the classic/corrected ratio is checked paired
     // (same map, same camera rays), which is far more precise.
     auto scene = furnace();
+    const double kEnv = scene->escaped_radiance(Vec3::UnitZ())[1];   // the furnace's radiance everywhere
     const int repeats = 12;
     const int ks[] = {4, 8, 16};
     Sample classic[3], corrected[3], excess[3];
@@ -121,6 +98,7 @@ TEST(PhotonMapRender, ClassicOverestimatesByKOverKMinusOneCorrectedDoesNot) {
 
 TEST(PhotonMapRender, PathTracerAgreesWithTheFurnace) {
     auto scene = furnace();
+    const double kEnv = scene->escaped_radiance(Vec3::UnitZ())[1];   // the furnace's radiance everywhere
     const PathTracer pt(*scene);
     double sum = 0, sum2 = 0;
     const int n = 20000;
