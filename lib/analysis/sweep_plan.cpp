@@ -1,5 +1,9 @@
 #include "analysis/sweep_plan.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -32,8 +36,38 @@ std::string value_text(const toml::node& n) {
     return s;
 }
 
+// Shortest text that reads back as the same double ("0.1", not "0.10000000000000001").
+std::string short_real(double v) {
+    char buf[40];
+    for (int digits = 6; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+        if (std::strtod(buf, nullptr) == v) break;
+    }
+    std::string s = buf;
+    if (std::isfinite(v) && s.find_first_of(".eEn") == std::string::npos) s += ".0";   // stays a float in TOML
+    return s;
+}
+
 std::string value_label(const toml::node& n) {
     if (auto s = n.value_exact<std::string>()) return *s;
+    if (auto d = n.value_exact<double>()) return short_real(*d);
+    if (const toml::array* a = n.as_array()) {
+        std::string s = "[";
+        for (size_t i = 0; i < a->size(); ++i) s += (i ? ", " : "") + value_label(*a->get(i));
+        return s + "]";
+    }
+    return value_text(n);
+}
+
+// TOML text for --set: value_label for numbers and arrays of numbers (short and exact).
+std::string override_text(const toml::node& n) {
+    if (n.is_string()) return value_text(n);
+    if (const toml::array* a = n.as_array()) {
+        for (const auto& x : *a)
+            if (!x.is_number()) return value_text(n);
+        return value_label(n);
+    }
+    if (n.is_number()) return value_label(n);
     return value_text(n);
 }
 
@@ -130,13 +164,15 @@ SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs
             const toml::array* a = v.as_array();
             if (!a || a->empty()) fail(name, &v, "axes." + ax.name, "expected a non-empty list of values");
             for (const auto& x : *a) {
-                ax.values.push_back(value_text(x));
+                ax.values.push_back(override_text(x));
                 ax.labels.push_back(value_label(x));
             }
             if (ax.key == "render.integrator" || ax.key == "render.seed" || ax.key == "render.output")
                 fail(name, &v, "axes." + ax.name, "cannot be swept (the sweep sets it); use repeats for seeds");
             s.axes.push_back(std::move(ax));
         }
+        // toml++ keeps keys sorted; the plan follows the order written in the file.
+        std::stable_sort(s.axes.begin(), s.axes.end(), [](const SweepAxis& a, const SweepAxis& b) { return a.line < b.line; });
     }
     if (!s.reference_file.empty())
         for (const auto& ax : s.axes)
@@ -195,7 +231,7 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
                 build_config(spec, ov);
             } catch (const Error& e) {
                 throw ConfigError(spec.file + ":" + std::to_string(ax.line) + ": axes." + ax.name + " = " +
-                                  ax.values[i] + ": " + e.what());
+                                  ax.labels[i] + ": " + e.what());
             }
         }
     }
@@ -235,7 +271,7 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
         } catch (const Error& e) {
             std::string combo;
             for (size_t a = 0; a < spec.axes.size(); ++a)
-                combo += (a ? ", " : "") + spec.axes[a].name + " = " + spec.axes[a].values[idx[a]];
+                combo += (a ? ", " : "") + spec.axes[a].name + " = " + spec.axes[a].labels[idx[a]];
             throw ConfigError(spec.file + ": axes combination " + combo + ": " + e.what());
         }
         p.method = p.built.estimator;
