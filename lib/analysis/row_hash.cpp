@@ -7,7 +7,7 @@
 namespace vpm {
 
 std::string hash_hex(const std::string& bytes) {
-    uint64_t h = 1469598103934665603ull;
+    uint64_t h = 14695981039346656037ull;
     for (unsigned char c : bytes) {
         h ^= c;
         h *= 1099511628211ull;
