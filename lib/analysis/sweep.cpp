@@ -273,7 +273,9 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
     rec.set("runs.run_seconds", run_seconds);
     rec.set("seconds", outcome.seconds);
     rec.write(opt.out / (opts_sidecar_name(opt.shard, opt.shards)));
-    write_sweep_report(opt.out, spec.time_budgets, spec.file);
+    std::set<std::string> planned;
+    for (const auto& r : plan.runs) planned.insert(r.hash);
+    write_sweep_report(opt.out, spec.time_budgets, spec.file, planned);
     return outcome;
 }
 
@@ -295,7 +297,8 @@ struct PointStats {
 
 }  // namespace
 
-std::string write_sweep_report(const fs::path& out, const std::vector<double>& budgets_in, const std::string& title) {
+std::string write_sweep_report(const fs::path& out, const std::vector<double>& budgets_in, const std::string& title,
+                               const std::set<std::string>& only) {
     // Every row in the folder, once.
     std::vector<std::string> header;
     std::vector<Row> rows;
@@ -306,7 +309,7 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
         else if (t.header != header) throw FileError(f.string() + ": its header differs from the other runs*.csv in " + out.string());
         const int h = t.column("hash");
         for (const auto& r : t.rows)
-            if (seen.insert(r[size_t(h)]).second) rows.push_back({r, out});
+            if ((only.empty() || only.count(r[size_t(h)])) && seen.insert(r[size_t(h)]).second) rows.push_back({r, out});
     }
     if (header.empty()) throw FileError(out.string() + ": no runs*.csv to report on");
     auto col = [&](const char* name) {

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -48,8 +49,10 @@ std::filesystem::path shard_csv_name(int shard, int shards);
 
 // Recomputes points.csv and summary.md from the folder's rows; returns the summary Markdown.
 // budgets: equal-time budgets in seconds (empty: three log-spaced from the measured times).
+// only: when not empty, rows whose hash is not in it are left out (rows of an edited sweep file
+// that are no longer in the plan stay in runs.csv but not in the report).
 std::string write_sweep_report(const std::filesystem::path& out, const std::vector<double>& budgets,
-                               const std::string& title);
+                               const std::string& title, const std::set<std::string>& only = {});
 
 // Merges the runs*.csv of `dirs` into out/runs.csv (duplicates by hash dropped; image and reference
 // paths rewritten relative to `out`), copies sweep.json from the first folder that has one, and
