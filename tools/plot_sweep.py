@@ -117,12 +117,25 @@ def by_line(g, axes):
     return lines
 
 
+STYLES = ["-", "--", "-.", ":"]
+
+
+def style(key, lines):
+    """Line style by the non-estimator part of the key (e.g. the photon count), colour by estimator."""
+    rests = []
+    for k in lines:
+        if k[1:] not in rests:
+            rests.append(k[1:])
+    return STYLES[rests.index(key[1:]) % len(STYLES)]
+
+
 def error_vs_k(groups, titles, axes, out):
     fig, axs = figure(len(groups))
     for ax, g, title in zip(axs, groups, titles):
-        for key, rr in by_line(g, axes).items():
-            ax.plot([num(r["k"]) for r in rr], [num(r["rel_rmse"]) for r in rr], "-o", ms=3, color=colour(key[0]),
-                    alpha=0.5 + 0.5 / (1 + len(key) - 1), label=" ".join(key))
+        lines = by_line(g, axes)
+        for key, rr in lines.items():
+            ax.plot([num(r["k"]) for r in rr], [num(r["rel_rmse"]) for r in rr], marker="o", ms=3,
+                    ls=style(key, lines), color=colour(key[0]), label=" ".join(key))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("k")
@@ -146,7 +159,8 @@ def bias_vs_k(groups, titles, axes, out):
         for key, rr in lines.items():
             ax.errorbar([num(r["k"]) for r in rr], [num(r["rel_bias"]) for r in rr],
                         yerr=[num(r["rel_bias_se"]) if math.isfinite(num(r["rel_bias_se"])) else 0 for r in rr],
-                        fmt="-o", ms=3, capsize=2, color=colour(key[0]), label=" ".join(key))
+                        marker="o", ls=style(key, lines), ms=3, capsize=2, color=colour(key[0]),
+                        label=" ".join(key))
         if ks:
             ax.plot(ks, [1 / (k - 1) for k in ks], ":", color="grey", label="1/(k-1): k/(k-1) if all light were photons")
             cl = [(num(r["k"]), num(r["rel_bias"])) for key, rr in lines.items() if key[0] == "classic" for r in rr]
