@@ -179,7 +179,8 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
         reference_column[r->scene] = rel.string();
     }
 
-    // The runs.
+    // The runs (the ETA counts from here: references are not runs).
+    const Timer runs_timer;
     std::mutex mutex;
     std::atomic<size_t> next{0};
     std::atomic<bool> stop{false};
@@ -225,7 +226,7 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
                     if (!run.values[a].empty() && spec.axes[a].key != "photons.estimator")
                         what += " " + spec.axes[a].name + "=" + run.values[a];
                 if (run.method == "path") what += " spp=" + std::to_string(run.spp);
-                const double el = timer.seconds();
+                const double el = runs_timer.seconds();
                 const double eta = el / double(done) * double(todo.size() - done);
                 log("sweep: [" + std::to_string(done) + "/" + std::to_string(todo.size()) + "] " + what + " r" +
                     std::to_string(run.repeat) + ": rel RMSE " + sig(err.rel_rmse) + " in " + fixed(trace + build + render, 2) +
@@ -288,7 +289,7 @@ struct Row {
 
 struct PointStats {
     size_t first_run = 0;
-    std::string point, method, spp;
+    std::string point, method, spp, scene;
     std::vector<std::string> values;
     std::vector<const Row*> rows;
     double trace = 0, build = 0, render = 0, total = 0, stored = 0;
@@ -332,6 +333,7 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
             p.point = r.f[c_point];
             p.method = r.f[c_method];
             p.spp = r.f[c_spp];
+            p.scene = r.f[c_ref];   // the reference identifies the scene
             p.values.assign(r.f.begin() + long(c_offset) + 1, r.f.begin() + long(c_trace));
         }
         p.rows.push_back(&r);
@@ -428,31 +430,48 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
             for (double f : {1.0 / 3.0, 2.0 / 3.0, 1.0}) budgets.push_back(lo * std::pow(hi / lo, f));
     }
     md << "\n## Equal time\n\nLowest relative RMSE each method reaches within the time budget (mean run time), "
-       << "and the configuration that reaches it.\n\n| budget s |";
-    for (const auto& m : methods) md << " " << m << " |";
-    md << "\n|---:|";
-    for (size_t i = 0; i < methods.size(); ++i) md << "---|";
-    md << "\n";
-    for (double b : budgets) {
-        md << "| " << sig(b) << " |";
-        for (const auto& m : methods) {
-            const PointStats* best = nullptr;
-            for (const PointStats* p : points)
-                if (p->method == m && p->total <= b && std::isfinite(p->err.rel_rmse) &&
-                    (!best || p->err.rel_rmse < best->err.rel_rmse))
-                    best = p;
-            if (!best) {
-                md << " – |";
-                continue;
-            }
-            md << " " << sig(best->err.rel_rmse) << " (";
-            std::string cfg;
-            for (size_t a : shown)
-                if (!best->values[a].empty()) cfg += (cfg.empty() ? "" : ", ") + axes[a] + "=" + best->values[a];
-            if (m == "path") cfg += (cfg.empty() ? "" : ", ") + std::string("spp=") + best->spp;
-            md << cfg << ") |";
-        }
+       << "and the configuration that reaches it; one table per scene (each scene has its own reference).\n";
+    std::vector<std::string> scenes;
+    for (const PointStats* p : points)
+        if (std::find(scenes.begin(), scenes.end(), p->scene) == scenes.end()) scenes.push_back(p->scene);
+    auto photon_axis = [](const std::string& a) { return a == "k" || a == "estimator" || a.rfind("photons.", 0) == 0; };
+    for (const auto& sc : scenes) {
+        std::vector<const PointStats*> sp;
+        for (const PointStats* p : points)
+            if (p->scene == sc) sp.push_back(p);
+        std::string scene_cfg;
+        for (size_t a = 0; a < axes.size(); ++a)
+            if (!photon_axis(axes[a]) && !sp[0]->values[a].empty())
+                scene_cfg += (scene_cfg.empty() ? "" : ", ") + axes[a] + "=" + sp[0]->values[a];
         md << "\n";
+        if (scenes.size() > 1) md << "### " << (scene_cfg.empty() ? sc : scene_cfg) << "\n\n";
+        md << "| budget s |";
+        for (const auto& m : methods) md << " " << m << " |";
+        md << "\n|---:|";
+        for (size_t i = 0; i < methods.size(); ++i) md << "---|";
+        md << "\n";
+        for (double b : budgets) {
+            md << "| " << sig(b) << " |";
+            for (const auto& m : methods) {
+                const PointStats* best = nullptr;
+                for (const PointStats* p : sp)
+                    if (p->method == m && p->total <= b && std::isfinite(p->err.rel_rmse) &&
+                        (!best || p->err.rel_rmse < best->err.rel_rmse))
+                        best = p;
+                if (!best) {
+                    md << " – |";
+                    continue;
+                }
+                md << " " << sig(best->err.rel_rmse) << " (";
+                std::string cfg;
+                for (size_t a : shown)
+                    if (!best->values[a].empty() && photon_axis(axes[a]))
+                        cfg += (cfg.empty() ? "" : ", ") + axes[a] + "=" + best->values[a];
+                if (m == "path") cfg += (cfg.empty() ? "" : ", ") + std::string("spp=") + best->spp;
+                md << cfg << ") |";
+            }
+            md << "\n";
+        }
     }
     md << "\nPlots (tools/plot_sweep.py): error_vs_time.png, error_vs_k.png, bias_vs_k.png.\n";
     write_text_atomic(out / "summary.md", md.str());
