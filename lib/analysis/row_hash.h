@@ -1,0 +1,26 @@
+#pragma once
+// Identities of sweep rows. A run is identified by the hash of its resolved scene config (every
+// default filled in, so two spellings of the same config agree) plus its seed and repeat stream;
+// a finished row with the same hash is never run again (resume), and merge drops duplicates by it.
+// A reference image is cached under the hash of the resolved config minus everything that only
+// concerns the estimator or the output (render.integrator/spp/seed/output/threads/max_depth/
+// rr_depth/exposure and the [photons] table), so every run of the same scene shares it.
+#include <cstdint>
+#include <string>
+
+#include <toml++/toml.h>
+
+namespace vpm {
+
+// 64-bit FNV-1a of the bytes, as 16 lower-case hex digits. Stable across platforms and builds.
+std::string hash_hex(const std::string& bytes);
+
+// The resolved config as canonical TOML text without render.output and render.threads (they do
+// not change the image).
+std::string run_config_text(const toml::table& resolved);
+// Hash identifying one run: run_config_text + seed + stream offset.
+std::string run_hash(const toml::table& resolved, uint64_t seed, uint64_t stream_offset);
+// Hash of the scene alone (see above), for the reference cache.
+std::string scene_hash(const toml::table& resolved);
+
+}  // namespace vpm

@@ -1,0 +1,566 @@
+#include "analysis/sweep.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/error_metrics.h"
+#include "analysis/row_hash.h"
+#include "analysis/sweep_csv.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "render/image_io.h"
+#include "render/run.h"
+#include "render/run_record.h"
+#include "scene/params.h"
+#include "scene/scene.h"
+
+namespace fs = std::filesystem;
+
+namespace vpm {
+
+namespace {
+
+std::string num(double v) {
+    if (std::isnan(v)) return "nan";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return buf;
+}
+
+std::string fixed(double v, int digits) {
+    if (!std::isfinite(v)) return num(v);
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
+std::string sig(double v, int digits = 3) {
+    if (!std::isfinite(v)) return num(v);
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+}
+
+double to_double(const std::string& s) {
+    if (s.empty()) return std::nan("");
+    return std::strtod(s.c_str(), nullptr);
+}
+
+void make_dir(const fs::path& p) {
+    std::error_code ec;
+    fs::create_directories(p, ec);
+    if (ec) throw FileError(p.string() + ": cannot create folder: " + ec.message());
+}
+
+std::vector<fs::path> run_csvs(const fs::path& dir) {
+    std::vector<fs::path> out;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        const std::string n = e.path().filename().string();
+        if (e.is_regular_file() && n.rfind("runs", 0) == 0 && e.path().extension() == ".csv") out.push_back(e.path());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+double phase_seconds(const nlohmann::json& j, const char* phase) {
+    const auto p = j.find("phases");
+    if (p == j.end()) return 0.0;
+    const auto q = p->find(phase);
+    return q == p->end() ? 0.0 : q->value("seconds", 0.0);
+}
+
+std::string opts_sidecar_name(int shard, int shards) {
+    if (shards <= 1) return "sweep.json";
+    return "sweep.shard-" + std::to_string(shard) + "-of-" + std::to_string(shards) + ".json";
+}
+
+const std::vector<std::string> kBefore = {"run", "hash", "point", "scene", "method", "spp", "repeat", "seed", "stream_offset"};
+const std::vector<std::string> kAfter = {"trace_s", "build_s", "render_s", "total_s", "peak_rss_bytes", "photons_stored",
+                                         "rel_rmse", "rel_mean_error", "nonfinite_pixels", "image", "reference"};
+
+}  // namespace
+
+std::vector<std::string> sweep_csv_header(const std::vector<SweepAxis>& axes) {
+    std::vector<std::string> h = kBefore;
+    for (const auto& a : axes) h.push_back(a.name);
+    h.insert(h.end(), kAfter.begin(), kAfter.end());
+    return h;
+}
+
+fs::path shard_csv_name(int shard, int shards) {
+    if (shards <= 1) return "runs.csv";
+    return "runs.shard-" + std::to_string(shard) + "-of-" + std::to_string(shards) + ".csv";
+}
+
+SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
+    const Timer timer;
+    auto log = [&](const std::string& s) {
+        if (opt.log) opt.log(s);
+    };
+    if (opt.shards < 1 || opt.shard < 0 || opt.shard >= opt.shards)
+        throw Error("--shard " + std::to_string(opt.shard) + "/" + std::to_string(opt.shards) +
+                    ": expected i/N with 0 <= i < N");
+    const SweepSpec& spec = plan.spec;
+    make_dir(opt.out);
+    make_dir(opt.out / "images");
+    make_dir(opt.out / "references");
+    SweepOutcome outcome;
+    outcome.planned = plan.runs.size();
+    outcome.csv = opt.out / shard_csv_name(opt.shard, opt.shards);
+    const auto header = sweep_csv_header(spec.axes);
+    prepare_csv(outcome.csv, header);
+
+    std::set<std::string> finished;
+    for (const auto& f : run_csvs(opt.out)) {
+        const CsvTable t = read_csv(f);
+        const int h = t.column("hash");
+        if (h < 0) continue;
+        for (const auto& r : t.rows) finished.insert(r[size_t(h)]);
+    }
+    std::vector<const PlannedRun*> todo;
+    for (const auto& r : plan.runs) {
+        if (int(r.index % size_t(opt.shards)) != opt.shard) continue;
+        ++outcome.in_shard;
+        if (finished.count(r.hash)) ++outcome.skipped;
+        else todo.push_back(&r);
+    }
+    if (opt.max_runs > 0 && todo.size() > opt.max_runs) {
+        outcome.remaining = todo.size() - opt.max_runs;
+        todo.resize(opt.max_runs);
+    }
+    log("sweep: " + std::to_string(outcome.planned) + " runs planned, " + std::to_string(outcome.in_shard) +
+        " in shard " + std::to_string(opt.shard) + "/" + std::to_string(opt.shards) + ", " +
+        std::to_string(outcome.skipped) + " already done, " + std::to_string(todo.size()) + " to run");
+
+    // References: rendered once per scene hash, cached in the folder.
+    std::map<std::string, Image> references;
+    std::map<std::string, std::string> reference_column;
+    std::vector<const PlannedRun*> need_reference = todo;
+    if (opt.references_only) {
+        need_reference.clear();
+        for (const auto& r : plan.runs) need_reference.push_back(&r);
+        todo.clear();
+    }
+    for (const PlannedRun* r : need_reference) {
+        if (references.count(r->scene)) continue;
+        if (!spec.reference_file.empty()) {
+            references[r->scene] = read_exr(spec.reference_file);
+            reference_column[r->scene] = fs::absolute(spec.reference_file).string();
+            continue;
+        }
+        const fs::path rel = fs::path("references") / (r->scene + ".exr");
+        const fs::path path = opt.out / rel;
+        if (!fs::exists(path)) {
+            const auto scene = Scene::build(load_config(spec.scene.string(), plan.references.at(r->scene)));
+            log("sweep: rendering reference " + r->scene + " (path tracer, " + std::to_string(scene->render.spp) +
+                " spp, " + std::to_string(scene->render.width) + "x" + std::to_string(scene->render.height) + ")");
+            RunOptions ro;
+            ro.progress = opt.progress;
+            ro.stream_offset = kReferenceStream;
+            RunResult res = run_scene(*scene, ro);
+            write_run_outputs(path, res, scene->render.exposure);
+            log("sweep: reference " + r->scene + " in " + fixed(res.stats.seconds, 1) + " s");
+        }
+        references[r->scene] = read_exr(path);
+        reference_column[r->scene] = rel.string();
+    }
+
+    // The runs (the ETA counts from here: references are not runs).
+    const Timer runs_timer;
+    std::mutex mutex;
+    std::atomic<size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::exception_ptr failure;
+    size_t done = 0;
+    double run_seconds = 0;
+    auto worker = [&] {
+        while (!stop) {
+            const size_t i = next++;
+            if (i >= todo.size()) return;
+            const PlannedRun& run = *todo[i];
+            try {
+                const auto scene = Scene::build(load_config(spec.scene.string(), run.overrides));
+                RunOptions ro;
+                ro.progress = false;
+                ro.stream_offset = run.stream_offset;
+                RunResult res = run_scene(*scene, ro);
+                const fs::path image_rel = fs::path("images") / (run.hash + ".exr");
+                write_exr(opt.out / image_rel, res.image);
+                const Image& ref = references.at(run.scene);
+                const RunError err = run_error(res.image, ref);
+                const nlohmann::json& j = res.record.json();
+                const double trace = phase_seconds(j, "trace"), build = phase_seconds(j, "build"),
+                             render = phase_seconds(j, "render");
+                uint64_t stored = 0;
+                if (j.contains("photons") && j["photons"].contains("stored")) stored = j["photons"]["stored"].get<uint64_t>();
+                std::vector<std::string> row = {std::to_string(run.index), run.hash, run.point, run.scene, run.method,
+                                                std::to_string(run.spp), std::to_string(run.repeat),
+                                                std::to_string(run.seed), std::to_string(run.stream_offset)};
+                row.insert(row.end(), run.values.begin(), run.values.end());
+                const std::vector<std::string> tail = {num(trace), num(build), num(render), num(trace + build + render),
+                                                       std::to_string(peak_rss_bytes()), std::to_string(stored),
+                                                       num(err.rel_rmse), num(err.rel_mean_error),
+                                                       std::to_string(err.nonfinite_pixels), image_rel.string(),
+                                                       reference_column.at(run.scene)};
+                row.insert(row.end(), tail.begin(), tail.end());
+                std::lock_guard<std::mutex> lock(mutex);
+                append_csv_row(outcome.csv, row);
+                ++done;
+                run_seconds += trace + build + render;
+                std::string what = run.method;
+                for (size_t a = 0; a < spec.axes.size(); ++a)
+                    if (!run.values[a].empty() && spec.axes[a].key != "photons.estimator")
+                        what += " " + spec.axes[a].name + "=" + run.values[a];
+                if (run.method == "path") what += " spp=" + std::to_string(run.spp);
+                const double el = runs_timer.seconds();
+                const double eta = el / double(done) * double(todo.size() - done);
+                log("sweep: [" + std::to_string(done) + "/" + std::to_string(todo.size()) + "] " + what + " r" +
+                    std::to_string(run.repeat) + ": rel RMSE " + sig(err.rel_rmse) + " in " + fixed(trace + build + render, 2) +
+                    " s" + (err.nonfinite_pixels ? ", " + std::to_string(err.nonfinite_pixels) + " NON-FINITE pixels" : "") +
+                    "; " + fixed(el, 0) + " s elapsed, ETA " + fixed(eta, 0) + " s");
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(mutex);
+                if (!failure) failure = std::current_exception();
+                stop = true;
+                return;
+            }
+        }
+    };
+    const int jobs = std::max(1, std::min<int>(opt.jobs, int(std::max<size_t>(todo.size(), 1))));
+    std::vector<std::thread> threads;
+    for (int t = 1; t < jobs; ++t) threads.emplace_back(worker);
+    worker();
+    for (auto& t : threads) t.join();
+    if (failure) std::rethrow_exception(failure);
+    outcome.ran = done;
+    outcome.seconds = timer.seconds();
+
+    // Sidecar and report.
+    RunRecord rec = RunRecord::with_environment();
+    rec.set("sweep_file", spec.file);
+    rec.set("scene", spec.scene.string());
+    rec.set("set", spec.set);
+    rec.set("repeats", spec.repeats);
+    rec.set("time_budgets", nlohmann::json(spec.time_budgets));
+    rec.set("reference.spp", spec.reference_spp);
+    rec.set("reference.file", spec.reference_file.string());
+    rec.set("reference.path_spp", nlohmann::json(spec.path_spp));
+    nlohmann::json axes = nlohmann::json::array();
+    for (const auto& a : spec.axes) axes.push_back({{"name", a.name}, {"key", a.key}, {"values", a.labels}});
+    rec.set("axes", axes);
+    rec.set("command_line", opt.command_line);
+    rec.set("shard.index", opt.shard);
+    rec.set("shard.count", opt.shards);
+    rec.set("jobs", opt.jobs);
+    rec.set("runs.planned", outcome.planned);
+    rec.set("runs.in_shard", outcome.in_shard);
+    rec.set("runs.skipped_finished", outcome.skipped);
+    rec.set("runs.ran", outcome.ran);
+    rec.set("runs.remaining", outcome.remaining);
+    rec.set("runs.run_seconds", run_seconds);
+    rec.set("seconds", outcome.seconds);
+    rec.write(opt.out / (opts_sidecar_name(opt.shard, opt.shards)));
+    std::set<std::string> planned;
+    for (const auto& r : plan.runs) planned.insert(r.hash);
+    write_sweep_report(opt.out, spec.time_budgets, spec.file, planned);
+    return outcome;
+}
+
+namespace {
+
+struct Row {
+    std::vector<std::string> f;
+    fs::path base;   // folder the paths are relative to
+};
+
+struct PointStats {
+    size_t first_run = 0;
+    std::string point, method, spp, scene;
+    std::vector<std::string> values;
+    std::vector<const Row*> rows;
+    double trace = 0, build = 0, render = 0, total = 0, stored = 0;
+    RepeatError err;
+};
+
+}  // namespace
+
+std::string write_sweep_report(const fs::path& out, const std::vector<double>& budgets_in, const std::string& title,
+                               const std::set<std::string>& only) {
+    // Every row in the folder, once.
+    std::vector<std::string> header;
+    std::vector<Row> rows;
+    std::set<std::string> seen;
+    for (const auto& f : run_csvs(out)) {
+        const CsvTable t = read_csv(f);
+        if (header.empty()) header = t.header;
+        else if (t.header != header) throw FileError(f.string() + ": its header differs from the other runs*.csv in " + out.string());
+        const int h = t.column("hash");
+        for (const auto& r : t.rows)
+            if ((only.empty() || only.count(r[size_t(h)])) && seen.insert(r[size_t(h)]).second) rows.push_back({r, out});
+    }
+    if (header.empty()) throw FileError(out.string() + ": no runs*.csv to report on");
+    auto col = [&](const char* name) {
+        const auto it = std::find(header.begin(), header.end(), name);
+        if (it == header.end()) throw FileError(out.string() + ": runs.csv has no column '" + name + "'");
+        return size_t(it - header.begin());
+    };
+    const size_t c_run = col("run"), c_point = col("point"), c_method = col("method"), c_spp = col("spp"),
+                 c_offset = col("stream_offset"), c_trace = col("trace_s"), c_total = col("total_s"),
+                 c_build = col("build_s"), c_render = col("render_s"), c_stored = col("photons_stored"),
+                 c_image = col("image"), c_ref = col("reference");
+    std::vector<std::string> axes(header.begin() + long(c_offset) + 1, header.begin() + long(c_trace));
+
+    std::map<std::string, PointStats> by_point;
+    for (const auto& r : rows) {
+        PointStats& p = by_point[r.f[c_point]];
+        const size_t run = size_t(std::stoull(r.f[c_run]));
+        if (p.rows.empty() || run < p.first_run) p.first_run = run;
+        if (p.rows.empty()) {
+            p.point = r.f[c_point];
+            p.method = r.f[c_method];
+            p.spp = r.f[c_spp];
+            p.scene = r.f[c_ref];   // the reference identifies the scene
+            p.values.assign(r.f.begin() + long(c_offset) + 1, r.f.begin() + long(c_trace));
+        }
+        p.rows.push_back(&r);
+    }
+    std::vector<PointStats*> points;
+    for (auto& [k, p] : by_point) points.push_back(&p);
+    std::sort(points.begin(), points.end(), [](auto* a, auto* b) { return a->first_run < b->first_run; });
+    {   // grouped by method (in order of first appearance), plan order within a method
+        std::vector<std::string> order;
+        for (auto* p : points)
+            if (std::find(order.begin(), order.end(), p->method) == order.end()) order.push_back(p->method);
+        auto rank = [&](const PointStats* p) { return std::find(order.begin(), order.end(), p->method) - order.begin(); };
+        std::stable_sort(points.begin(), points.end(), [&](auto* a, auto* b) { return rank(a) < rank(b); });
+    }
+
+    std::map<std::string, Image> refs;
+    size_t nonfinite_total = 0;
+    for (PointStats* p : points) {
+        const std::string ref_col = p->rows[0]->f[c_ref];
+        const fs::path ref_path = fs::path(ref_col).is_absolute() ? fs::path(ref_col) : out / ref_col;
+        if (!refs.count(ref_path.string())) refs[ref_path.string()] = read_exr(ref_path);
+        std::vector<Image> images;
+        images.reserve(p->rows.size());
+        for (const Row* r : p->rows) {
+            const fs::path ip = fs::path(r->f[c_image]).is_absolute() ? fs::path(r->f[c_image]) : out / r->f[c_image];
+            images.push_back(read_exr(ip));
+            p->trace += to_double(r->f[c_trace]);
+            p->build += to_double(r->f[c_build]);
+            p->render += to_double(r->f[c_render]);
+            p->total += to_double(r->f[c_total]);
+            p->stored += to_double(r->f[c_stored]);
+        }
+        const double n = double(p->rows.size());
+        p->trace /= n, p->build /= n, p->render /= n, p->total /= n, p->stored /= n;
+        std::vector<const Image*> ptrs;
+        for (const auto& im : images) ptrs.push_back(&im);
+        p->err = repeat_error(ptrs, refs.at(ref_path.string()));
+        nonfinite_total += p->err.nonfinite_pixels;
+    }
+
+    // points.csv
+    std::vector<std::string> ph = {"point", "method", "spp"};
+    ph.insert(ph.end(), axes.begin(), axes.end());
+    for (const char* c : {"repeats", "trace_s", "build_s", "render_s", "total_s", "photons_stored", "rel_rmse", "rel_mse",
+                          "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels"})
+        ph.push_back(c);
+    std::string pcsv = csv_line(ph);
+    for (const PointStats* p : points) {
+        std::vector<std::string> f = {p->point, p->method, p->spp};
+        f.insert(f.end(), p->values.begin(), p->values.end());
+        const RepeatError& e = p->err;
+        for (const std::string& v :
+             {std::to_string(e.repeats), num(p->trace), num(p->build), num(p->render), num(p->total), num(p->stored),
+              num(e.rel_rmse), num(e.rel_mse), num(e.rel_bias), num(e.rel_bias_se), num(e.rel_bias2), num(e.rel_variance),
+              num(e.rel_std), std::to_string(e.nonfinite_pixels)})
+            f.push_back(v);
+        pcsv += csv_line(f);
+    }
+    write_text_atomic(out / "points.csv", pcsv);
+
+    // summary.md
+    std::vector<std::string> methods;
+    for (const PointStats* p : points)
+        if (std::find(methods.begin(), methods.end(), p->method) == methods.end()) methods.push_back(p->method);
+    std::vector<size_t> shown;   // axes with a value somewhere (estimator shown as the method)
+    for (size_t a = 0; a < axes.size(); ++a)
+        if (axes[a] != "estimator") shown.push_back(a);
+    std::ostringstream md;
+    md << "# Sweep: " << title << "\n\n"
+       << rows.size() << " runs in " << points.size() << " configurations; errors relative to the reference's mean "
+       << "luminance (see README, Parameter sweeps). Times are means over the repeats (trace + build + render, seconds).\n\n";
+    if (nonfinite_total)
+        md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
+           << "metrics. See the nonfinite_pixels column.**\n\n";
+    md << "## Configurations\n\n| method |";
+    for (size_t a : shown) md << " " << axes[a] << " |";
+    md << " spp | R | time s | rel RMSE | rel bias ± SE | rel std | rel bias² | rel var | NaN/Inf |\n|---|";
+    for (size_t i = 0; i < shown.size(); ++i) md << "---:|";
+    md << "---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const PointStats* p : points) {
+        const RepeatError& e = p->err;
+        md << "| " << p->method << " |";
+        for (size_t a : shown) md << " " << (p->values[a].empty() ? "–" : p->values[a]) << " |";
+        md << " " << p->spp << " | " << e.repeats << " | " << sig(p->total) << " | " << sig(e.rel_rmse) << " | "
+           << sig(e.rel_bias) << " ± " << sig(e.rel_bias_se, 2) << " | " << sig(e.rel_std) << " | " << sig(e.rel_bias2)
+           << " | " << sig(e.rel_variance) << " | " << e.nonfinite_pixels << " |\n";
+    }
+
+    std::vector<double> budgets = budgets_in;
+    if (budgets.empty() && !points.empty()) {
+        double lo = kInfinity, hi = 0;
+        for (const PointStats* p : points) lo = std::min(lo, p->total), hi = std::max(hi, p->total);
+        if (lo > 0 && hi > 0)
+            for (double f : {1.0 / 3.0, 2.0 / 3.0, 1.0}) budgets.push_back(lo * std::pow(hi / lo, f));
+    }
+    md << "\n## Equal time\n\nLowest relative RMSE each method reaches within the time budget (mean run time), "
+       << "and the configuration that reaches it; one table per scene (each scene has its own reference).\n";
+    std::vector<std::string> scenes;
+    for (const PointStats* p : points)
+        if (std::find(scenes.begin(), scenes.end(), p->scene) == scenes.end()) scenes.push_back(p->scene);
+    auto photon_axis = [](const std::string& a) { return a == "k" || a == "estimator" || a.rfind("photons.", 0) == 0; };
+    for (const auto& sc : scenes) {
+        std::vector<const PointStats*> sp;
+        for (const PointStats* p : points)
+            if (p->scene == sc) sp.push_back(p);
+        std::string scene_cfg;
+        for (size_t a = 0; a < axes.size(); ++a)
+            if (!photon_axis(axes[a]) && !sp[0]->values[a].empty())
+                scene_cfg += (scene_cfg.empty() ? "" : ", ") + axes[a] + "=" + sp[0]->values[a];
+        md << "\n";
+        if (scenes.size() > 1) md << "### " << (scene_cfg.empty() ? sc : scene_cfg) << "\n\n";
+        md << "| budget s |";
+        for (const auto& m : methods) md << " " << m << " |";
+        md << "\n|---:|";
+        for (size_t i = 0; i < methods.size(); ++i) md << "---|";
+        md << "\n";
+        for (double b : budgets) {
+            md << "| " << sig(b) << " |";
+            for (const auto& m : methods) {
+                const PointStats* best = nullptr;
+                for (const PointStats* p : sp)
+                    if (p->method == m && p->total <= b && std::isfinite(p->err.rel_rmse) &&
+                        (!best || p->err.rel_rmse < best->err.rel_rmse))
+                        best = p;
+                if (!best) {
+                    md << " – |";
+                    continue;
+                }
+                md << " " << sig(best->err.rel_rmse) << " (";
+                std::string cfg;
+                for (size_t a : shown)
+                    if (!best->values[a].empty() && photon_axis(axes[a]))
+                        cfg += (cfg.empty() ? "" : ", ") + axes[a] + "=" + best->values[a];
+                if (m == "path") cfg += (cfg.empty() ? "" : ", ") + std::string("spp=") + best->spp;
+                md << cfg << ") |";
+            }
+            md << "\n";
+        }
+    }
+    md << "\nPlots (tools/plot_sweep.py): error_vs_time.png, error_vs_k.png, bias_vs_k.png.\n";
+    write_text_atomic(out / "summary.md", md.str());
+    return md.str();
+}
+
+size_t merge_sweeps(const std::vector<fs::path>& dirs, const fs::path& out,
+                    const std::function<void(const std::string&)>& log) {
+    if (dirs.empty()) throw Error("merge: no folders given");
+    make_dir(out);
+    const fs::path out_abs = fs::weakly_canonical(fs::absolute(out));
+    std::vector<std::string> header;
+    std::string text;
+    std::set<std::string> seen;
+    size_t rows = 0, duplicates = 0;
+    fs::path sidecar;
+    for (const auto& dir : dirs) {
+        if (!fs::is_directory(dir)) throw FileError(dir.string() + ": not a folder");
+        const auto csvs = run_csvs(dir);
+        if (csvs.empty()) throw FileError(dir.string() + ": no runs*.csv in it (not a sweep --out folder?)");
+        if (sidecar.empty())
+            for (const auto& e : fs::directory_iterator(dir))
+                if (e.path().extension() == ".json" && e.path().filename().string().rfind("sweep", 0) == 0) sidecar = e.path();
+        const fs::path dir_abs = fs::weakly_canonical(fs::absolute(dir));
+        for (const auto& f : csvs) {
+            const CsvTable t = read_csv(f);
+            if (header.empty()) {
+                header = t.header;
+                text = csv_line(header);
+            } else if (t.header != header) {
+                throw FileError(f.string() + ": its columns differ from " + dirs[0].string() + " (another sweep?)");
+            }
+            const int h = t.column("hash"), im = t.column("image"), rf = t.column("reference");
+            if (h < 0 || im < 0 || rf < 0) throw FileError(f.string() + ": not a sweep runs CSV");
+            for (auto r : t.rows) {
+                if (!seen.insert(r[size_t(h)]).second) {
+                    ++duplicates;
+                    continue;
+                }
+                for (int c : {im, rf}) {
+                    const fs::path p(r[size_t(c)]);
+                    if (p.is_relative()) r[size_t(c)] = fs::relative(dir_abs / p, out_abs).string();
+                }
+                text += csv_line(r);
+                ++rows;
+            }
+        }
+    }
+    // Other runs*.csv already in `out` (its own shards when merging in place) are read too by the
+    // report, which drops duplicate hashes, so they never double-count.
+    write_text_atomic(out / "runs.csv", text);
+    if (!sidecar.empty() && !fs::exists(out / "sweep.json")) fs::copy_file(sidecar, out / "sweep.json");
+    if (log)
+        log("merge: " + std::to_string(rows) + " rows from " + std::to_string(dirs.size()) + " folders, " +
+            std::to_string(duplicates) + " duplicates dropped -> " + (out / "runs.csv").string());
+    std::vector<double> budgets;
+    std::string title = "merged";
+    if (fs::exists(out / "sweep.json")) {
+        std::ifstream in(out / "sweep.json");
+        const auto j = nlohmann::json::parse(in, nullptr, false);
+        if (!j.is_discarded()) {
+            if (j.contains("time_budgets") && j["time_budgets"].is_array())
+                for (const auto& b : j["time_budgets"]) budgets.push_back(b.get<double>());
+            if (j.contains("sweep_file") && j["sweep_file"].is_string()) title = j["sweep_file"].get<std::string>();
+        }
+    }
+    write_sweep_report(out, budgets, title);
+    return rows;
+}
+
+bool plot_sweep(const fs::path& out, const std::function<void(const std::string&)>& log) {
+    const fs::path script = fs::path(VPM_SOURCE_DIR) / "tools" / "plot_sweep.py";
+    auto quote = [](const std::string& s) {
+        std::string q = "'";
+        for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        return q + "'";
+    };
+    if (!fs::exists("/usr/bin/python3") || !fs::exists(script)) {
+        if (log) log("sweep: plots skipped (/usr/bin/python3 or " + script.string() + " missing); the tables are written");
+        return false;
+    }
+    const std::string cmd = "/usr/bin/python3 " + quote(script.string()) + " " + quote(out.string());
+    const int rc = std::system(cmd.c_str());
+    if (rc != 0) {
+        if (log) log("sweep: plotting failed (exit " + std::to_string(rc) + "; is python3-matplotlib installed?); the tables are written");
+        return false;
+    }
+    if (log) log("sweep: plots in " + out.string() + " (error_vs_time.png, error_vs_k.png, bias_vs_k.png)");
+    return true;
+}
+
+}  // namespace vpm

@@ -1,0 +1,329 @@
+#include "analysis/sweep_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "analysis/row_hash.h"
+#include "core/error.h"
+#include "scene/params.h"
+#include "scene/scene.h"
+
+namespace fs = std::filesystem;
+
+namespace vpm {
+
+namespace {
+
+int line_of(const toml::node& n) { return int(n.source().begin.line); }
+
+[[noreturn]] void fail(const std::string& file, const toml::node* n, const std::string& key, const std::string& msg) {
+    throw ConfigError(file + ":" + (n ? std::to_string(line_of(*n)) + ":" : std::string()) + " " + key + ": " + msg);
+}
+
+// TOML text of a value, as `--set key=<text>` expects it.
+std::string value_text(const toml::node& n) {
+    toml::table t;
+    t.insert("v", n);
+    std::string s = to_toml_string(t);
+    const auto eq = s.find("= ");
+    s = eq == std::string::npos ? s : s.substr(eq + 2);
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    return s;
+}
+
+// Shortest text that reads back as the same double ("0.1", not "0.10000000000000001").
+std::string short_real(double v) {
+    char buf[40];
+    for (int digits = 6; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+        if (std::strtod(buf, nullptr) == v) break;
+    }
+    std::string s = buf;
+    if (std::isfinite(v) && s.find_first_of(".eEn") == std::string::npos) s += ".0";   // stays a float in TOML
+    return s;
+}
+
+std::string value_label(const toml::node& n) {
+    if (auto s = n.value_exact<std::string>()) return *s;
+    if (auto d = n.value_exact<double>()) return short_real(*d);
+    if (const toml::array* a = n.as_array()) {
+        std::string s = "[";
+        for (size_t i = 0; i < a->size(); ++i) s += (i ? ", " : "") + value_label(*a->get(i));
+        return s + "]";
+    }
+    return value_text(n);
+}
+
+// TOML text for --set: value_label for numbers and arrays of numbers (short and exact).
+std::string override_text(const toml::node& n) {
+    if (n.is_string()) return value_text(n);
+    if (const toml::array* a = n.as_array()) {
+        for (const auto& x : *a)
+            if (!x.is_number()) return value_text(n);
+        return value_label(n);
+    }
+    if (n.is_number()) return value_label(n);
+    return value_text(n);
+}
+
+std::vector<double> number_list(const std::string& file, const toml::table& root, const toml::node* n,
+                                const std::string& key, bool integers) {
+    std::vector<double> out;
+    const toml::array* a = n ? n->as_array() : nullptr;
+    if (!a) fail(file, n, key, "expected a list of numbers, e.g. [1, 2, 4]");
+    for (const auto& v : *a) {
+        const auto d = v.value<double>();
+        if (!d || (integers && !v.is_integer()) || !(*d > 0))
+            fail(file, &v, key, std::string("expected positive ") + (integers ? "integers" : "numbers") + ", got " + value_text(v));
+        out.push_back(*d);
+    }
+    (void)root;
+    return out;
+}
+
+}  // namespace
+
+SweepSpec load_sweep(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw FileError(path + ": cannot open the sweep file");
+    std::stringstream text;
+    text << in.rdbuf();
+    return parse_sweep(text.str(), path, fs::absolute(fs::path(path)).parent_path());
+}
+
+SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs::path& base_dir) {
+    toml::table root;
+    try {
+        root = toml::parse(text, name);
+    } catch (const toml::parse_error& e) {
+        throw ConfigError(name + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+    }
+    SweepSpec s;
+    s.file = name;
+    static const std::set<std::string> allowed = {"scene", "set", "repeats", "time_budgets", "reference", "axes"};
+    for (const auto& [k, v] : root)
+        if (!allowed.count(std::string(k.str())))
+            fail(name, &v, std::string(k.str()), "unknown key; allowed: scene, set, repeats, time_budgets, [reference], [axes]");
+
+    const toml::node* scene = root.get("scene");
+    if (!scene || !scene->is_string()) fail(name, scene, "scene", "required: the base scene config file, e.g. scene = \"../default_photon_map.toml\"");
+    s.scene = fs::path(*scene->value<std::string>());
+    if (s.scene.is_relative()) s.scene = base_dir / s.scene;
+    if (!fs::exists(s.scene)) fail(name, scene, "scene", s.scene.string() + " does not exist");
+
+    if (const toml::node* set = root.get("set")) {
+        const toml::array* a = set->as_array();
+        if (!a) fail(name, set, "set", "expected a list of \"key=value\" strings");
+        for (const auto& v : *a) {
+            if (!v.is_string()) fail(name, &v, "set", "expected \"key=value\" strings");
+            s.set.push_back(*v.value<std::string>());
+        }
+    }
+    if (const toml::node* r = root.get("repeats")) {
+        if (!r->is_integer() || *r->value<int64_t>() < 1 || *r->value<int64_t>() > 100000)
+            fail(name, r, "repeats", "expected an integer in [1, 100000]");
+        s.repeats = int(*r->value<int64_t>());
+    }
+    if (const toml::node* t = root.get("time_budgets")) s.time_budgets = number_list(name, root, t, "time_budgets", false);
+
+    const toml::node* ref = root.get("reference");
+    if (!ref || !ref->is_table())
+        fail(name, ref, "reference", "required table: [reference] spp = N (render it) or file = \"ref.exr\"");
+    for (const auto& [k, v] : *ref->as_table()) {
+        const std::string key(k.str());
+        if (key == "spp") {
+            if (!v.is_integer() || *v.value<int64_t>() < 1) fail(name, &v, "reference.spp", "expected a positive integer");
+            s.reference_spp = int(*v.value<int64_t>());
+        } else if (key == "file") {
+            if (!v.is_string()) fail(name, &v, "reference.file", "expected a path to an EXR");
+            s.reference_file = fs::path(*v.value<std::string>());
+            if (s.reference_file.is_relative()) s.reference_file = base_dir / s.reference_file;
+            if (!fs::exists(s.reference_file)) fail(name, &v, "reference.file", s.reference_file.string() + " does not exist");
+        } else if (key == "path_spp") {
+            for (double d : number_list(name, root, &v, "reference.path_spp", true)) s.path_spp.push_back(int(d));
+        } else {
+            fail(name, &v, "reference." + key, "unknown key; allowed: spp, file, path_spp");
+        }
+    }
+    if ((s.reference_spp > 0) == !s.reference_file.empty())
+        fail(name, ref, "reference", "give exactly one of spp (render a reference) and file (an EXR)");
+
+    const toml::node* axes = root.get("axes");
+    if (axes && !axes->is_table()) fail(name, axes, "axes", "expected a table of lists");
+    if (axes) {
+        for (const auto& [k, v] : *axes->as_table()) {
+            SweepAxis ax;
+            ax.name = std::string(k.str());
+            ax.key = ax.name == "k" ? "photons.k" : ax.name == "estimator" ? "photons.estimator" : ax.name;
+            ax.line = line_of(v);
+            const toml::array* a = v.as_array();
+            if (!a || a->empty()) fail(name, &v, "axes." + ax.name, "expected a non-empty list of values");
+            for (const auto& x : *a) {
+                ax.values.push_back(override_text(x));
+                ax.labels.push_back(value_label(x));
+            }
+            if (ax.key == "render.integrator" || ax.key == "render.seed" || ax.key == "render.output")
+                fail(name, &v, "axes." + ax.name, "cannot be swept (the sweep sets it); use repeats for seeds");
+            s.axes.push_back(std::move(ax));
+        }
+        // toml++ keeps keys sorted; the plan follows the order written in the file.
+        std::stable_sort(s.axes.begin(), s.axes.end(), [](const SweepAxis& a, const SweepAxis& b) { return a.line < b.line; });
+    }
+    if (!s.reference_file.empty())
+        for (const auto& ax : s.axes)
+            if (!ax.photon_only())
+                throw ConfigError(name + ":" + std::to_string(ax.line) + ": axes." + ax.name +
+                                  ": changes the scene, so one reference file cannot serve every run; use reference.spp");
+    return s;
+}
+
+namespace {
+
+struct Built {
+    toml::table resolved;
+    uint64_t seed = 0;
+    std::string integrator, estimator;
+    int spp = 0;
+};
+
+Built build_config(const SweepSpec& spec, const std::vector<std::string>& overrides) {
+    const auto scene = Scene::build(load_config(spec.scene.string(), overrides));
+    Built b;
+    b.resolved = scene->resolved;
+    b.seed = scene->render.seed;
+    b.integrator = scene->render.integrator;
+    b.estimator = scene->photons.estimator;
+    b.spp = scene->render.spp;
+    return b;
+}
+
+std::string join(const std::vector<std::string>& v, const char* sep) {
+    std::string s;
+    for (size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + v[i];
+    return s;
+}
+
+}  // namespace
+
+SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::string&)>& log) {
+    SweepPlan plan;
+    plan.spec = spec;
+    const std::string pm = "render.integrator=\"photon_map\"";
+
+    // 1. Every axis value on its own: the error names the axis and the value.
+    try {
+        build_config(spec, spec.set);
+    } catch (const Error& e) {
+        throw ConfigError(spec.file + ": scene " + spec.scene.string() + " with set = [" + join(spec.set, ", ") +
+                          "]: " + e.what());
+    }
+    for (const auto& ax : spec.axes) {
+        for (size_t i = 0; i < ax.values.size(); ++i) {
+            auto ov = spec.set;
+            ov.push_back(pm);
+            ov.push_back(ax.key + "=" + ax.values[i]);
+            try {
+                build_config(spec, ov);
+            } catch (const Error& e) {
+                throw ConfigError(spec.file + ":" + std::to_string(ax.line) + ": axes." + ax.name + " = " +
+                                  ax.labels[i] + ": " + e.what());
+            }
+        }
+    }
+
+    // 2. The Cartesian product (last axis fastest), and the path tracer points.
+    struct Point {
+        std::vector<std::string> overrides, values;
+        std::string method;
+        int spp;
+        Built built;
+    };
+    std::vector<Point> points;
+    std::set<std::string> path_seen;
+    std::vector<size_t> idx(spec.axes.size(), 0);
+    size_t combos = 1;
+    for (const auto& ax : spec.axes) combos *= ax.values.size();
+    for (size_t c = 0; c < combos; ++c) {
+        size_t rem = c;
+        for (size_t a = spec.axes.size(); a-- > 0;) {
+            idx[a] = rem % spec.axes[a].values.size();
+            rem /= spec.axes[a].values.size();
+        }
+        Point p;
+        p.overrides = spec.set;
+        p.overrides.push_back(pm);
+        std::vector<std::string> scene_ov = spec.set, scene_vals;
+        for (size_t a = 0; a < spec.axes.size(); ++a) {
+            const auto& ax = spec.axes[a];
+            const std::string o = ax.key + "=" + ax.values[idx[a]];
+            p.overrides.push_back(o);
+            p.values.push_back(ax.labels[idx[a]]);
+            if (!ax.photon_only()) scene_ov.push_back(o);
+            scene_vals.push_back(ax.photon_only() ? "" : ax.labels[idx[a]]);
+        }
+        try {
+            p.built = build_config(spec, p.overrides);
+        } catch (const Error& e) {
+            std::string combo;
+            for (size_t a = 0; a < spec.axes.size(); ++a)
+                combo += (a ? ", " : "") + spec.axes[a].name + " = " + spec.axes[a].labels[idx[a]];
+            throw ConfigError(spec.file + ": axes combination " + combo + ": " + e.what());
+        }
+        p.method = p.built.estimator;
+        p.spp = p.built.spp;
+        points.push_back(p);
+        for (int spp : spec.path_spp) {
+            Point q;
+            q.overrides = scene_ov;
+            q.overrides.push_back("render.integrator=\"path\"");
+            q.overrides.push_back("render.spp=" + std::to_string(spp));
+            if (!path_seen.insert(join(q.overrides, "\n")).second) continue;
+            q.values = scene_vals;
+            q.method = "path";
+            q.spp = spp;
+            try {
+                q.built = build_config(spec, q.overrides);
+            } catch (const Error& e) {
+                throw ConfigError(spec.file + ": reference.path_spp = " + std::to_string(spp) + ": " + e.what());
+            }
+            points.push_back(q);
+        }
+    }
+    if (log) log("sweep: " + std::to_string(points.size()) + " configurations validated");
+
+    // 3. Runs: repeat outermost, so a partial sweep already covers every point once.
+    for (int r = 0; r < spec.repeats; ++r) {
+        for (const auto& p : points) {
+            PlannedRun run;
+            run.index = plan.runs.size();
+            run.method = p.method;
+            run.overrides = p.overrides;
+            run.values = p.values;
+            run.spp = p.spp;
+            run.repeat = r;
+            run.seed = p.built.seed;
+            run.stream_offset = uint64_t(r);
+            run.hash = run_hash(p.built.resolved, run.seed, run.stream_offset);
+            run.point = hash_hex(run_config_text(p.built.resolved) + "\nseed=" + std::to_string(run.seed));
+            run.scene = scene_hash(p.built.resolved);
+            if (!plan.references.count(run.scene)) {
+                std::vector<std::string> ro;
+                for (const auto& o : p.overrides)
+                    if (o.rfind("photons.", 0) != 0) ro.push_back(o);
+                ro.push_back("render.integrator=\"path\"");
+                ro.push_back("render.spp=" + std::to_string(std::max(spec.reference_spp, 1)));
+                ro.push_back("render.max_depth=-1");
+                plan.references[run.scene] = ro;
+            }
+            plan.runs.push_back(std::move(run));
+        }
+    }
+    return plan;
+}
+
+}  // namespace vpm

@@ -1,0 +1,210 @@
+#!/usr/bin/python3
+"""Plots for `vpm sweep`; every number comes from OUT/points.csv (written by the C++ tool).
+
+usage: /usr/bin/python3 tools/plot_sweep.py OUT_DIR
+writes OUT_DIR/error_vs_time.png  relative RMSE against mean run time, log-log: every configuration
+                                   of each estimator and of the path tracer, and each method's lower
+                                   envelope (the least error it reaches within a time)
+       OUT_DIR/error_vs_k.png     relative RMSE against k, one line per estimator and photon count
+       OUT_DIR/bias_vs_k.png      relative bias (+- standard error) against k with the k/(k-1)
+                                   prediction: 1/(k-1) if all radiance came from photons, and
+                                   f/(k-1) with the photon share f fitted to the classic points
+One panel per scene (combination of the non-photon axes, e.g. media.0.g), at most 9.
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import NullFormatter, ScalarFormatter  # noqa: E402
+
+COLOURS = {"classic": "tab:red", "corrected": "tab:blue", "mse_optimal": "tab:green", "path": "black"}
+FIXED = ["point", "method", "spp", "repeats", "trace_s", "build_s", "render_s", "total_s", "photons_stored",
+         "rel_rmse", "rel_mse", "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels"]
+MAX_PANELS = 9
+
+
+def num(s):
+    try:
+        return float(s)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def photon_axis(a):
+    return a in ("k", "estimator") or a.startswith("photons.")
+
+
+def panels(rows, axes):
+    scene_axes = [a for a in axes if not photon_axis(a)]
+    groups = {}
+    for r in rows:
+        key = tuple(r[a] for a in scene_axes)
+        groups.setdefault(key, []).append(r)
+    items = list(groups.items())[:MAX_PANELS]
+    titles = [", ".join(f"{a}={v}" for a, v in zip(scene_axes, key)) or "scene" for key, _ in items]
+    return [g for _, g in items], titles, len(groups)
+
+
+def figure(n):
+    cols = min(n, 3)
+    rows = (n + cols - 1) // cols
+    fig, axs = plt.subplots(rows, cols, figsize=(5.5 * cols, 4.3 * rows), squeeze=False)
+    for ax in axs.flat[n:]:
+        ax.set_visible(False)
+    return fig, list(axs.flat[:n])
+
+
+def colour(m):
+    return COLOURS.get(m, None)
+
+
+def envelope(points):
+    pts = sorted(points)
+    out, best = [], math.inf
+    for t, e in pts:
+        if e < best:
+            best = e
+            out.append((t, e))
+    return out
+
+
+def error_vs_time(groups, titles, out):
+    fig, axs = figure(len(groups))
+    for ax, g, title in zip(axs, groups, titles):
+        methods = []
+        for r in g:
+            if r["method"] not in methods:
+                methods.append(r["method"])
+        for m in methods:
+            pts = [(num(r["total_s"]), num(r["rel_rmse"])) for r in g if r["method"] == m]
+            pts = [(t, e) for t, e in pts if t > 0 and e > 0 and math.isfinite(t) and math.isfinite(e)]
+            if not pts:
+                continue
+            c = colour(m)
+            ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=12, alpha=0.45, color=c)
+            env = envelope(pts)
+            ax.plot([p[0] for p in env], [p[1] for p in env], "-o", ms=3, color=c,
+                    label=("path tracer" if m == "path" else m) + " (envelope)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("mean run time (trace + build + render), s")
+        ax.set_ylabel("relative RMSE")
+        ax.set_title(title, fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("Error against run time")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "error_vs_time.png"), dpi=120)
+    plt.close(fig)
+
+
+def by_line(g, axes):
+    """Photon-map rows grouped into lines over k: (estimator, other photon axes)."""
+    others = [a for a in axes if photon_axis(a) and a not in ("k", "estimator")]
+    lines = {}
+    for r in g:
+        if r["method"] == "path" or "k" not in r or r["k"] == "":
+            continue
+        key = (r["method"],) + tuple(f"{a}={r[a]}" for a in others)
+        lines.setdefault(key, []).append(r)
+    for key in lines:
+        lines[key].sort(key=lambda r: num(r["k"]))
+    return lines
+
+
+STYLES = ["-", "--", "-.", ":"]
+
+
+def style(key, lines):
+    """Line style by the non-estimator part of the key (e.g. the photon count), colour by estimator."""
+    rests = []
+    for k in lines:
+        if k[1:] not in rests:
+            rests.append(k[1:])
+    return STYLES[rests.index(key[1:]) % len(STYLES)]
+
+
+def error_vs_k(groups, titles, axes, out):
+    fig, axs = figure(len(groups))
+    for ax, g, title in zip(axs, groups, titles):
+        lines = by_line(g, axes)
+        for key, rr in lines.items():
+            ax.plot([num(r["k"]) for r in rr], [num(r["rel_rmse"]) for r in rr], marker="o", ms=3,
+                    ls=style(key, lines), color=colour(key[0]), label=" ".join(key))
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("k")
+        ax.xaxis.set_major_formatter(ScalarFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_ylabel("relative RMSE")
+        ax.set_title(title, fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("Error against k")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "error_vs_k.png"), dpi=120)
+    plt.close(fig)
+
+
+def bias_vs_k(groups, titles, axes, out):
+    fig, axs = figure(len(groups))
+    for ax, g, title in zip(axs, groups, titles):
+        lines = by_line(g, axes)
+        ks = sorted({num(r["k"]) for rr in lines.values() for r in rr if num(r["k"]) > 1})
+        for key, rr in lines.items():
+            ax.errorbar([num(r["k"]) for r in rr], [num(r["rel_bias"]) for r in rr],
+                        yerr=[num(r["rel_bias_se"]) if math.isfinite(num(r["rel_bias_se"])) else 0 for r in rr],
+                        marker="o", ls=style(key, lines), ms=3, capsize=2, color=colour(key[0]),
+                        label=" ".join(key))
+        if ks:
+            ax.plot(ks, [1 / (k - 1) for k in ks], ":", color="grey", label="1/(k-1): k/(k-1) if all light were photons")
+            cl = [(num(r["k"]), num(r["rel_bias"])) for key, rr in lines.items() if key[0] == "classic" for r in rr]
+            cl = [(k, b) for k, b in cl if k > 1 and math.isfinite(b)]
+            if cl:
+                # least squares b = f/(k-1): f = sum(b x) / sum(x^2), x = 1/(k-1)
+                f = sum(b / (k - 1) for k, b in cl) / sum(1 / (k - 1) ** 2 for k, _ in cl)
+                ax.plot(ks, [f / (k - 1) for k in ks], "--", color="tab:red",
+                        label=f"classic prediction f/(k-1), fitted f={f:.3f}")
+            ax.axhline(0, color="tab:blue", lw=0.8, ls="--", label="corrected prediction 0")
+        ax.set_xscale("log")
+        ax.set_xlabel("k")
+        ax.xaxis.set_major_formatter(ScalarFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_ylabel("relative bias (mean over repeats)")
+        ax.set_title(title, fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("Bias against k (error bars: standard error over repeats)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "bias_vs_k.png"), dpi=120)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    out = sys.argv[1]
+    with open(os.path.join(out, "points.csv"), newline="") as f:
+        reader = csv.DictReader(f)
+        rows = list(reader)
+        axes = [c for c in reader.fieldnames if c not in FIXED]
+    if not rows:
+        print("plot_sweep: points.csv has no rows", file=sys.stderr)
+        return 1
+    groups, titles, n = panels(rows, axes)
+    if n > MAX_PANELS:
+        print(f"plot_sweep: {n} scenes, plotting the first {MAX_PANELS}", file=sys.stderr)
+    error_vs_time(groups, titles, out)
+    error_vs_k(groups, titles, axes, out)
+    bias_vs_k(groups, titles, axes, out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
