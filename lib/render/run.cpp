@@ -54,6 +54,13 @@ PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options,
         *options.log << "trace: " << traced.paths << " photon paths, " << traced.collisions << " collisions, "
                       << stored << " stored in " << traced.seconds << " s; energy imbalance "
                       << traced.energy.relative_imbalance() << ", truncated paths " << traced.truncated_paths << "\n";
+    // Warn before building a map larger than the budget (records + index, measured per photon).
+    const double projected = double(stored + traced.surface_photons.size()) * double(bytes_per_photon() + 4);
+    const double budget = ps.memory_budget_fraction * double(physical_memory_bytes());
+    if (projected > budget && options.log)
+        *options.log << "warning: the photon map will take about " << projected / 1e9 << " GB, over the budget of "
+                      << budget / 1e9 << " GB (photons.memory_budget_fraction)\n";
+
     if (surface) {
         const Timer surface_timer;
         const size_t n_surface = traced.surface_photons.size();
@@ -68,13 +75,6 @@ PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options,
                           << " stored, kd-tree in " << surface_timer.seconds() << " s, "
                           << surface_map->memory_bytes() / 1e6 << " MB\n";
     }
-
-    // Warn before building a map larger than the budget (records + index, measured per photon).
-    const double projected = double(stored) * double(bytes_per_photon() + 4);
-    const double budget = ps.memory_budget_fraction * double(physical_memory_bytes());
-    if (projected > budget && options.log)
-        *options.log << "warning: the photon map will take about " << projected / 1e9 << " GB, over the budget of "
-                      << budget / 1e9 << " GB (photons.memory_budget_fraction)\n";
 
     const Timer build_timer;
     PhotonMap map(traced.photons);

@@ -8,11 +8,14 @@
 
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
+
 #include "photon/photon_map.h"
 #include "photon/photon_tracer.h"
 #include "render/path_tracer.h"
 #include "render/photon_map_integrator.h"
 #include "render/render_loop.h"
+#include "render/run.h"
 #include "scene/scene.h"
 
 using namespace vpm;
@@ -250,4 +253,23 @@ TEST(SurfacePhotonMap, EnergyBalanceWithSurfacesAndMedia) {
         EXPECT_EQ(without.energy.absorbed[c], with.energy.absorbed[c]);
         EXPECT_EQ(without.energy.escaped[c], with.energy.escaped[c]);
     }
+}
+
+TEST(SurfacePhotonMap, RunBuildsTheSurfaceMapOnlyWithoutFinalGather) {
+    auto scene = flat_floor();
+    scene->photons.count = 20000;
+    scene->render.width = scene->render.height = 8;
+    RunOptions o;
+    o.progress = false;
+    const RunResult with = run_scene(*scene, o);
+    const auto& j = with.record.json();
+    ASSERT_TRUE(j.contains("photons"));
+    EXPECT_GT(j["photons"]["surface_stored"].get<uint64_t>(), 0u);
+    EXPECT_EQ(j["photons"]["surface_estimate_cases"]["queries"].get<uint64_t>(), 64u);
+    scene->photons.final_gather = true;   // no media either: no photon pass at all
+    const RunResult without = run_scene(*scene, o);
+    const auto& p = without.record.json()["photons"];
+    EXPECT_FALSE(p.contains("emitted"));
+    EXPECT_FALSE(p.contains("surface_stored"));
+    EXPECT_FALSE(p.contains("surface_estimate_cases"));
 }
