@@ -125,4 +125,28 @@ Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const 
     }
 }
 
+Estimate<Rgb> estimate_surface_irradiance(const PhotonMap& map, const Vec3& x, const Vec3& n, Estimator e,
+                                          size_t k, double max_radius, GatherBuffers& buf, EstimatorStats* stats) {
+    validate_estimator_k(e, k);
+    size_t want = k;
+    for (;;) {
+        const size_t found = map.knn(x, want, max_radius, buf.list);
+        const bool complete = found < want || found == map.size();
+        if (buf.w.size() < found) {
+            buf.w.resize(found);
+            buf.d2.resize(found);
+        }
+        for (size_t i = 0; i < found; ++i) {
+            const Neighbour& nb = buf.list[i];
+            buf.w[i] = nb.direction.dot(n) < 0.0 ? nb.power : Rgb::Zero();
+            buf.d2[i] = nb.d2;
+        }
+        Estimate<Rgb> est =
+            estimate_density<Rgb>(e, buf.w.data(), buf.d2.data(), found, complete, k, max_radius, 2, stats,
+                                  map.position_resolution());
+        if (est.kind != EstimateCase::need_more) return est;
+        want *= 2;   // rule (c): coincident photons fill the list, gather more
+    }
+}
+
 }  // namespace vpm

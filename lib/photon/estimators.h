@@ -223,4 +223,15 @@ Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const 
                                      Estimator e, size_t k, double max_radius, GatherBuffers& buf,
                                      EstimatorStats* stats = nullptr);
 
+// Surface photon map (dim 2): irradiance E(x) = sum Phi_p / (pi r_k^2) with the chosen estimator
+// and the rules above, over the k nearest surface photons in 3D (the standard surface photon map:
+// the disc of radius r_k is assumed to lie in the surface, so corners and strongly curved surfaces
+// are biased by more than the estimator's own bias). n is the unit surface normal on the side being
+// shaded; a photon counts only if it arrived on that side (travel direction d_p with
+// dot(d_p, n) < 0), others keep their rank but weigh 0, which removes light leaking through a
+// thin wall. A Lambertian surface then reflects L_o = reflectance / pi * E.
+Estimate<Rgb> estimate_surface_irradiance(const PhotonMap& map, const Vec3& x, const Vec3& n, Estimator e,
+                                          size_t k, double max_radius, GatherBuffers& buf,
+                                          EstimatorStats* stats = nullptr);
+
 }  // namespace vpm

@@ -47,9 +47,9 @@ bool roulette(Rgb& power, const Rgb& factor, Rng& rng) {
 }
 
 struct BatchOutput {
-    std::vector<PhotonInput> photons;
+    std::vector<PhotonInput> photons, surface_photons;
     EnergyBalance energy;
-    uint64_t collisions = 0, truncated_paths = 0;
+    uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0;
 };
 
 void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPicker& picker, uint64_t batch,
@@ -92,6 +92,9 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                     ray = Ray{x, hg_sample(ray.dir, event.medium->g(), u1, u2)};
                 }
             } else {
+                ++out.surface_hits;
+                if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
+                    out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power});
                 alive = roulette(power, hit.reflectance, rng);
                 if (alive) {
                     const double u1 = rng.uniform(), u2 = rng.uniform();
@@ -129,12 +132,19 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
         progress.advance();
     });
     progress.done();
-    size_t total = 0;
-    for (const auto& o : outputs) total += o.photons.size();
+    size_t total = 0, total_surface = 0;
+    for (const auto& o : outputs) {
+        total += o.photons.size();
+        total_surface += o.surface_photons.size();
+    }
     result.photons.reserve(total);
+    result.surface_photons.reserve(total_surface);
     for (auto& o : outputs) {   // fixed order: deterministic sums and photon order
         result.photons.insert(result.photons.end(), o.photons.begin(), o.photons.end());
         std::vector<PhotonInput>().swap(o.photons);
+        result.surface_photons.insert(result.surface_photons.end(), o.surface_photons.begin(), o.surface_photons.end());
+        std::vector<PhotonInput>().swap(o.surface_photons);
+        result.surface_hits += o.surface_hits;
         result.energy.emitted += o.energy.emitted;
         result.energy.absorbed += o.energy.absorbed;
         result.energy.escaped += o.energy.escaped;

@@ -9,6 +9,14 @@
 // only once its path has scattered at least once (off a medium or a surface), so the map holds
 // exactly the light that NEE does not.
 //
+// Surface photons (`store_surface`): a photon hitting a Lambertian surface (reflectance not zero)
+// is stored in `surface_photons` with the power arriving there and its incoming travel direction,
+// before Russian roulette on the reflectance decides whether it bounces on. The same rule applies:
+// with `store_direct` false only photons that scattered before (off a medium or a surface) are
+// stored, since NEE gives surfaces their direct light; with `store_direct` true every hit is
+// stored. Black surfaces (reflectance 0) store nothing: they reflect no light. Storing changes no
+// power, so the energy balance is the same with or without it.
+//
 // Energy is accounted per run: emitted = absorbed + escaped + truncated, where "absorbed" is the
 // power removed at each event (power in minus power out), so the balance telescopes exactly and
 // a photon that vanishes unaccounted shows up as an imbalance.
@@ -25,6 +33,7 @@ struct PhotonTraceSettings {
     uint64_t seed = 1;
     uint64_t stream_offset = 0;   // independent photon maps with the same seed
     bool store_direct = true;
+    bool store_surface = false;   // also fill surface_photons (Lambertian surface hits)
     int max_bounces = 1000;       // collisions + surface bounces per path before truncation
     bool progress = true;
 };
@@ -40,9 +49,11 @@ struct EnergyBalance {
 
 struct PhotonTraceResult {
     std::vector<PhotonInput> photons;   // in a fixed order for a given seed, any thread count
+    std::vector<PhotonInput> surface_photons;   // store_surface: hits on Lambertian surfaces, same order rule
     EnergyBalance energy;
     uint64_t paths = 0;
     uint64_t collisions = 0;            // real medium collisions, stored or not
+    uint64_t surface_hits = 0;          // surface hits, stored or not
     uint64_t truncated_paths = 0;
     double seconds = 0.0;
 };

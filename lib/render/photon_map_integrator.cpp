@@ -10,13 +10,13 @@ namespace vpm {
 struct PhotonMapIntegrator::ThreadState {
     struct Local {
         GatherBuffers buffers;
-        EstimatorStats stats;
+        EstimatorStats stats, surface_stats;
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
 
-PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMap& map)
-    : scene_(scene), map_(map), estimator_(parse_estimator(scene.photons.estimator)), k_(size_t(scene.photons.k)),
+PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMap& map, const PhotonMap* surface_map)
+    : scene_(scene), map_(map), surface_map_(surface_map), estimator_(parse_estimator(scene.photons.estimator)), k_(size_t(scene.photons.k)),
       max_radius_(scene.photons.max_radius > 0 ? scene.photons.max_radius : kInfinity),
       nee_(scene.photons.direct == "nee"), threads_(std::make_unique<ThreadState>()) {}
 
@@ -25,6 +25,12 @@ PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 EstimatorStats PhotonMapIntegrator::stats() const {
     EstimatorStats total;
     for (const auto& l : threads_->local) total.merge(l.stats);
+    return total;
+}
+
+EstimatorStats PhotonMapIntegrator::surface_stats() const {
+    EstimatorStats total;
+    for (const auto& l : threads_->local) total.merge(l.surface_stats);
     return total;
 }
 
@@ -59,6 +65,16 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             break;
         }
         if ((hit.reflectance == 0.0).all()) break;
+        if (surface_map_) {   // the surface photon map gives the light the path would gather
+            if (nee_) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
+            if (!surface_map_->empty()) {
+                auto& local = threads_->local.local();
+                const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal, estimator_,
+                                                                    k_, max_radius_, local.buffers, &local.surface_stats);
+                radiance += throughput * hit.reflectance * (e.value / kPi);
+            }
+            break;
+        }
         radiance += throughput * direct_light_on_surface(scene_, hit, rng);
         throughput *= hit.reflectance;
         const double u1 = rng.uniform(), u2 = rng.uniform();

@@ -14,6 +14,17 @@
 // Surfaces on the way get direct light by NEE and continue the path with a diffuse bounce, so
 // light reaching the medium via walls is found at the next medium collision. The estimator's
 // bias is then the only bias in the image.
+//
+// With a surface photon map (photons.final_gather = false, the default, in a scene with shapes)
+// the camera path ends at its first surface hit instead:
+//
+//     L += throughput * (direct by NEE + reflectance / pi * E(x))        direct = "nee"
+//     L += throughput * reflectance / pi * E(x)                          direct = "photon_map"
+//
+// E is the surface map's kNN irradiance estimate (estimate_surface_irradiance, pi r_k^2, same
+// estimator and k as the volume map). With "nee" the surface map holds only photons that scattered
+// before (off a medium or a surface), with "photon_map" every hit, as for the volume map.
+// Without a surface map (final_gather = true) surfaces behave as described above.
 #include <memory>
 
 #include "photon/estimators.h"
@@ -25,17 +36,21 @@ namespace vpm {
 
 class PhotonMapIntegrator : public Integrator {
 public:
-    PhotonMapIntegrator(const Scene& scene, const PhotonMap& map);
+    // surface_map: null for none (final gather through surfaces).
+    PhotonMapIntegrator(const Scene& scene, const PhotonMap& map, const PhotonMap* surface_map = nullptr);
     ~PhotonMapIntegrator() override;
     Rgb radiance(const Ray& ray, Rng& rng) const override;
     std::string name() const override { return "photon_map"; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
     EstimatorStats stats() const;
+    // The same for the surface map's queries.
+    EstimatorStats surface_stats() const;
 
 private:
     struct ThreadState;
     const Scene& scene_;
     const PhotonMap& map_;
+    const PhotonMap* surface_map_;
     Estimator estimator_;
     size_t k_;
     double max_radius_;

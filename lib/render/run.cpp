@@ -24,8 +24,10 @@ nlohmann::json toml_to_json(const toml::table& table) {
 
 nlohmann::json rgb_json(const Rgb& c) { return nlohmann::json::array({c[0], c[1], c[2]}); }
 
-// The photon pass and the kd-tree, with their timings, energy balance and memory in the record.
-PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options, RunRecord& record) {
+// The photon pass and the kd-trees (volume map, and the surface map when `surface`), with their
+// timings, energy balance and memory in the record. Returns the volume map.
+PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options, RunRecord& record,
+                                  bool surface = false, PhotonMap* surface_map = nullptr) {
     const PhotonSettings& ps = scene.photons;
     PhotonTraceSettings ts;
     ts.count = uint64_t(ps.count);
@@ -34,6 +36,7 @@ PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options,
     ts.store_direct = ps.direct == "photon_map";
     ts.max_bounces = ps.max_bounces;
     ts.progress = options.progress;
+    ts.store_surface = surface;
     PhotonTraceResult traced = trace_photons(scene, ts);
     record.phase("trace", traced.seconds);
     const size_t stored = traced.photons.size();
@@ -51,13 +54,27 @@ PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options,
         *options.log << "trace: " << traced.paths << " photon paths, " << traced.collisions << " collisions, "
                       << stored << " stored in " << traced.seconds << " s; energy imbalance "
                       << traced.energy.relative_imbalance() << ", truncated paths " << traced.truncated_paths << "\n";
-
     // Warn before building a map larger than the budget (records + index, measured per photon).
-    const double projected = double(stored) * double(bytes_per_photon() + 4);
+    const double projected = double(stored + traced.surface_photons.size()) * double(bytes_per_photon() + 4);
     const double budget = ps.memory_budget_fraction * double(physical_memory_bytes());
     if (projected > budget && options.log)
         *options.log << "warning: the photon map will take about " << projected / 1e9 << " GB, over the budget of "
                       << budget / 1e9 << " GB (photons.memory_budget_fraction)\n";
+
+    if (surface) {
+        const Timer surface_timer;
+        const size_t n_surface = traced.surface_photons.size();
+        *surface_map = PhotonMap(traced.surface_photons);
+        std::vector<PhotonInput>().swap(traced.surface_photons);
+        record.phase("build_surface", surface_timer.seconds());
+        record.set("photons.surface_hits", traced.surface_hits);
+        record.set("photons.surface_stored", uint64_t(n_surface));
+        record.set("photons.surface_map_bytes", uint64_t(surface_map->memory_bytes()));
+        if (options.log)
+            *options.log << "build: surface photon map, " << traced.surface_hits << " surface hits, " << n_surface
+                          << " stored, kd-tree in " << surface_timer.seconds() << " s, "
+                          << surface_map->memory_bytes() / 1e6 << " MB\n";
+    }
 
     const Timer build_timer;
     PhotonMap map(traced.photons);
@@ -85,13 +102,17 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     result.record.set("build_log", scene.build_log);
 
     std::unique_ptr<Integrator> integrator;
-    PhotonMap map;
+    PhotonMap map, surface_map;
     if (scene.render.integrator == "path") {
         integrator = std::make_unique<PathTracer>(scene);
     } else {
-        if (scene.has_media()) map = build_volume_photon_map(scene, options, result.record);
-        else if (options.log) *options.log << "photons: no media, so no volume photon map (no photon pass)\n";
-        integrator = std::make_unique<PhotonMapIntegrator>(scene, map);
+        const bool surface = scene.uses_embree() && !scene.photons.final_gather;
+        if (scene.has_media() || surface) map = build_volume_photon_map(scene, options, result.record, surface, &surface_map);
+        else if (options.log) *options.log << "photons: no media and no surface map, so no photon pass\n";
+        if (!scene.has_media() && options.log) *options.log << "photons: no media, so the volume photon map is empty\n";
+        if (scene.uses_embree() && !surface && options.log)
+            *options.log << "photons: final_gather = true, so no surface photon map (paths continue through surfaces)\n";
+        integrator = std::make_unique<PhotonMapIntegrator>(scene, map, surface ? &surface_map : nullptr);
     }
 
     RenderOptions ro;
@@ -110,6 +131,11 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
         const EstimatorStats st = pm->stats();
         for (const auto& [name, count] : st.fields()) result.record.set("photons.estimate_cases." + name, count);
         if (options.log) *options.log << "estimates: " << st.to_string() << "\n";
+        const EstimatorStats ss = pm->surface_stats();
+        if (ss.queries) {
+            for (const auto& [name, count] : ss.fields()) result.record.set("photons.surface_estimate_cases." + name, count);
+            if (options.log) *options.log << "surface estimates: " << ss.to_string() << "\n";
+        }
     }
     if (options.log) {
         *options.log << "render: " << ro.width << "x" << ro.height << " at " << ro.spp << " spp in "

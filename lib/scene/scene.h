@@ -42,6 +42,10 @@ struct PhotonSettings {
     double max_radius = 0.0;           // 0: unbounded kNN search
     int max_bounces = 1000;            // path-length cap (collisions per photon path)
     double memory_budget_fraction = 0.5;
+    // Surfaces: false (default) reads indirect light on surfaces from the surface photon map
+    // (its estimator's bias stays visible); true skips the surface map and continues camera paths
+    // through surfaces with a diffuse bounce until the first medium collision (final gather).
+    bool final_gather = false;
 };
 
 // A real collision sampled along a ray among all media.
