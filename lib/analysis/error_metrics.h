@@ -60,4 +60,21 @@ struct RepeatError {
 // Needs at least one image; all the size of the reference.
 RepeatError repeat_error(const std::vector<const Image*>& images, const Image& reference);
 
+// Channel-wise error of one image (used by `vpm compare` next to run_error): every pixel and
+// channel counts alike, and "relative" divides by the reference's mean over all channels.
+//   rmse          sqrt(mean (a - r)^2)
+//   relative_rmse rmse / mean(r)            (0 when mean(r) is 0)
+//   relative_bias mean(a) / mean(r) - 1     (overall brightness error, e.g. the estimator bias)
+struct ImageError {
+    double rmse = 0.0;
+    double relative_rmse = 0.0;
+    double relative_bias = 0.0;
+    double mean = 0.0;            // mean of the image
+    double reference_mean = 0.0;  // mean of the reference
+    size_t nonfinite = 0;         // non-finite values in either image (left out of all sums)
+};
+
+// Throws vpm::Error when the sizes differ.
+ImageError compare_images(const Image& image, const Image& reference);
+
 }  // namespace vpm

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "analysis/image_compare.h"
+#include "analysis/error_metrics.h"
 #include "core/error.h"
 
 using namespace vpm;
