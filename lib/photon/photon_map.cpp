@@ -205,16 +205,27 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
     // the kd-tree splits along the same bits. Key and encoding passes run in parallel; ties in
     // the key are ordered by input index, so the stored order is deterministic.
     const Vec3 extent = (bounds_.hi - bounds_.lo).cwiseMax(Vec3::Constant(1e-300));
+    // Pass 1 reads the input sequentially: Morton key and the encoded record in input order.
+    // Pass 2 gathers the 24-byte records (not the 72-byte inputs) in key order with prefetching:
+    // for photons in path order the permutation is random, and the gather is memory bound.
     std::vector<std::pair<uint64_t, uint32_t>> keys(in.size());
+    std::vector<Photon> unsorted(in.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, in.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = r.begin(); i < r.end(); ++i) {
-            const Vec3 t = ((in[i].position - bounds_.lo).array() / extent.array()).matrix();
+            const PhotonInput& p = in[i];
+            const Vec3 t = ((p.position - bounds_.lo).array() / extent.array()).matrix();
             uint64_t code = 0;
             for (int a = 0; a < 3; ++a) {
                 const double q = std::min(std::max(t[a], 0.0), 1.0) * 2097151.0;
                 code |= spread_bits(static_cast<uint64_t>(q)) << a;
             }
             keys[i] = {code, static_cast<uint32_t>(i)};
+            Photon& rec = unsorted[i];
+            const Vec3 rel = p.position - centre_;
+            for (int a = 0; a < 3; ++a) rec.p[a] = static_cast<float>(rel[a]);
+            encode_direction(p.direction, rec.dir);
+            encode_power(p.power, inv_scale, rec.power);
+            rec.reserved = 0;
         }
     });
     tbb::parallel_sort(keys.begin(), keys.end());
@@ -222,17 +233,14 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
     photons_.resize(in.size());
     std::vector<uint64_t> codes(in.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, in.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
+        constexpr size_t kAhead = 16;
         for (size_t j = r.begin(); j < r.end(); ++j) {
-            const PhotonInput& p = in[keys[j].second];
-            Photon& rec = photons_[j];
-            const Vec3 rel = p.position - centre_;
-            for (int a = 0; a < 3; ++a) rec.p[a] = static_cast<float>(rel[a]);
-            encode_direction(p.direction, rec.dir);
-            encode_power(p.power, inv_scale, rec.power);
-            rec.reserved = 0;
+            if (j + kAhead < r.end()) __builtin_prefetch(&unsorted[keys[j + kAhead].second]);
+            photons_[j] = unsorted[keys[j].second];
             codes[j] = keys[j].first;
         }
     });
+    std::vector<Photon>().swap(unsorted);
     std::vector<std::pair<uint64_t, uint32_t>>().swap(keys);
     index_ = std::make_unique<Index>();
     index_->data = photons_.data();
