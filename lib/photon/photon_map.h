@@ -1,7 +1,8 @@
 #pragma once
-// The photon map: compact photon records (photon.h) in Morton order plus a nanoflann kd-tree.
+// The photon map: compact photon records (photon.h) in Morton order plus a kd-tree whose splits
+// follow the Morton bits, so every node is a contiguous range of records (no permutation array).
 //
-// nanoflann is an implementation detail (pimpl): only photon_map.cpp includes it.
+// The tree is an implementation detail (pimpl, photon_map.cpp); its search is nanoflann's.
 // Queries are const and thread-safe; each thread passes its own NeighbourList, whose buffers are
 // reused so that the hot loop allocates nothing once they have grown to k entries.
 #include <cstddef>
@@ -39,7 +40,7 @@ class PhotonMap {
 public:
     PhotonMap();
     // Builds the map. Photons with non-finite position are rejected with vpm::Error.
-    // leaf_size: kd-tree leaf size (nanoflann leaf_max_size).
+    // leaf_size: largest kd-tree leaf (leaves hold more only when photons share a 21-bit Morton cell).
     explicit PhotonMap(const std::vector<PhotonInput>& photons, size_t leaf_size = 32);
     ~PhotonMap();
     PhotonMap(PhotonMap&&) noexcept;
@@ -75,7 +76,7 @@ public:
     // Sum of decoded power of all photons (for energy checks).
     Rgb total_power() const;
 
-    // Measured bytes: records + kd-tree (permutation array, nodes and pool slack).
+    // Measured bytes: records + kd-tree nodes.
     size_t memory_bytes() const;
     // The kd-tree part of memory_bytes().
     size_t index_bytes() const;

@@ -57,6 +57,9 @@ PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options,
     // Warn before building a map larger than the budget (records + index, measured per photon).
     const double projected = double(stored + traced.surface_photons.size()) * double(bytes_per_photon() + 4);
     const double budget = ps.memory_budget_fraction * double(physical_memory_bytes());
+    record.set("photons.projected_map_bytes", projected);
+    record.set("photons.memory_budget_bytes", budget);
+    record.set("photons.over_memory_budget", projected > budget);
     if (projected > budget && options.log)
         *options.log << "warning: the photon map will take about " << projected / 1e9 << " GB, over the budget of "
                       << budget / 1e9 << " GB (photons.memory_budget_fraction)\n";

@@ -1,0 +1,86 @@
+// The memory-budget warning of run_scene: before the kd-tree is built, a photon map projected to
+// exceed photons.memory_budget_fraction of physical memory is announced in the log, with the
+// projected size, and the projection and budget go into the run record (sidecar).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/error.h"
+#include "render/run.h"
+#include "scene/scene.h"
+
+using namespace vpm;
+
+namespace {
+
+std::unique_ptr<Scene> small_scene(const std::string& fraction) {
+    const std::string text = R"(
+[render]
+width = 8
+height = 8
+spp = 1
+integrator = "photon_map"
+[camera]
+position = [0, 0, 0]
+look_at = [0, 0, -1]
+fov = 90
+[photons]
+count = 2000
+direct = "photon_map"
+memory_budget_fraction = )" + fraction + R"(
+[[lights]]
+type = "environment"
+radiance = 0.5
+[[media]]
+type = "homogeneous"
+shape = "sphere"
+radius = 2
+sigma_t_scale = 1.0
+albedo = 0.9
+)";
+    return Scene::build(parse_config(text, "budget.toml", "."));
+}
+
+RunResult run_logged(const Scene& scene, std::string& log) {
+    std::ostringstream s;
+    RunOptions o;
+    o.progress = false;
+    o.log = &s;
+    RunResult r = run_scene(scene, o);
+    log = s.str();
+    return r;
+}
+
+}  // namespace
+
+TEST(MemoryBudget, TinyBudgetWarnsWithProjectedSize) {
+    const auto scene = small_scene("1e-12");   // ~24 GB * 1e-12: a few dozen bytes
+    std::string log;
+    const RunResult r = run_logged(*scene, log);
+    const auto& j = r.record.json();
+    const double stored = j.at("photons").at("stored").get<double>();
+    ASSERT_GT(stored, 0.0);
+    EXPECT_TRUE(j["photons"]["over_memory_budget"].get<bool>());
+    const double projected = j["photons"]["projected_map_bytes"].get<double>();
+    EXPECT_GE(projected, stored * 24.0);   // at least the records
+    // the projection is not below what was actually built
+    EXPECT_GE(projected, j["photons"]["map_bytes"].get<double>());
+    EXPECT_NE(log.find("warning: the photon map will take about"), std::string::npos) << log;
+    EXPECT_NE(log.find("photons.memory_budget_fraction"), std::string::npos) << log;
+    // the warning comes before the build line
+    EXPECT_LT(log.find("warning:"), log.find("build:")) << log;
+}
+
+TEST(MemoryBudget, DefaultBudgetDoesNotWarn) {
+    const auto scene = small_scene("0.5");
+    std::string log;
+    const RunResult r = run_logged(*scene, log);
+    EXPECT_FALSE(r.record.json()["photons"]["over_memory_budget"].get<bool>());
+    EXPECT_EQ(log.find("warning:"), std::string::npos) << log;
+}
+
+TEST(MemoryBudget, FractionOutOfRangeIsAConfigError) {
+    EXPECT_THROW(small_scene("0"), Error);
+    EXPECT_THROW(small_scene("1.5"), Error);
+}

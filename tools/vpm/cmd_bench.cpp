@@ -1,0 +1,200 @@
+// vpm bench equal-time CONFIG... [--reference-spp N] [--size WxH] [--photons N] [--pm-spp N] [--threads N]
+//
+// Error at equal time: for each scene config, renders
+//   1. a long path-traced reference (integrator "path", --reference-spp samples per pixel),
+//      cached under out/equal_time/ (reused when the file exists; --fresh re-renders it);
+//   2. the photon map (corrected estimator, k = 32, NEE for single scattering, --photons photons),
+//      timing the whole run: photon pass + kd-tree + render;
+//   3. the path tracer with as many samples per pixel as fit in that same wall time (seconds per
+//      sample measured by a short calibration render, then a render at the matched spp, redone
+//      once with a corrected spp when its time is off by more than 15%);
+// and prints the relative RMSE of (2) and (3) against (1) and their ratio.
+//
+// Relative RMSE = sqrt( sum over pixels and channels (x - ref)^2 / sum ref^2 ).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "command.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "render/image_io.h"
+#include "render/run.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+double relative_rmse(const vpm::Image& x, const vpm::Image& ref) {
+    if (x.width != ref.width || x.height != ref.height)
+        throw vpm::Error("equal-time: image sizes differ (" + std::to_string(x.width) + "x" + std::to_string(x.height) +
+                         " vs reference " + std::to_string(ref.width) + "x" + std::to_string(ref.height) + ")");
+    double num = 0.0, den = 0.0;
+    for (size_t i = 0; i < ref.rgb.size(); ++i) {
+        const double d = double(x.rgb[i]) - double(ref.rgb[i]);
+        num += d * d;
+        den += double(ref.rgb[i]) * double(ref.rgb[i]);
+    }
+    return den > 0 ? std::sqrt(num / den) : 0.0;
+}
+
+struct Timed {
+    vpm::Image image;
+    double seconds = 0.0;   // wall time of run_scene (all phases)
+    int spp = 0;
+};
+
+// The reference runs on its own random streams: with the same seed and stream it would repeat the
+// first samples of the equal-time path-traced image, and their errors would be correlated.
+constexpr uint64_t kReferenceStream = 7919;
+
+Timed run(const std::string& config, std::vector<std::string> sets, uint64_t stream_offset = 0) {
+    auto scene = vpm::Scene::load(config, sets);
+    vpm::RunOptions o;
+    o.progress = false;
+    o.stream_offset = stream_offset;
+    const vpm::Timer t;
+    vpm::RunResult r = vpm::run_scene(*scene, o);
+    Timed out;
+    out.seconds = t.seconds();
+    out.image = std::move(r.image);
+    out.spp = scene->render.spp;
+    return out;
+}
+
+int run_equal_time(int argc, char** argv) {
+    CLI::App app("Error at equal time: photon map (corrected, k = 32) vs path tracer, both against a long "
+                 "path-traced reference (cached under out/equal_time/).",
+                 "vpm bench equal-time");
+    std::vector<std::string> configs;
+    int reference_spp = 1024, threads = 0, pm_spp = 16;
+    int64_t photons = 1000000;
+    std::string size = "128x128", out_dir = "out/equal_time";
+    bool fresh = false;
+    app.add_option("configs", configs, "Scene configs (TOML)")->required();
+    app.add_option("--reference-spp", reference_spp, "Samples per pixel of the path-traced reference")
+        ->check(CLI::Range(1, 1 << 20));
+    app.add_option("--pm-spp", pm_spp, "Samples per pixel of the photon-map render")->check(CLI::Range(1, 1 << 20));
+    app.add_option("--photons", photons, "Photons emitted for the photon map")->check(CLI::Range(int64_t(1000), int64_t(1) << 32));
+    app.add_option("--size", size, "Image size WxH (overrides render.width/height)");
+    app.add_option("--threads", threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+    app.add_option("--out", out_dir, "Folder for the cached references and the results");
+    app.add_flag("--fresh", fresh, "Re-render the references even when cached");
+    CLI11_PARSE(app, argc, argv);
+
+    int w = 0, h = 0;
+    char x = 0;
+    std::istringstream ss(size);
+    if (!(ss >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || !ss.eof()) {
+        std::cerr << "vpm bench equal-time: --size: expected WxH with positive integers, e.g. 128x128, got '" << size
+                  << "'\n";
+        return 2;
+    }
+    const int n_threads = threads > 0 ? threads : tbb::info::default_concurrency();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
+    const std::vector<std::string> common = {"render.width=" + std::to_string(w), "render.height=" + std::to_string(h)};
+
+    nlohmann::json results = nlohmann::json::array();
+    std::printf("| scene | reference | photon map: time, rel. RMSE | path tracer: spp, time, rel. RMSE | RMSE ratio PT/PM |\n");
+    std::printf("|---|---|---|---|---|\n");
+    for (const auto& config : configs) {
+        const std::string stem = fs::path(config).stem().string();
+        const fs::path ref_path =
+            fs::path(out_dir) / (stem + "_reference_" + std::to_string(w) + "x" + std::to_string(h) + "_" +
+                                 std::to_string(reference_spp) + "spp.exr");
+        vpm::Image ref;
+        double ref_seconds = 0.0;
+        if (!fresh && fs::exists(ref_path)) {
+            ref = vpm::read_exr(ref_path);
+            std::cerr << stem << ": reference from " << ref_path << "\n";
+        } else {
+            std::cerr << stem << ": rendering the reference (" << reference_spp << " spp) ...\n";
+            auto sets = common;
+            sets.push_back("render.integrator=\"path\"");
+            sets.push_back("render.spp=" + std::to_string(reference_spp));
+            Timed r = run(config, sets, kReferenceStream);
+            ref_seconds = r.seconds;
+            fs::create_directories(ref_path.parent_path());
+            vpm::write_exr(ref_path, r.image);
+            ref = std::move(r.image);
+            std::cerr << stem << ": reference in " << ref_seconds << " s -> " << ref_path << "\n";
+        }
+
+        auto pm_sets = common;
+        for (const char* s : {"render.integrator=\"photon_map\"", "photons.estimator=\"corrected\"", "photons.k=32",
+                              "photons.direct=\"nee\""})
+            pm_sets.push_back(s);
+        pm_sets.push_back("photons.count=" + std::to_string(photons));
+        pm_sets.push_back("render.spp=" + std::to_string(pm_spp));
+        const Timed pm = run(config, pm_sets);
+        const double pm_err = relative_rmse(pm.image, ref);
+        std::cerr << stem << ": photon map (" << pm.spp << " spp) in " << pm.seconds << " s, rel. RMSE " << pm_err
+                  << "\n";
+
+        // Path tracer: seconds per spp from a calibration render, then the matched spp.
+        auto pt_sets = common;
+        pt_sets.push_back("render.integrator=\"path\"");
+        const int calib_spp = 4;
+        auto calib_sets = pt_sets;
+        calib_sets.push_back("render.spp=" + std::to_string(calib_spp));
+        const Timed calib = run(config, calib_sets);
+        const double per_spp = calib.seconds / calib_spp;
+        int spp = std::max(1, int(std::lround(pm.seconds / per_spp)));
+        auto pt_run = [&](int n) {
+            auto s = pt_sets;
+            s.push_back("render.spp=" + std::to_string(n));
+            return run(config, s);
+        };
+        Timed pt = pt_run(spp);
+        if (std::abs(pt.seconds / pm.seconds - 1.0) > 0.15) {   // calibration off (fixed costs, load): once more
+            spp = std::max(1, int(std::lround(spp * pm.seconds / pt.seconds)));
+            pt = pt_run(spp);
+        }
+        const double pt_err = relative_rmse(pt.image, ref);
+        std::cerr << stem << ": path tracer " << spp << " spp in " << pt.seconds << " s, rel. RMSE " << pt_err << "\n";
+
+        std::printf("| %s | %d spp | %.2f s, %.4f | %d spp, %.2f s, %.4f | %.2f |\n", stem.c_str(), reference_spp,
+                    pm.seconds, pm_err, spp, pt.seconds, pt_err, pm_err > 0 ? pt_err / pm_err : 0.0);
+        std::fflush(stdout);
+        results.push_back({{"config", config},
+                           {"size", {w, h}},
+                           {"threads", n_threads},
+                           {"reference", {{"file", ref_path.string()}, {"spp", reference_spp}}},
+                           {"photon_map", {{"photons", photons}, {"spp", pm.spp}, {"seconds", pm.seconds}, {"rel_rmse", pm_err}}},
+                           {"path", {{"spp", spp}, {"seconds", pt.seconds}, {"rel_rmse", pt_err}}},
+                           {"rmse_ratio_path_over_photon_map", pm_err > 0 ? pt_err / pm_err : 0.0}});
+    }
+    const fs::path json_path = fs::path(out_dir) / "equal_time.json";
+    fs::create_directories(json_path.parent_path());
+    vpm::write_text_atomic(json_path, results.dump(2) + "\n");
+    std::cerr << "wrote " << json_path << "\n";
+    return 0;
+}
+
+int run_bench(int argc, char** argv) {
+    if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+        std::printf("usage: vpm bench MODE [options]\n\nmodes:\n  equal-time   photon map vs path tracer error at "
+                    "equal wall time (vpm bench equal-time --help)\n\nSpeed benchmarks are the bench_* programs "
+                    "(BENCHMARKS.md).\n");
+        return argc < 2 ? 2 : 0;
+    }
+    const std::string mode = argv[1];
+    std::string name = "vpm bench " + mode;
+    std::vector<char*> args;
+    args.push_back(name.data());
+    for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
+    if (mode == "equal-time") return run_equal_time(int(args.size()), args.data());
+    std::cerr << "vpm bench: unknown mode '" << mode << "' (allowed: equal-time)\n";
+    return 2;
+}
+
+}  // namespace
+
+VPM_REGISTER_COMMAND({"bench", "benchmark modes: equal-time error of photon map vs path tracer", run_bench});
