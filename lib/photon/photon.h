@@ -9,10 +9,10 @@
 //   uint16_t dir[2]    octahedral direction, 2 x 16 bit                      ( 4 bytes)
 //   uint16_t power[3]  IEEE binary16 per channel of power / map power scale  ( 6 bytes)
 //   uint16_t reserved  zero; free for flags (e.g. bounce count)              ( 2 bytes)
-// The kd-tree (photon_map.cpp) splits along the Morton bits of the sorted records, so its nodes
-// address contiguous ranges and there is no permutation array: the index is one 16-byte node per
-// ~11 photons at leaf size 32, measured 25.4-25.5 bytes per photon in total for 1e5 .. 1e7 uniform
-// photons (PhotonMap::memory_bytes(); it was 30.8-31.1 with nanoflann's uint32 permutation).
+// plus 4 bytes per photon in the kd-tree's permutation array (uint32 index) = 28 bytes per photon,
+// see bytes_per_photon(). The kd-tree nodes add ~3 bytes per photon on top (32-byte nodes, one
+// per ~11 photons at leaf size 32): measured 30.8 bytes per photon in total for 1e5 and 1e6
+// uniform photons, 31.1 for 1e7 (PhotonMap::memory_bytes()).
 //
 // Error bounds (tested in tests/photon/test_photon_codec.cpp):
 //   position  : |error| per axis <= 2^-24 * max(|p - centre|) over the axes (float rounding of the
@@ -49,9 +49,9 @@ struct Photon {
 };
 static_assert(sizeof(Photon) == 24, "Photon record must stay 24 bytes");
 
-// Bytes per stored photon record. The kd-tree nodes are extra: measured by
-// PhotonMap::memory_bytes(), ~1.4 bytes per photon at leaf size 32.
-constexpr size_t bytes_per_photon() { return sizeof(Photon); }
+// Bytes per stored photon: the record plus its uint32 entry in the kd-tree permutation array.
+// (kd-tree nodes are extra: measured by PhotonMap::memory_bytes(), ~2-3 bytes per photon.)
+constexpr size_t bytes_per_photon() { return sizeof(Photon) + sizeof(uint32_t); }
 
 // --- octahedral direction codec -----------------------------------------------------------------
 inline uint16_t oct_quantize(double v) {   // v in [-1, 1] -> [0, 65535], round to nearest

@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <nanoflann.hpp>
 #include <numeric>
 #include <string>
-
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include "core/error.h"
 
@@ -15,9 +13,21 @@ namespace vpm {
 
 namespace {
 
+// nanoflann dataset adaptor over the compact records (float positions relative to the centre).
+struct RecordAdaptor {
+    const Photon* data = nullptr;
+    size_t n = 0;
+    size_t kdtree_get_point_count() const { return n; }
+    float kdtree_get_pt(uint32_t i, size_t d) const { return data[i].p[d]; }
+    template <class BBox>
+    bool kdtree_get_bbox(BBox&) const { return false; }
+};
+
+using Metric = nanoflann::L2_Simple_Adaptor<float, RecordAdaptor, float, uint32_t>;
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, RecordAdaptor, 3, uint32_t>;
+
 // k nearest with an upper bound on the squared distance: the tree prunes with
 // min(current k-th distance, radius^2), so a small max_radius makes queries cheaper.
-// (Same interface as a nanoflann result set.)
 class KnnRadiusResultSet {
 public:
     using DistanceType = float;
@@ -61,121 +71,11 @@ uint64_t spread_bits(uint64_t v) {
 
 }  // namespace
 
-// The kd-tree over the Morton-sorted records. Splits follow the Morton bits (an implicit
-// octree refined one axis at a time), so a node is a contiguous range of the stored order and no
-// permutation array is needed; building is a binary search per node plus one pass over the
-// positions for the bounding boxes. Each inner node stores the largest coordinate of its left
-// child and the smallest of its right child along its axis (nanoflann's divlow/divhigh), and the
-// search is nanoflann's (incremental distance to the cell, nearer child first).
 struct PhotonMap::Index {
-    struct Node {
-        float lo, hi;       // inner: max of the left child, min of the right child along `info`
-        uint32_t a;         // inner: index of the right child (the left one is next); leaf: begin
-        uint32_t info;      // inner: axis 0..2; leaf: (count << 2) | 3
-    };
-    static_assert(sizeof(Node) == 16, "kd-tree node must stay 16 bytes");
-    std::vector<Node> nodes;
-    float root_lo[3] = {0, 0, 0}, root_hi[3] = {0, 0, 0};
-    const Photon* data = nullptr;
-
-    struct Box {
-        float lo[3], hi[3];
-    };
-
-    // Builds the subtree over [begin, end) whose keys agree above bit `bit`; returns its box.
-    Box build(const uint64_t* keys, uint32_t begin, uint32_t end, int bit, size_t leaf) {
-        // Skip bits on which the whole range agrees (no node for them).
-        uint32_t mid = begin;
-        while (end - begin > leaf && bit >= 0) {
-            const uint64_t mask = uint64_t(1) << bit;
-            mid = uint32_t(std::partition_point(keys + begin, keys + end, [&](uint64_t k) { return !(k & mask); }) -
-                           keys);
-            if (mid != begin && mid != end) break;
-            --bit;
-        }
-        const uint32_t self = uint32_t(nodes.size());
-        nodes.emplace_back();
-        if (end - begin <= leaf || bit < 0) {   // leaf (bit < 0: identical keys, an oversized leaf)
-            if (uint64_t(end - begin) >= (uint64_t(1) << 30))
-                throw Error("photon map: over 2^30 photons at one quantised position");
-            nodes[self].a = begin;
-            nodes[self].info = ((end - begin) << 2) | 3u;
-            Box b;
-            for (int d = 0; d < 3; ++d) {
-                b.lo[d] = std::numeric_limits<float>::infinity();
-                b.hi[d] = -std::numeric_limits<float>::infinity();
-            }
-            for (uint32_t i = begin; i < end; ++i)
-                for (int d = 0; d < 3; ++d) {
-                    b.lo[d] = std::min(b.lo[d], data[i].p[d]);
-                    b.hi[d] = std::max(b.hi[d], data[i].p[d]);
-                }
-            return b;
-        }
-        const int axis = bit % 3;
-        const Box left = build(keys, begin, mid, bit - 1, leaf);
-        nodes[self].a = uint32_t(nodes.size());
-        const Box right = build(keys, mid, end, bit - 1, leaf);
-        nodes[self].info = uint32_t(axis);
-        nodes[self].lo = left.hi[axis];
-        nodes[self].hi = right.lo[axis];
-        Box b;
-        for (int d = 0; d < 3; ++d) {
-            b.lo[d] = std::min(left.lo[d], right.lo[d]);
-            b.hi[d] = std::max(left.hi[d], right.hi[d]);
-        }
-        return b;
-    }
-
-    void search(uint32_t idx, const float q[3], float mindist, float dists[3], KnnRadiusResultSet& rs) const {
-        const Node& n = nodes[idx];
-        if ((n.info & 3u) == 3u) {
-            const uint32_t end = n.a + (n.info >> 2);
-            float worst = rs.worstDist();
-            for (uint32_t i = n.a; i < end; ++i) {
-                const float* p = data[i].p;
-                const float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-                const float d = dx * dx + dy * dy + dz * dz;
-                if (d < worst) {
-                    rs.addPoint(d, i);
-                    worst = rs.worstDist();
-                }
-            }
-            return;
-        }
-        const int axis = int(n.info);
-        const float v = q[axis];
-        const float diff1 = v - n.lo, diff2 = v - n.hi;
-        uint32_t best, other;
-        float cut;
-        if (diff1 + diff2 < 0) {
-            best = idx + 1;
-            other = n.a;
-            cut = diff2 * diff2;
-        } else {
-            best = n.a;
-            other = idx + 1;
-            cut = diff1 * diff1;
-        }
-        search(best, q, mindist, dists, rs);
-        const float saved = dists[axis];
-        mindist = mindist + cut - saved;
-        dists[axis] = cut;
-        if (mindist <= rs.worstDist()) search(other, q, mindist, dists, rs);
-        dists[axis] = saved;
-    }
-
-    void knn(const float q[3], KnnRadiusResultSet& rs) const {
-        float dists[3];
-        float mindist = 0;
-        for (int d = 0; d < 3; ++d) {
-            dists[d] = 0;
-            if (q[d] < root_lo[d]) dists[d] = (q[d] - root_lo[d]) * (q[d] - root_lo[d]);
-            else if (q[d] > root_hi[d]) dists[d] = (q[d] - root_hi[d]) * (q[d] - root_hi[d]);
-            mindist += dists[d];
-        }
-        search(0, q, mindist, dists, rs);
-    }
+    RecordAdaptor adaptor;
+    Tree tree;
+    Index(const Photon* data, size_t n, size_t leaf)
+        : adaptor{data, n}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(leaf)) {}
 };
 
 PhotonMap::PhotonMap() = default;
@@ -201,56 +101,31 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
     power_scale_ = max_power > 0.0 ? max_power : 1.0;
     const double inv_scale = 1.0 / power_scale_;
 
-    // Morton order over the bounds for cache coherence of leaves and of neighbouring queries;
-    // the kd-tree splits along the same bits. Key and encoding passes run in parallel; ties in
-    // the key are ordered by input index, so the stored order is deterministic.
+    // Morton order over the bounds for cache coherence of leaves and of neighbouring queries.
     const Vec3 extent = (bounds_.hi - bounds_.lo).cwiseMax(Vec3::Constant(1e-300));
-    // Pass 1 reads the input sequentially: Morton key and the encoded record in input order.
-    // Pass 2 gathers the 24-byte records (not the 72-byte inputs) in key order with prefetching:
-    // for photons in path order the permutation is random, and the gather is memory bound.
     std::vector<std::pair<uint64_t, uint32_t>> keys(in.size());
-    std::vector<Photon> unsorted(in.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, in.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) {
-            const PhotonInput& p = in[i];
-            const Vec3 t = ((p.position - bounds_.lo).array() / extent.array()).matrix();
-            uint64_t code = 0;
-            for (int a = 0; a < 3; ++a) {
-                const double q = std::min(std::max(t[a], 0.0), 1.0) * 2097151.0;
-                code |= spread_bits(static_cast<uint64_t>(q)) << a;
-            }
-            keys[i] = {code, static_cast<uint32_t>(i)};
-            Photon& rec = unsorted[i];
-            const Vec3 rel = p.position - centre_;
-            for (int a = 0; a < 3; ++a) rec.p[a] = static_cast<float>(rel[a]);
-            encode_direction(p.direction, rec.dir);
-            encode_power(p.power, inv_scale, rec.power);
-            rec.reserved = 0;
+    for (size_t i = 0; i < in.size(); ++i) {
+        const Vec3 t = ((in[i].position - bounds_.lo).array() / extent.array()).matrix();
+        uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double q = std::min(std::max(t[a], 0.0), 1.0) * 2097151.0;
+            code |= spread_bits(static_cast<uint64_t>(q)) << a;
         }
-    });
-    tbb::parallel_sort(keys.begin(), keys.end());
+        keys[i] = {code, static_cast<uint32_t>(i)};
+    }
+    std::sort(keys.begin(), keys.end());
 
     photons_.resize(in.size());
-    std::vector<uint64_t> codes(in.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, in.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
-        constexpr size_t kAhead = 16;
-        for (size_t j = r.begin(); j < r.end(); ++j) {
-            if (j + kAhead < r.end()) __builtin_prefetch(&unsorted[keys[j + kAhead].second]);
-            photons_[j] = unsorted[keys[j].second];
-            codes[j] = keys[j].first;
-        }
-    });
-    std::vector<Photon>().swap(unsorted);
-    std::vector<std::pair<uint64_t, uint32_t>>().swap(keys);
-    index_ = std::make_unique<Index>();
-    index_->data = photons_.data();
-    index_->nodes.reserve(2 * (in.size() / std::max<size_t>(1, leaf_size / 2) + 1));
-    const Index::Box root = index_->build(codes.data(), 0, uint32_t(in.size()), 62, std::max<size_t>(1, leaf_size));
-    index_->nodes.shrink_to_fit();
-    for (int d = 0; d < 3; ++d) {
-        index_->root_lo[d] = root.lo[d];
-        index_->root_hi[d] = root.hi[d];
+    for (size_t j = 0; j < in.size(); ++j) {
+        const PhotonInput& p = in[keys[j].second];
+        Photon& r = photons_[j];
+        const Vec3 rel = p.position - centre_;
+        for (int a = 0; a < 3; ++a) r.p[a] = static_cast<float>(rel[a]);
+        encode_direction(p.direction, r.dir);
+        encode_power(p.power, inv_scale, r.power);
+        r.reserved = 0;
     }
+    index_ = std::make_unique<Index>(photons_.data(), photons_.size(), std::max<size_t>(1, leaf_size));
 }
 
 size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourList& out) const {
@@ -273,7 +148,7 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
     const float bound = limited ? static_cast<float>((max_radius + slack) * (max_radius + slack) * (1.0 + 1e-6))
                                 : std::numeric_limits<float>::max();
     KnnRadiusResultSet rs(out.scratch_index.data(), out.scratch_d2.data(), k, bound);
-    index_->knn(q, rs);
+    index_->tree.findNeighbors(rs, q, nanoflann::SearchParams());
     const size_t found = rs.size();
     if (out.items.capacity() < k) out.items.reserve(k);
     for (size_t i = 0; i < found; ++i) {
@@ -303,7 +178,7 @@ Rgb PhotonMap::total_power() const {
 
 size_t PhotonMap::index_bytes() const {
     if (!index_) return 0;
-    return index_->nodes.capacity() * sizeof(Index::Node);
+    return index_->tree.usedMemory(index_->tree);
 }
 
 size_t PhotonMap::memory_bytes() const { return photons_.size() * sizeof(Photon) + index_bytes(); }

@@ -1,8 +1,7 @@
 #pragma once
-// The photon map: compact photon records (photon.h) in Morton order plus a kd-tree whose splits
-// follow the Morton bits, so every node is a contiguous range of records (no permutation array).
+// The photon map: compact photon records (photon.h) in Morton order plus a nanoflann kd-tree.
 //
-// The tree is an implementation detail (pimpl, photon_map.cpp); its search is nanoflann's.
+// nanoflann is an implementation detail (pimpl): only photon_map.cpp includes it.
 // Queries are const and thread-safe; each thread passes its own NeighbourList, whose buffers are
 // reused so that the hot loop allocates nothing once they have grown to k entries.
 #include <cstddef>
@@ -40,7 +39,7 @@ class PhotonMap {
 public:
     PhotonMap();
     // Builds the map. Photons with non-finite position are rejected with vpm::Error.
-    // leaf_size: largest kd-tree leaf (leaves hold more only when photons share a 21-bit Morton cell).
+    // leaf_size: kd-tree leaf size (nanoflann leaf_max_size).
     explicit PhotonMap(const std::vector<PhotonInput>& photons, size_t leaf_size = 32);
     ~PhotonMap();
     PhotonMap(PhotonMap&&) noexcept;
@@ -76,7 +75,7 @@ public:
     // Sum of decoded power of all photons (for energy checks).
     Rgb total_power() const;
 
-    // Measured bytes: records + kd-tree nodes.
+    // Measured bytes: records + kd-tree (permutation array, nodes and pool slack).
     size_t memory_bytes() const;
     // The kd-tree part of memory_bytes().
     size_t index_bytes() const;

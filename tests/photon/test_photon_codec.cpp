@@ -12,7 +12,7 @@ using namespace vpm;
 
 TEST(PhotonCodec, BytesPerPhoton) {
     EXPECT_EQ(sizeof(Photon), 24u);
-    EXPECT_EQ(bytes_per_photon(), 24u);
+    EXPECT_EQ(bytes_per_photon(), 28u);
     EXPECT_LE(bytes_per_photon(), 32u);
 }
 
