@@ -42,6 +42,13 @@ std::string num(double v) {
     return s.str();
 }
 
+std::string coord(double v) {   // exact decimal for TOML overrides
+    std::ostringstream s;
+    s << std::setprecision(17) << v;
+    const std::string t = s.str();
+    return t.find_first_of(".e") == std::string::npos ? t + ".0" : t;
+}
+
 double image_mean(const Image& img) {
     double sum = 0.0;   // double sums (the image holds floats)
     for (float v : img.rgb) sum += double(v);
@@ -147,11 +154,17 @@ std::vector<CellSpec> specs(bool quick) {
         const std::string t = "1000000.0";
         CellSpec* s = sphere("translated", "sphere +1e6",
                              {"camera.position=[" + t + ", 0.3, 4.0]", "camera.look_at=[" + t + ", 0.0, 0.0]",
-                              "lights.0.position=[" + num(1e6 - 1.5) + ", 2.5, 1.5]", "media.0.center=[" + t + ", 0.0, 0.0]",
+                              "lights.0.position=[" + coord(std::stod(t) - 1.5) + ", 2.5, 1.5]", "media.0.center=[" + t + ", 0.0, 0.0]",
                               "shapes.0.center=[" + t + ", -1.0, 0.0]"},
                              "Embree floor, point light and sphere all moved");
         s->ref = Ref::compare;
         s->compare_to = "translated/sphere 0";
+        sphere("translated", "sphere 0, path tracer", {"render.integrator=\"path\""})->ref = Ref::none;
+        std::vector<std::string> sets = s->sets;
+        sets.push_back("render.integrator=\"path\"");
+        CellSpec* p = sphere("translated", "sphere +1e6, path tracer", sets, "reference integrator, same scene");
+        p->ref = Ref::compare;
+        p->compare_to = "translated/sphere 0, path tracer";
     }
     // Lights inside dense media and on their boundary.
     sphere("light", "inside, sigma 100", {"lights.0.position=[0.0, 0.0, 0.0]", "media.0.sigma_t_scale=100.0", "media.0.albedo=0.99"});
@@ -171,15 +184,13 @@ std::vector<CellSpec> specs(bool quick) {
         CellSpec s{"dense voxel", "1e6 in 1e-6", "dense_voxel.toml", {}, Ref::path};
         s.note = "64^3 grid; per-block majorants keep the tracking cost local";
         v.push_back(s);
-        CellSpec s2{"dense voxel", "x1e3 (1e9 in 1e-3)", "dense_voxel.toml", {"media.0.sigma_t_scale=1000.0"}, Ref::path};
-        v.push_back(s2);
     }
     // Rays grazing the medium bounds: the camera in the plane of the box's top face / the grid's face.
     sphere("grazing", "sphere tangent", {"camera.position=[0.0, 1.0, 4.0]", "camera.look_at=[0.0, 1.0, 0.0]"},
            "the centre row of camera rays is tangent to the sphere at y = 1");
     {
         CellSpec s{"grazing", "grid face", "dense_voxel.toml",
-                   {"camera.position=[0.0, -1.0, 3.5]", "camera.look_at=[0.0, -1.0, 0.0]", "media.0.sigma_t_scale=1000.0"},
+                   {"camera.position=[0.0, -1.0, 3.5]", "camera.look_at=[0.0, -1.0, 0.0]"},
                    Ref::path};
         s.note = "camera rays in the plane of the grid's lower face";
         v.push_back(s);
@@ -266,10 +277,15 @@ StressReport run_stress(const StressOptions& o) {
                 auto it = images.find(spec.compare_to);
                 if (it != images.end() && it->second.rgb.size() == r.image.rgb.size()) {
                     double diff = 0.0, base = 0.0;
+                    uint64_t differing = 0;
                     for (size_t i = 0; i < r.image.rgb.size(); ++i) {
-                        diff += std::abs(double(r.image.rgb[i]) - double(it->second.rgb[i]));
-                        base += std::abs(double(it->second.rgb[i]));
+                        const double a = r.image.rgb[i], b = it->second.rgb[i];
+                        diff += std::abs(a - b);
+                        base += std::abs(b);
+                        differing += std::abs(a - b) > 1e-4 * std::max(std::abs(b), 1e-3);
                     }
+                    c.note += (c.note.empty() ? "" : "; ") + std::to_string(differing) + " of " +
+                              std::to_string(r.image.rgb.size()) + " pixel channels differ by > 1e-4";
                     c.has_reference = true;
                     c.reference_kind = "untranslated (mean |diff| / mean)";
                     c.reference = image_mean(it->second);
