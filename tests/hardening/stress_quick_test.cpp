@@ -70,20 +70,21 @@ TEST(StressQuick, CapsAreHitAndReportedInPathologicalMedia) {
     EXPECT_FALSE(pt->photon_pass);
 }
 
-TEST(StressQuick, TranslatedFurnaceMatchesUntranslated) {
-    // Same seed: the photon map stores positions relative to its centre and rays stay in double,
-    // so the furnace moved 1e6 units gives the same image to float rounding. (The sphere scene with
-    // an Embree floor diverges in some pixels: a rare discrete flip changes a pixel's random stream;
-    // STRESS.md reports how many channels differ.)
+TEST(StressQuick, TranslatedScenesMatchUntranslated) {
+    // Same seed: the photon map stores positions relative to its centre, rays stay in double and
+    // Embree sees coordinates relative to the scene centre, so the scenes moved 1e6 units give the
+    // same images up to rounding. The furnace (no surfaces) is identical; with the Embree floor a
+    // rare rounding flip changes a pixel's random stream, well under 1% of the image. (Before the
+    // surface-offset fix in direct_light.cpp the sphere scene differed by 29%.)
     const StressCell* c = find("translated", "furnace +1e6");
     ASSERT_NE(c, nullptr);
     ASSERT_TRUE(c->has_reference);
     EXPECT_LT(c->rel_error, 1e-6);
-    EXPECT_GT(c->value, 0.0);
     for (const char* label : {"sphere +1e6", "sphere +1e6, path tracer"}) {
         const StressCell* s = find("translated", label);
         ASSERT_NE(s, nullptr) << label;
-        EXPECT_TRUE(s->has_reference) << label;
+        ASSERT_TRUE(s->has_reference) << label;
+        EXPECT_LT(s->rel_error, 0.01) << label;
         EXPECT_GT(s->value, 0.0) << label;
     }
 }
