@@ -67,9 +67,7 @@ struct Outcome {
 
 Outcome run_vpm(const std::string& args, const fs::path& dir) {
     const fs::path err = dir / "stderr.txt";
-    // Under ASan (build-asan) a huge allocation must throw std::bad_alloc as in a normal build
-    // rather than abort: see FuzzRegression below.
-    const std::string cmd = "ASAN_OPTIONS=allocator_may_return_null=1 " + std::string(VPM_BINARY) + " " + args +
+    const std::string cmd = std::string(VPM_BINARY) + " " + args +
                             " 2> '" + err.string() + "' > /dev/null";
     const int status = std::system(cmd.c_str());
     Outcome o;
@@ -223,11 +221,16 @@ TEST(BadInput, ImageTooBigForMemory) {
 }
 
 // Found by fuzz/fuzz_vdb (libFuzzer + ASan, 2026-11-22): a box.vdb with bytes changed inside a
-// blosc-compressed leaf buffer. OpenVDB 10's io::bloscFromStream then asks for an allocation of a
-// garbage size (~1e14 bytes, an uninitialised size read past the corrupt stream); ASan aborts on
-// it by default, a normal build throws std::bad_alloc or a decompression error. vdb_io.cpp turns
-// either into a FileError: one line, exit 1, nothing written.
+// blosc-compressed leaf buffer. OpenVDB 10's io::bloscFromStream allocates the compressed size
+// it reads from the file unchecked (here ~1e14 bytes); ASan aborts on that, a normal build gets
+// std::bad_alloc or (with overcommit) a decompression error, which vdb_io.cpp turns into a
+// FileError: one line, exit 1, nothing written.
 TEST(FuzzRegression, VdbWithGarbageBloscSize) {
+#if defined(__SANITIZE_ADDRESS__) || (defined(__has_feature) && __has_feature(address_sanitizer))
+    // ASan's throwing operator new reports out-of-memory instead of throwing std::bad_alloc, so
+    // under ASan this input aborts inside OpenVDB whatever vpm does.
+    GTEST_SKIP() << "aborts under ASan inside OpenVDB (unchecked blosc size); checked in normal builds";
+#endif
     TempDir dir;
     fs::copy_file(fs::path(VPM_TEST_DATA_DIR) / "fuzz" / "vdb_blosc_garbage_size.vdb", dir.path / "garbage.vdb");
     expect_clean_failure(dir, "garbage.toml", scene_text("", grid_medium("garbage.vdb")),
