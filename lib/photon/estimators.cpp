@@ -100,9 +100,13 @@ std::string EstimatorStats::to_string() const {
     return s.str();
 }
 
-Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const Vec3& w_o, double g,
-                                     Estimator e, size_t k, double max_radius, GatherBuffers& buf,
-                                     EstimatorStats* stats) {
+namespace {
+
+// Gathers the k nearest photons, weights each with weight(neighbour) and applies the estimator
+// in `dim` dimensions; doubles the gather while rule (c) needs more neighbours than it has.
+template <class Weight>
+Estimate<Rgb> gather_and_estimate(const PhotonMap& map, const Vec3& x, Estimator e, size_t k, double max_radius,
+                                  int dim, GatherBuffers& buf, EstimatorStats* stats, const Weight& weight) {
     validate_estimator_k(e, k);
     size_t want = k;
     for (;;) {
@@ -113,40 +117,31 @@ Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const 
             buf.d2.resize(found);
         }
         for (size_t i = 0; i < found; ++i) {
-            const Neighbour& n = buf.list[i];
-            buf.w[i] = hg_eval(n.direction.dot(w_o), g) * n.power;
-            buf.d2[i] = n.d2;
+            buf.w[i] = weight(buf.list[i]);
+            buf.d2[i] = buf.list[i].d2;
         }
-        Estimate<Rgb> est =
-            estimate_density<Rgb>(e, buf.w.data(), buf.d2.data(), found, complete, k, max_radius, 3, stats,
-                                  map.position_resolution());
+        Estimate<Rgb> est = estimate_density<Rgb>(e, buf.w.data(), buf.d2.data(), found, complete, k, max_radius,
+                                                  dim, stats, map.position_resolution());
         if (est.kind != EstimateCase::need_more) return est;
         want *= 2;   // rule (c): coincident photons fill the list, gather more
     }
 }
 
+}  // namespace
+
+Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const Vec3& w_o, double g,
+                                     Estimator e, size_t k, double max_radius, GatherBuffers& buf,
+                                     EstimatorStats* stats) {
+    return gather_and_estimate(map, x, e, k, max_radius, 3, buf, stats,
+                               [&](const Neighbour& n) -> Rgb { return hg_eval(n.direction.dot(w_o), g) * n.power; });
+}
+
 Estimate<Rgb> estimate_surface_irradiance(const PhotonMap& map, const Vec3& x, const Vec3& n, Estimator e,
                                           size_t k, double max_radius, GatherBuffers& buf, EstimatorStats* stats) {
-    validate_estimator_k(e, k);
-    size_t want = k;
-    for (;;) {
-        const size_t found = map.knn(x, want, max_radius, buf.list);
-        const bool complete = found < want || found == map.size();
-        if (buf.w.size() < found) {
-            buf.w.resize(found);
-            buf.d2.resize(found);
-        }
-        for (size_t i = 0; i < found; ++i) {
-            const Neighbour& nb = buf.list[i];
-            buf.w[i] = nb.direction.dot(n) < 0.0 ? nb.power : Rgb::Zero();
-            buf.d2[i] = nb.d2;
-        }
-        Estimate<Rgb> est =
-            estimate_density<Rgb>(e, buf.w.data(), buf.d2.data(), found, complete, k, max_radius, 2, stats,
-                                  map.position_resolution());
-        if (est.kind != EstimateCase::need_more) return est;
-        want *= 2;   // rule (c): coincident photons fill the list, gather more
-    }
+    // Photons that arrived from the other side of the surface weigh zero (no light through walls).
+    return gather_and_estimate(map, x, e, k, max_radius, 2, buf, stats, [&](const Neighbour& nb) -> Rgb {
+        return nb.direction.dot(n) < 0.0 ? nb.power : Rgb::Zero();
+    });
 }
 
 }  // namespace vpm
