@@ -130,3 +130,37 @@ TEST(RenderCli, HelpOnEverySubcommand) {
     EXPECT_EQ(run_vpm("--help", t.path, err), 0);
     EXPECT_EQ(run_vpm("nonsense", t.path, err), 2);
 }
+
+TEST(RenderCli, PhotonMapWithoutMediaBuildsNoVolumeMap) {
+    TempDir t;
+    std::ofstream(t.path / "walls.toml") << R"(
+[render]
+width = 16
+height = 16
+spp = 2
+integrator = "photon_map"
+[camera]
+position = [0, 1, 4]
+look_at = [0, 0, 0]
+[[lights]]
+type = "point"
+position = [0, 2, 0]
+intensity = 5
+[[shapes]]
+type = "quad"
+center = [0, 0, 0]
+u = [2, 0, 0]
+v = [0, 0, -2]
+)";
+    std::string err;
+    ASSERT_EQ(run_vpm("render " + (t.path / "walls.toml").string() + " -o " + (t.path / "w.exr").string(), t.path, err), 0)
+        << err;
+    // The photon pass runs for the surface map; the volume map stays empty.
+    EXPECT_NE(err.find("no media, so the volume photon map is empty"), std::string::npos) << err;
+    EXPECT_EQ(read_json(t.path / "w.json")["photons"]["stored"], 0);
+    // With final gather there is no surface map either, so no photon pass at all.
+    ASSERT_EQ(run_vpm("render " + (t.path / "walls.toml").string() + " --set photons.final_gather=true -o " +
+                      (t.path / "g.exr").string(), t.path, err), 0) << err;
+    EXPECT_NE(err.find("no media and no surface map, so no photon pass"), std::string::npos) << err;
+    EXPECT_FALSE(read_json(t.path / "g.json")["phases"].contains("trace"));
+}
