@@ -8,7 +8,7 @@
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
 #include "core/sampling.h"
-#include "render/direct_light.h"
+#include "render/path_vertex.h"
 
 namespace vpm {
 
@@ -72,10 +72,10 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 ++out.truncated_paths;
                 break;
             }
-            SurfaceHit hit;
-            const bool hit_surface = scene.intersect(ray, kInfinity, hit);
-            const MediumEvent event = scene.sample_medium(ray, hit_surface ? hit.t : kInfinity, rng);
-            if (!event && !hit_surface) {
+            const PathVertex v = next_vertex(scene, ray, rng);
+            const MediumEvent& event = v.medium;
+            const SurfaceHit& hit = v.hit;
+            if (v.escaped()) {
                 out.energy.escaped += power;
                 break;
             }
@@ -96,11 +96,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
                     out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power});
                 alive = roulette(power, hit.reflectance, rng);
-                if (alive) {
-                    const double u1 = rng.uniform(), u2 = rng.uniform();
-                    const Vec3 dir = Frame(hit.normal).to_world(sample_cosine_hemisphere(u1, u2)).normalized();
-                    ray = spawn_ray(hit.position, hit.normal, dir);
-                }
+                if (alive) ray = diffuse_bounce(hit, rng);
             }
             if (!alive) power = Rgb::Zero();
             out.energy.absorbed += power_in - power;

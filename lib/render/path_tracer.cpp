@@ -3,6 +3,7 @@
 #include "core/henyey_greenstein.h"
 #include "core/sampling.h"
 #include "render/direct_light.h"
+#include "render/path_vertex.h"
 
 namespace vpm {
 
@@ -14,34 +15,27 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
     Rgb radiance = Rgb::Zero();
     for (int depth = 0;; ++depth) {
         // `depth` scattering events so far; the vertex found now would be number depth + 1.
-        SurfaceHit hit;
-        const bool hit_surface = scene_.intersect(ray, kInfinity, hit);
-        const MediumEvent event = scene_.sample_medium(ray, hit_surface ? hit.t : kInfinity, rng);
-        if (!event && !hit_surface) {
+        const PathVertex v = next_vertex(scene_, ray, rng);
+        if (v.escaped()) {
             if (depth == 0) radiance += throughput * scene_.escaped_radiance(ray.dir);
             break;
         }
         if (max_depth >= 0 && depth + 1 > max_depth) break;
-        if (event) {
-            const Vec3 x = ray.at(event.t);
-            throughput *= event.medium->albedo();   // collision estimator: scatter weight = albedo
+        if (v.medium) {
+            const Vec3 x = ray.at(v.medium.t);
+            const Medium& m = *v.medium.medium;
+            throughput *= m.albedo();   // collision estimator: scatter weight = albedo
             if ((throughput == 0.0).all()) break;
-            radiance += throughput * direct_light_in_medium(scene_, x, ray.dir, event.medium->g(), rng);
+            radiance += throughput * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
             const double u1 = rng.uniform(), u2 = rng.uniform();
-            ray = Ray{x, hg_sample(ray.dir, event.medium->g(), u1, u2)};
+            ray = Ray{x, hg_sample(ray.dir, m.g(), u1, u2)};
         } else {
-            if ((hit.reflectance == 0.0).all()) break;
-            radiance += throughput * direct_light_on_surface(scene_, hit, rng);
-            throughput *= hit.reflectance;
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            const Vec3 dir = Frame(hit.normal).to_world(sample_cosine_hemisphere(u1, u2)).normalized();
-            ray = spawn_ray(hit.position, hit.normal, dir);
+            if ((v.hit.reflectance == 0.0).all()) break;
+            radiance += throughput * direct_light_on_surface(scene_, v.hit, rng);
+            throughput *= v.hit.reflectance;
+            ray = diffuse_bounce(v.hit, rng);
         }
-        if (depth + 1 >= rr_depth) {
-            const double q = std::min(0.95, throughput.maxCoeff());
-            if (rng.uniform() >= q) break;
-            throughput /= q;
-        }
+        if (!survive_roulette(throughput, depth + 1, rr_depth, rng)) break;
     }
     return radiance;
 }

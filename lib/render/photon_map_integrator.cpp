@@ -4,6 +4,7 @@
 
 #include "core/sampling.h"
 #include "render/direct_light.h"
+#include "render/path_vertex.h"
 
 namespace vpm {
 
@@ -40,10 +41,10 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
     for (int depth = 0;; ++depth) {
-        SurfaceHit hit;
-        const bool hit_surface = scene_.intersect(ray, kInfinity, hit);
-        const MediumEvent event = scene_.sample_medium(ray, hit_surface ? hit.t : kInfinity, rng);
-        if (!event && !hit_surface) {
+        const PathVertex v = next_vertex(scene_, ray, rng);
+        const MediumEvent& event = v.medium;
+        const SurfaceHit& hit = v.hit;
+        if (v.escaped()) {
             if (depth == 0) radiance += throughput * scene_.escaped_radiance(ray.dir);
             break;
         }
@@ -77,13 +78,8 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
         }
         radiance += throughput * direct_light_on_surface(scene_, hit, rng);
         throughput *= hit.reflectance;
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        ray = spawn_ray(hit.position, hit.normal, Frame(hit.normal).to_world(sample_cosine_hemisphere(u1, u2)).normalized());
-        if (depth + 1 >= scene_.render.rr_depth) {
-            const double q = std::min(0.95, throughput.maxCoeff());
-            if (rng.uniform() >= q) break;
-            throughput /= q;
-        }
+        ray = diffuse_bounce(hit, rng);
+        if (!survive_roulette(throughput, depth + 1, scene_.render.rr_depth, rng)) break;
     }
     return radiance;
 }
