@@ -1,5 +1,7 @@
 #include "render/photon_map_integrator.h"
 
+#include <array>
+
 #include <tbb/enumerable_thread_specific.h>
 
 #include "core/sampling.h"
@@ -7,6 +9,43 @@
 #include "render/path_vertex.h"
 
 namespace vpm {
+
+namespace {
+
+// Fixed points uniform in the unit ball (Halton 2, 3, 5 through the volume-preserving warp): a
+// deterministic quadrature, so the ball average adds no noise of its own.
+constexpr int kBallPoints = 32;
+const std::array<Vec3, kBallPoints>& unit_ball_points() {
+    static const std::array<Vec3, kBallPoints> points = [] {
+        auto halton = [](int i, int base) {
+            double f = 1.0, r = 0.0;
+            for (; i > 0; i /= base) {
+                f /= base;
+                r += f * (i % base);
+            }
+            return r;
+        };
+        std::array<Vec3, kBallPoints> p;
+        for (int i = 0; i < kBallPoints; ++i)
+            p[size_t(i)] = sample_uniform_ball(halton(i + 1, 2), halton(i + 1, 3), halton(i + 1, 5));
+        return p;
+    }();
+    return points;
+}
+
+double total_sigma_t(const Scene& scene, const Vec3& x) {
+    double sigma_t = 0.0;   // overlapping media: photons of all of them are in the map
+    for (const auto& m : scene.media) sigma_t += m->sigma_t(x);
+    return sigma_t;
+}
+
+double ball_mean_sigma_t(const Scene& scene, const Vec3& x, double radius) {
+    double sum = 0.0;
+    for (const Vec3& p : unit_ball_points()) sum += total_sigma_t(scene, x + radius * p);
+    return sum / kBallPoints;
+}
+
+}  // namespace
 
 struct PhotonMapIntegrator::ThreadState {
     struct Local {
@@ -19,7 +58,8 @@ struct PhotonMapIntegrator::ThreadState {
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMap& map, const PhotonMap* surface_map)
     : scene_(scene), map_(map), surface_map_(surface_map), estimator_(parse_estimator(scene.photons.estimator)), k_(size_t(scene.photons.k)),
       max_radius_(scene.photons.max_radius > 0 ? scene.photons.max_radius : kInfinity),
-      nee_(scene.photons.direct == "nee"), threads_(std::make_unique<ThreadState>()) {}
+      nee_(scene.photons.direct == "nee"), ball_extinction_(scene.photons.extinction == "ball"),
+      threads_(std::make_unique<ThreadState>()) {}
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
@@ -55,13 +95,14 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             const Rgb weight = throughput * m.albedo();
             if ((weight == 0.0).all()) break;
             if (nee_) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
-            double sigma_t = 0.0;   // overlapping media: photons of all of them are in the map
-            for (const auto& other : scene_.media) sigma_t += other->sigma_t(x);
+            const double sigma_t = total_sigma_t(scene_, x);
             if (sigma_t > 0.0 && !map_.empty()) {
                 auto& local = threads_->local.local();
                 const Estimate<Rgb> s = estimate_in_scattering(map_, x, -ray.dir, m.g(), estimator_, k_, max_radius_,
                                                                local.buffers, &local.stats);
-                radiance += weight * s.value / sigma_t;
+                // The ball can miss every quadrature point's smoke only if it is tiny; then use the point.
+                const double ball = ball_extinction_ && s.radius > 0.0 ? ball_mean_sigma_t(scene_, x, s.radius) : 0.0;
+                radiance += weight * s.value / (ball > 0.0 ? ball : sigma_t);
             }
             break;
         }

@@ -46,6 +46,9 @@ struct PhotonSettings {
     // (its estimator's bias stays visible); true skips the surface map and continues camera paths
     // through surfaces with a diffuse bounce until the first medium collision (final gather).
     bool final_gather = false;
+    // Extinction the volume estimate is divided by: "ball" = mean sigma_t over the kNN ball,
+    // "point" = sigma_t at the collision (DESIGN.md's formula); see photon_map_integrator.h.
+    std::string extinction = "ball";
 };
 
 // A real collision sampled along a ray among all media.

@@ -111,3 +111,19 @@ TEST(PhotonMapRender, PathTracerAgreesWithTheFurnace) {
     const double mean = sum / n, se = std::sqrt((sum2 / n - mean * mean) / n);
     EXPECT_NEAR(mean, kEnv, 3.0 * se);
 }
+
+TEST(PhotonMapRender, BallExtinctionEqualsPointInsideAHomogeneousMedium) {
+    // Every kNN ball near the furnace's centre lies inside the sphere, where sigma_t is constant:
+    // the two normalisations must give the same image.
+    auto scene = furnace();
+    PhotonTraceSettings ts;
+    ts.count = 50000;
+    ts.progress = false;
+    const PhotonMap map(trace_photons(*scene, ts).photons);
+    scene->photons.extinction = "point";
+    const double point = image_mean(*scene, map, 5);
+    scene->photons.extinction = "ball";
+    const double ball = image_mean(*scene, map, 5);
+    EXPECT_NEAR(ball, point, 1e-9 * point);
+    EXPECT_GT(point, 0.0);
+}
