@@ -47,8 +47,12 @@ TEST(PhotonTracer, EnergyBalancesInHomogeneousAndGridMedia) {
             EXPECT_LT(r.energy.relative_imbalance(), 1e-6) << medium << " albedo " << albedo;
             // The emitted total is the lights' power, up to Monte Carlo noise of the light choice.
             EXPECT_NEAR(r.energy.emitted[0] / scene->total_light_power()[0], 1.0, 0.05);
-            if (albedo == 0.0) EXPECT_EQ(r.energy.truncated.maxCoeff(), 0.0);
-            if (albedo == 1.0) EXPECT_NEAR(r.energy.absorbed.maxCoeff(), 0.0, 1e-9 * r.energy.emitted.maxCoeff());
+            if (albedo == 0.0) {
+                EXPECT_EQ(r.energy.truncated.maxCoeff(), 0.0);
+            }
+            if (albedo == 1.0) {
+                EXPECT_NEAR(r.energy.absorbed.maxCoeff(), 0.0, 1e-9 * r.energy.emitted.maxCoeff());
+            }
             EXPECT_GT(r.photons.size(), 0u);
         }
     }
