@@ -8,18 +8,16 @@
 
 #include "render/run.h"
 #include "scene/scene.h"
+#include "../support/render_statistics.h"
 
 using namespace vpm;
 
 namespace {
 
-struct MeanAndError {
-    double mean = 0, se = 0;
-};
-
-MeanAndError mean_brightness(const std::vector<std::string>& overrides, int repeats) {
+// Mean image value over `repeats` independent runs (photon maps and camera samples), with its SE.
+test::Sample mean_brightness(const std::vector<std::string>& overrides, int repeats) {
     auto scene = Scene::load(VPM_SOURCE_DIR "/configs/default_photon_map.toml", overrides);
-    double sum = 0, sum2 = 0;
+    test::Sample brightness;
     for (int r = 0; r < repeats; ++r) {
         RunOptions o;
         o.progress = false;
@@ -28,14 +26,9 @@ MeanAndError mean_brightness(const std::vector<std::string>& overrides, int repe
         EXPECT_EQ(result.stats.nonfinite_samples, 0u);
         double m = 0;
         for (size_t i = 0; i < result.image.rgb.size(); ++i) m += result.image.rgb[i];
-        m /= double(result.image.rgb.size());
-        sum += m;
-        sum2 += m * m;
+        brightness.add(m / double(result.image.rgb.size()));
     }
-    MeanAndError e;
-    e.mean = sum / repeats;
-    e.se = std::sqrt(std::max(0.0, sum2 / repeats - e.mean * e.mean) / (repeats - 1));
-    return e;
+    return brightness;
 }
 
 }  // namespace
@@ -46,11 +39,11 @@ TEST(DefaultScene, PhotonMapMatchesPathTracerBrightness) {
         extra.insert(extra.end(), small.begin(), small.end());
         return extra;
     };
-    const MeanAndError pt = mean_brightness(with({"render.integrator=path", "render.spp=32"}), 6);
-    const MeanAndError pm = mean_brightness(with({"render.spp=8", "photons.count=400000", "photons.k=32"}), 6);
-    const double tolerance = 3.0 * std::hypot(pt.se, pm.se) + 0.03 * pt.mean;
+    const test::Sample pt = mean_brightness(with({"render.integrator=path", "render.spp=32"}), 6);
+    const test::Sample pm = mean_brightness(with({"render.spp=8", "photons.count=400000", "photons.k=32"}), 6);
+    const double tolerance = 3.0 * std::hypot(pt.se(), pm.se()) + 0.03 * pt.mean();
     std::printf("mean brightness: path %.5f +- %.5f, photon map (corrected, k = 32) %.5f +- %.5f, tolerance %.5f\n",
-                pt.mean, pt.se, pm.mean, pm.se, tolerance);
-    EXPECT_NEAR(pm.mean, pt.mean, tolerance);
-    EXPECT_GT(pt.se, 0.0);
+                pt.mean(), pt.se(), pm.mean(), pm.se(), tolerance);
+    EXPECT_NEAR(pm.mean(), pt.mean(), tolerance);
+    EXPECT_GT(pt.se(), 0.0);
 }

@@ -13,6 +13,7 @@
 #include "render/photon_map_integrator.h"
 #include "render/render_loop.h"
 #include "scene/scene.h"
+#include "../support/render_statistics.h"
 
 using namespace vpm;
 
@@ -24,31 +25,12 @@ std::unique_ptr<Scene> furnace() {
                        {"render.width=24", "render.height=24", "render.spp=1", "photons.count=100000"});
 }
 
-// Mean image value (green channel).
+// Mean image value (green channel) at the scene's spp.
 double image_mean(const Scene& scene, const PhotonMap& map, uint64_t seed) {
-    const PhotonMapIntegrator integrator(scene, map);
-    RenderOptions o;
-    o.width = scene.render.width;
-    o.height = scene.render.height;
-    o.spp = scene.render.spp;
-    o.seed = seed;
-    o.progress = false;
-    RenderStats stats;
-    const Image image = render_image(scene.camera, integrator, o, stats);
-    EXPECT_EQ(stats.nonfinite_samples, 0u);
-    double m = 0;
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) m += image.at(x, y)[1];
-    return m / double(image.width * image.height);
+    return test::image_mean(scene, PhotonMapIntegrator(scene, map), seed, scene.render.spp);
 }
 
-struct Sample {
-    double sum = 0, sum2 = 0;
-    int n = 0;
-    void add(double v) { sum += v; sum2 += v * v; ++n; }
-    double mean() const { return sum / n; }
-    double se() const { return std::sqrt(std::max(0.0, sum2 / n - mean() * mean()) / (n - 1)); }
-};
+using test::Sample;
 
 }  // namespace
 

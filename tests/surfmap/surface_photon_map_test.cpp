@@ -17,35 +17,14 @@
 #include "render/render_loop.h"
 #include "render/run.h"
 #include "scene/scene.h"
+#include "../support/render_statistics.h"
 
 using namespace vpm;
 
 namespace {
 
-struct Sample {
-    double sum = 0, sum2 = 0;
-    int n = 0;
-    void add(double v) { sum += v; sum2 += v * v; ++n; }
-    double mean() const { return sum / n; }
-    double se() const { return std::sqrt(std::max(0.0, sum2 / n - mean() * mean()) / (n - 1)); }
-};
-
-// Mean of the green channel over the image.
-double image_mean(const Scene& scene, const Integrator& integrator, uint64_t seed, int spp) {
-    RenderOptions o;
-    o.width = scene.render.width;
-    o.height = scene.render.height;
-    o.spp = spp;
-    o.seed = seed;
-    o.progress = false;
-    RenderStats stats;
-    const Image image = render_image(scene.camera, integrator, o, stats);
-    EXPECT_EQ(stats.nonfinite_samples, 0u);
-    double m = 0;
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) m += image.at(x, y)[1];
-    return m / double(image.width * image.height);
-}
+using test::Sample;
+using test::image_mean;
 
 PhotonTraceResult trace(const Scene& scene, uint64_t seed, bool store_direct) {
     PhotonTraceSettings ts;

@@ -1,0 +1,44 @@
+#pragma once
+// Helpers shared by the statistical renderer tests: a running mean with its standard error, and
+// the mean green value of a rendered image (asserting that no sample was non-finite).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/render_loop.h"
+#include "scene/scene.h"
+
+namespace vpm::test {
+
+// Mean of n independent values and the standard error of that mean.
+struct Sample {
+    double sum = 0, sum2 = 0;
+    int n = 0;
+    void add(double v) {
+        sum += v;
+        sum2 += v * v;
+        ++n;
+    }
+    double mean() const { return sum / n; }
+    double se() const { return std::sqrt(std::max(0.0, sum2 / n - mean() * mean()) / (n - 1)); }
+};
+
+// Mean of the green channel over an image rendered with the scene's size and camera.
+inline double image_mean(const Scene& scene, const Integrator& integrator, uint64_t seed, int spp) {
+    RenderOptions o;
+    o.width = scene.render.width;
+    o.height = scene.render.height;
+    o.spp = spp;
+    o.seed = seed;
+    o.progress = false;
+    RenderStats stats;
+    const Image image = render_image(scene.camera, integrator, o, stats);
+    EXPECT_EQ(stats.nonfinite_samples, 0u);
+    double m = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) m += image.at(x, y)[1];
+    return m / double(image.width * image.height);
+}
+
+}  // namespace vpm::test
