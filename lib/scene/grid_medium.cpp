@@ -47,64 +47,61 @@ GridMedium::GridMedium(DensityGrid grid, double sigma_t_scale, const Rgb& albedo
     }
 }
 
-double GridMedium::sample_free_flight(const Ray& ray, double tmax, Rng& rng, TrackingStats* stats) const {
-    if (!(scale_ > 0.0) || !(tmax > 0.0)) return kInfinity;
-    const Vec3 o = world_to_index_ * ray.origin;
-    const Vec3 d = world_to_index_.linear() * ray.dir;   // not normalised: t stays in world units
-    double result = kInfinity;
+namespace {
+
+// Walks the tentative collisions of the majorant process along `ray` in (0, tmax), block by
+// block (empty blocks are skipped without sampling; restarting at each block entry is exact, the
+// exponential is memoryless), and calls visit(t, sigma_t(t), majorant) at each. visit returns
+// false to stop. Shared by delta tracking and ratio tracking.
+template <class Visit>
+void track_majorant(const DensityGrid& grid, double scale, const Eigen::Affine3d& world_to_index, const Ray& ray,
+                    double tmax, Rng& rng, TrackingStats* stats, const Visit& visit) {
+    const Vec3 o = world_to_index * ray.origin;
+    const Vec3 d = world_to_index.linear() * ray.dir;   // not normalised: t stays in world units
     int64_t lookups = 0;
-    const int blocks = grid_.traverse(o, d, 0.0, tmax, [&](double ta, double tb, float majorant) {
-        if (!(majorant > 0.0f)) return true;   // empty block: skip without sampling
-        const double mu = scale_ * majorant;
-        double t = ta;
-        for (;;) {
-            // Restarting at each block entry is exact: the exponential is memoryless.
+    const int blocks = grid.traverse(o, d, 0.0, tmax, [&](double ta, double tb, float majorant) {
+        if (!(majorant > 0.0f)) return true;
+        const double mu = scale * majorant;
+        for (double t = ta;;) {
             t = exp_step(t, mu, rng);
             if (!(t < tb)) return true;
             ++lookups;
-            const double s = scale_ * grid_.density(o + t * d);
-            if (rng.uniform() * mu < s) {
-                result = t;
-                return false;
-            }
+            if (!visit(t, scale * grid.density(o + t * d), mu)) return false;
         }
     });
     if (stats) {
         stats->blocks += blocks;
         stats->lookups += lookups;
     }
+}
+
+}  // namespace
+
+double GridMedium::sample_free_flight(const Ray& ray, double tmax, Rng& rng, TrackingStats* stats) const {
+    if (!(scale_ > 0.0) || !(tmax > 0.0)) return kInfinity;
+    double result = kInfinity;
+    track_majorant(grid_, scale_, world_to_index_, ray, tmax, rng, stats, [&](double t, double sigma_t, double mu) {
+        if (rng.uniform() * mu >= sigma_t) return true;   // null collision
+        result = t;
+        return false;
+    });
     return result;
 }
 
 double GridMedium::transmittance(const Ray& ray, double tmax, Rng& rng, TrackingStats* stats) const {
     if (!(scale_ > 0.0) || !(tmax > 0.0)) return 1.0;
-    const Vec3 o = world_to_index_ * ray.origin;
-    const Vec3 d = world_to_index_.linear() * ray.dir;
     double T = 1.0;
-    int64_t lookups = 0;
-    const int blocks = grid_.traverse(o, d, 0.0, tmax, [&](double ta, double tb, float majorant) {
-        if (!(majorant > 0.0f)) return true;
-        const double mu = scale_ * majorant;
-        double t = ta;
-        for (;;) {
-            t = exp_step(t, mu, rng);
-            if (!(t < tb)) return true;
-            ++lookups;
-            const double s = scale_ * grid_.density(o + t * d);
-            T *= std::max(0.0, 1.0 - s / mu);   // s <= mu up to rounding
-            if (T < kRrWeight) {
-                if (T <= 0.0 || rng.uniform() * kRrWeight >= T) {
-                    T = 0.0;
-                    return false;
-                }
-                T = kRrWeight;
+    track_majorant(grid_, scale_, world_to_index_, ray, tmax, rng, stats, [&](double, double sigma_t, double mu) {
+        T *= std::max(0.0, 1.0 - sigma_t / mu);   // sigma_t <= mu up to rounding
+        if (T < kRrWeight) {
+            if (T <= 0.0 || rng.uniform() * kRrWeight >= T) {
+                T = 0.0;
+                return false;
             }
+            T = kRrWeight;
         }
+        return true;
     });
-    if (stats) {
-        stats->blocks += blocks;
-        stats->lookups += lookups;
-    }
     return T;
 }
 
