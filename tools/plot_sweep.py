@@ -129,6 +129,18 @@ def style(key, lines):
     return STYLES[rests.index(key[1:]) % len(STYLES)]
 
 
+def k_axis(ax, ylabel, title):
+    """Log k axis with plain tick labels, grid and legend, shared by the plots against k."""
+    ax.set_xscale("log")
+    ax.set_xlabel("k")
+    ax.xaxis.set_major_formatter(ScalarFormatter())
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+
+
 def error_vs_k(groups, titles, axes, out):
     fig, axs = figure(len(groups))
     for ax, g, title in zip(axs, groups, titles):
@@ -136,15 +148,8 @@ def error_vs_k(groups, titles, axes, out):
         for key, rr in lines.items():
             ax.plot([num(r["k"]) for r in rr], [num(r["rel_rmse"]) for r in rr], marker="o", ms=3,
                     ls=style(key, lines), color=colour(key[0]), label=" ".join(key))
-        ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("k")
-        ax.xaxis.set_major_formatter(ScalarFormatter())
-        ax.xaxis.set_minor_formatter(NullFormatter())
-        ax.set_ylabel("relative RMSE")
-        ax.set_title(title, fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
+        k_axis(ax, "relative RMSE", title)
     fig.suptitle("Error against k")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "error_vs_k.png"), dpi=120)
@@ -171,14 +176,7 @@ def bias_vs_k(groups, titles, axes, out):
                 ax.plot(ks, [f / (k - 1) for k in ks], "--", color="tab:red",
                         label=f"classic prediction f/(k-1), fitted f={f:.3f}")
             ax.axhline(0, color="tab:blue", lw=0.8, ls="--", label="corrected prediction 0")
-        ax.set_xscale("log")
-        ax.set_xlabel("k")
-        ax.xaxis.set_major_formatter(ScalarFormatter())
-        ax.xaxis.set_minor_formatter(NullFormatter())
-        ax.set_ylabel("relative bias (mean over repeats)")
-        ax.set_title(title, fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
+        k_axis(ax, "relative bias (mean over repeats)", title)
     fig.suptitle("Bias against k (error bars: standard error over repeats)")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "bias_vs_k.png"), dpi=120)
