@@ -27,7 +27,7 @@
 //      Moreover the combination "corrected when r_k <= R, else fixed radius R" is exactly
 //      unbiased for a Poisson process of intensity rho: with N = count in B(R), mu = rho V(R),
 //      E[(k-1)/V(r_k); r_k <= R] = rho P(N >= k-1) and E[N/V(R); N < k] = rho P(N <= k-2), which
-//      sum to rho. (tests/photon/test_estimators.cpp checks this by Monte Carlo.)
+//      sum to rho. (tests/photon/estimators_test.cpp checks this by Monte Carlo.)
 //  (b) no max_radius (infinite) and fewer than k photons exist in total: use them all, with the
 //      radius at the farthest one, i.e. apply the estimator with k' = count (the kNN estimator
 //      of the whole sample: V(r_n)/|R| ~ Beta(n, 1), corrected stays unbiased for a uniform

@@ -1,6 +1,6 @@
 // The surface photon map (2D kNN estimate over pi r_k^2) in the renderer.
 //
-// The 2D estimators on synthetic uniform disc sets are tested in tests/photon/test_estimators.cpp
+// The 2D estimators on synthetic uniform disc sets are tested in tests/photon/estimators_test.cpp
 // (EstimatorsMonteCarlo.Disc2D); here the same order statistics are checked through the whole
 // pipeline: photon tracer -> surface map -> PhotonMapIntegrator. Every statistical check uses the
 // standard error over independent photon maps (fixed seeds).
