@@ -2,8 +2,8 @@
 
 #include "core/henyey_greenstein.h"
 #include "core/sampling.h"
-#include "render/direct_light.h"
-#include "render/path_vertex.h"
+#include "transport/direct_light.h"
+#include "transport/walk_steps.h"
 
 namespace vpm {
 

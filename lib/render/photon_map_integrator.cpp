@@ -5,8 +5,8 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "core/sampling.h"
-#include "render/direct_light.h"
-#include "render/path_vertex.h"
+#include "transport/direct_light.h"
+#include "transport/walk_steps.h"
 
 namespace vpm {
 
