@@ -19,7 +19,8 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/photon_map.h"
-#include "scene/scene.h"
+#include "analysis/builtin_scenes.h"
+#include "render/run_config.h"
 #include "photon/photon_tracer.h"
 
 namespace vpm {
@@ -154,36 +155,17 @@ std::vector<size_t> default_k_list() {
 }
 
 Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w) {
-    const double kk = double(k);
-    const double f = n > 0 ? double(n - 1) / double(n) : 1.0;   // E[1/U^2] finite-n factor
-    Theory t;
-    double mean = 0, m2 = kInfinity;
-    switch (e) {
-        case Estimator::classic:
-            mean = kk / (kk - 1.0);
-            if (k > 2) m2 = kk * (c_w + kk - 1.0) * f / ((kk - 1.0) * (kk - 2.0));
-            break;
-        case Estimator::corrected:
-            mean = 1.0;
-            if (k > 2) m2 = (c_w + kk - 2.0) * f / (kk - 2.0);
-            break;
-        case Estimator::mse_optimal: {
-            const double c = (kk - 2.0) / (kk - 1.0);
-            mean = c;
-            if (k > 2) m2 = c * c * (c_w + kk - 2.0) * f / (kk - 2.0);
-            break;
-        }
-    }
-    t.error = mean - 1.0;
-    t.variance = std::isfinite(m2) ? m2 - mean * mean : kInfinity;
-    t.mse = std::isfinite(m2) ? t.variance + t.error * t.error : kInfinity;
-    return t;
+    e.validate_k(k);
+    if (!e.entry().uniform_theory) throw Error(std::string("study: estimator ") + e.name() + " has no uniform theory");
+    return e.entry().uniform_theory(k, n, c_w);
 }
 
 Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
                          const std::function<double(double)>& mass_fraction, double r_max,
                          double phi_over_truth) {
-    validate_estimator_k(e, k);
+    e.validate_k(k);
+    if (!e.entry().unit_weight_count)
+        throw Error(std::string("study: estimator ") + e.name() + " has no quadrature theory (not a constant kernel)");
     const double kk = double(k), nn = double(n);
     const double mu = kk / (nn + 1.0);
     const double t_lo = std::log(mu) - (40.0 / std::max(1.0, kk - 2.0) + 12.0 / std::sqrt(kk));
@@ -210,9 +192,7 @@ Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
     }
     i1 *= h / 3.0;
     i2 *= h / 3.0;
-    double c = kk;
-    if (e == Estimator::corrected) c = kk - 1.0;
-    if (e == Estimator::mse_optimal) c = kk - 2.0;
+    const double c = e.entry().unit_weight_count(k);
     Theory th;
     const double mean = c * phi_over_truth * i1;
     th.error = mean - 1.0;
@@ -228,7 +208,9 @@ Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
 
 PhotonPassMap study_photon_pass_map(size_t emitted, uint64_t seed, uint64_t map_index) {
     // The same furnace the renderer's bias test uses; its truth follows from the scene itself.
-    const auto scene = Scene::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml");
+    const RunConfig config =
+        RunConfig::build(parse_config(builtin_uniform_furnace_toml(), "uniform_furnace.toml (built in)", "."));
+    const Scene* scene = config.scene.get();
     const double sigma_t = scene->media.at(0)->sigma_t(Vec3::Zero());
     const double radiance = scene->escaped_radiance(Vec3::UnitZ())[1];
     PhotonTraceSettings ts;
@@ -252,7 +234,7 @@ namespace {
 void run_photon_pass(const StudyOptions& opt, size_t kmax, size_t stride,
                      tbb::combinable<EstimatorStats>& stats, std::vector<double>& samples, size_t& trials,
                      size_t& n, const std::function<void(const std::string&)>& say) {
-    const size_t nk = opt.ks.size(), ne = kAllEstimators.size();
+    const size_t nk = opt.ks.size(), ne = Estimator::all().size();
     // Each query needs its own ball of ~k_max photons from a fresh photon pass, so this scenario
     // costs ~trials x k_max traced collisions: it takes a tenth of the trials by default.
     const size_t want = opt.photon_map_queries ? opt.photon_map_queries : std::max<size_t>(2, opt.trials / 10);
@@ -286,8 +268,8 @@ void run_photon_pass(const StudyOptions& opt, size_t kmax, size_t stride,
             }
             for (size_t ki = 0; ki < nk; ++ki)
                 for (size_t ei = 0; ei < ne; ++ei) {
-                    const Estimator e = kAllEstimators[ei];
-                    if (opt.ks[ki] < estimator_min_k(e)) continue;
+                    const Estimator e = Estimator::all()[ei];
+                    if (opt.ks[ki] < e.min_k()) continue;
                     local[q * stride + ki * ne + ei] =
                         estimate_density<double>(e, w.data(), d2.data(), found, found < kmax, opt.ks[ki], kInfinity, 3, &st)
                             .value;
@@ -328,10 +310,10 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
         throw Error("study: boundary distance must be in [0, 1]");
     res.threads = tbb::this_task_arena::max_concurrency();
     for (size_t k : opt.ks) {
-        const std::string w = estimator_warning(Estimator::corrected, k);
+        const std::string w = Estimator::named("corrected").warning(k);
         if (!w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
     }
-    const size_t nk = opt.ks.size(), ne = kAllEstimators.size(), stride = nk * ne;
+    const size_t nk = opt.ks.size(), ne = Estimator::all().size(), stride = nk * ne;
     tbb::combinable<EstimatorStats> stats;
 
     for (StudyScenario sc : opt.scenarios) {
@@ -385,8 +367,8 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
                         }
                         for (size_t ki = 0; ki < nk; ++ki)
                             for (size_t ei = 0; ei < ne; ++ei) {
-                                const Estimator e = kAllEstimators[ei];
-                                if (opt.ks[ki] < estimator_min_k(e)) continue;
+                                const Estimator e = Estimator::all()[ei];
+                                if (opt.ks[ki] < e.min_k()) continue;
                                 samples[t * stride + ki * ne + ei] =
                                     estimate_density<double>(e, w.data(), d2.data(), kmax, kmax >= n, opt.ks[ki],
                                                              kInfinity, dim, &st)
@@ -439,8 +421,8 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
                         const size_t t = m * per_map + q;
                         for (size_t ki = 0; ki < nk; ++ki)
                             for (size_t ei = 0; ei < ne; ++ei) {
-                                const Estimator e = kAllEstimators[ei];
-                                if (opt.ks[ki] < estimator_min_k(e)) continue;
+                                const Estimator e = Estimator::all()[ei];
+                                if (opt.ks[ki] < e.min_k()) continue;
                                 samples[t * stride + ki * ne + ei] =
                                     estimate_density<double>(e, w.data(), d2.data(), found, found < kmax,
                                                              opt.ks[ki], kInfinity, 3, &st)
@@ -453,8 +435,8 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
             for (size_t ki = 0; ki < nk; ++ki) {
                 const size_t k = opt.ks[ki];
                 for (size_t ei = 0; ei < ne; ++ei) {
-                    const Estimator e = kAllEstimators[ei];
-                    if (k < estimator_min_k(e)) continue;
+                    const Estimator e = Estimator::all()[ei];
+                    if (k < e.min_k()) continue;
                     StudyRow row;
                     row.scenario = scenario_name(sc);
                     row.dim = dim;
@@ -518,7 +500,7 @@ std::string study_csv(const StudyResult& r) {
     s << "scenario,dim,k,estimator,n,trials,mean_rel_error,se_mean,rel_variance,rel_mse,se_mse,"
          "theory_rel_error,theory_rel_variance,theory_rel_mse,theory_rel_variance_limit,theory_source\n";
     for (const StudyRow& row : r.rows) {
-        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << estimator_name(row.estimator) << ','
+        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << row.estimator.name() << ','
           << row.n << ',' << row.trials << ',' << fmt(row.mean_error) << ',' << fmt(row.se_mean) << ','
           << fmt(row.rel_variance) << ',' << fmt(row.rel_mse) << ',' << fmt(row.se_mse) << ',';
         if (row.has_theory)
@@ -549,7 +531,7 @@ std::string study_markdown(const StudyResult& r) {
               << "| k | estimator | rel. error +- SE | theory | rel. variance | theory | rel. MSE +- SE | theory |\n"
               << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
         }
-        s << "| " << row.k << " | " << estimator_name(row.estimator) << " | " << fmt(row.mean_error) << " +- "
+        s << "| " << row.k << " | " << row.estimator.name() << " | " << fmt(row.mean_error) << " +- "
           << fmt(row.se_mean) << " | " << (row.has_theory ? fmt(row.th_error) : "") << " | " << fmt(row.rel_variance)
           << " | " << (row.has_theory ? fmt(row.th_variance) : "") << " | " << fmt(row.rel_mse) << " +- "
           << fmt(row.se_mse) << " | " << (row.has_theory ? fmt(row.th_mse) : "") << " |\n";
@@ -564,13 +546,24 @@ std::string study_markdown(const StudyResult& r) {
 
 std::string study_summary_table(const StudyResult& r, const std::string& scenario, int dim,
                                 const std::vector<size_t>& ks) {
+    // One column per registered estimator, in registry order.
+    const std::vector<Estimator>& all = Estimator::all();
     std::ostringstream s;
-    s << "| k | classic (theory) | corrected (theory) | mse_optimal (theory) | MSE classic / corrected / mse_optimal (theory) |\n"
-      << "|---:|---|---|---|---|\n";
+    std::string names;
+    s << "| k";
+    for (const Estimator& e : all) {
+        s << " | " << e.name() << " (theory)";
+        names += (names.empty() ? "" : " / ") + std::string(e.name());
+    }
+    s << " | MSE " << names << " (theory) |\n|---:|";
+    for (size_t i = 0; i <= all.size(); ++i) s << "---|";
+    s << "\n";
     for (size_t k : ks) {
-        const StudyRow* rows[3] = {nullptr, nullptr, nullptr};
+        std::vector<const StudyRow*> rows(all.size(), nullptr);
         for (const StudyRow& row : r.rows)
-            if (row.scenario == scenario && row.dim == dim && row.k == k) rows[size_t(row.estimator)] = &row;
+            if (row.scenario == scenario && row.dim == dim && row.k == k)
+                for (size_t i = 0; i < all.size(); ++i)
+                    if (row.estimator == all[i]) rows[i] = &row;
         if (!rows[0]) continue;
         s << "| " << k;
         for (const StudyRow* row : rows) {
@@ -579,10 +572,10 @@ std::string study_summary_table(const StudyResult& r, const std::string& scenari
               << fmt_fixed(row->th_error, 4) << ")";
         }
         s << " | ";
-        for (int i = 0; i < 3; ++i)
+        for (size_t i = 0; i < rows.size(); ++i)
             if (rows[i]) s << (i ? " / " : "") << fmt_fixed(rows[i]->rel_mse, 4);
         s << " (";
-        for (int i = 0; i < 3; ++i)
+        for (size_t i = 0; i < rows.size(); ++i)
             if (rows[i]) s << (i ? " / " : "") << fmt_fixed(rows[i]->th_mse, 4);
         s << ") |\n";
     }
