@@ -68,10 +68,16 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         const bool more = done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit);
         if (done == 1 && !more) {
             result.image = std::move(image);   // one pass: the image as rendered
+            if (options.on_pass) options.on_pass(result.image, result.stats.passes.back());
             break;
         }
         if (sum.empty()) sum.assign(image.rgb.size(), 0.0);
         for (size_t i = 0; i < sum.size(); ++i) sum[i] += double(image.rgb[i]);
+        if (options.on_pass) {
+            Image mean(rs.width, rs.height);
+            for (size_t i = 0; i < sum.size(); ++i) mean.rgb[i] = float(sum[i] / double(done));
+            options.on_pass(mean, result.stats.passes.back());
+        }
         if (options.log)
             *options.log << "pass " << done << (rs.time_limit > 0 ? "" : "/" + std::to_string(rs.passes)) << ": "
                          << pass_timer.seconds() << " s, " << run_timer.seconds() << " s elapsed\n";
