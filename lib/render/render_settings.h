@@ -16,6 +16,9 @@
 //   |          |                  | is their mean; each renders spp / passes samples         |
 //   | time_limit | 0              | seconds; > 0: passes go on (beyond `passes`) while the   |
 //   |          |                  | next one is expected to end within it; 0: off            |
+//   | first_pass | 0              | index of this run's first pass: machines rendering       |
+//   |          |                  | passes 0..7 and 8..15 merge (vpm merge) into the 16-pass |
+//   |          |                  | image                                                    |
 #include <cstdint>
 #include <string>
 
@@ -33,6 +36,7 @@ struct RenderSettings {
     double exposure = 0.0;
     int passes = 1;
     double time_limit = 0.0;
+    int first_pass = 0;
     int spp_per_pass() const { return spp / passes; }
     // Reads the keys above from [render]; throws ConfigError (also for an image that cannot fit in memory).
     static RenderSettings read(Params& render);

@@ -36,14 +36,16 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     std::unique_ptr<Integrator> integrator = config.create_integrator();
     RenderStats& render = result.stats.render;
     std::vector<double> sum;   // pass images summed, for more than one pass
+    result.stats.first_pass = rs.first_pass;
     const Timer run_timer;
     for (int pass = 0;; ++pass) {
         const Timer pass_timer;
-        const uint64_t stream = options.stream_offset + uint64_t(pass) * kPassStreamStride;
+        const int index = rs.first_pass + pass;   // the pass's identity: its streams
+        const uint64_t stream = options.stream_offset + uint64_t(index) * kPassStreamStride;
         PassContext context;
         context.seed = rs.seed;
         context.stream_offset = stream;
-        context.pass = pass;
+        context.pass = pass;   // the log says what was built on this run's first pass
         context.progress = options.progress;
         context.log = options.log;
         integrator->prepare(context, result.stats);

@@ -83,6 +83,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             means.push_back(p.image_mean);
         }
         record.set("passes.count", uint64_t(stats.passes.size()));
+        record.set("passes.first", stats.first_pass);
         record.set("passes.spp_per_pass", stats.passes.front().spp);
         record.set("passes.seconds", seconds);
         record.set("passes.elapsed", elapsed);

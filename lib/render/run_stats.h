@@ -56,6 +56,7 @@ struct PassStats {
 struct RunStats {
     std::vector<PhaseStats> phases;
     std::vector<PassStats> passes;
+    int first_pass = 0;   // render.first_pass: passes are first_pass .. first_pass + passes.size() - 1
     RenderStats render;
     std::optional<PhotonPassStats> photons;            // integrators with a photon pass
     std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
