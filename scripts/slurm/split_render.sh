@@ -127,13 +127,22 @@ trap 'say "terminated (the limit is --max-seconds $max_seconds)"; exit 143' TERM
 start_rc=0
 case "$mode" in
   own)
+    # a random free port pair (runs in several checkouts at once must not collide); a port taken
+    # between the check and the bind makes the start fail: then try another, 3 times in all
     own_cluster_dir=$(mktemp -d /tmp/vpm-slurm-test.XXXXXX)
-    port=""
-    for p in $(seq 16831 10 17031); do
-      if ! port_in_use "$p" && ! port_in_use $((p + 1)); then port=$p; break; fi
+    for attempt in 1 2 3; do
+      port=""
+      for i in $(seq 1 50); do
+        p=$((20000 + 2 * (RANDOM % 5000)))
+        if ! port_in_use "$p" && ! port_in_use $((p + 1)); then port=$p; break; fi
+      done
+      [ -n "$port" ] || die "no free port pair found on 127.0.0.1 in 20000..29999"
+      start_rc=0
+      timeout 180 "$here/start_local_cluster.sh" --dir "$own_cluster_dir" --port "$port" --quiet "${install_flag[@]}" || start_rc=$?
+      [ "$start_rc" = 1 ] || break
+      say "the cluster did not start on port $port (attempt $attempt of 3)"
+      "$here/stop_local_cluster.sh" --dir "$own_cluster_dir" >/dev/null 2>&1 || true
     done
-    [ -n "$port" ] || die "no free port pair on 127.0.0.1 in 16831..17032"
-    timeout 180 "$here/start_local_cluster.sh" --dir "$own_cluster_dir" --port "$port" --quiet "${install_flag[@]}" || start_rc=$?
     export SLURM_CONF="$own_cluster_dir/slurm.conf"
     ;;
   shared)
@@ -217,7 +226,7 @@ parts=("$work"/render/part_*.exr)
 timeout 120 "$vpm" merge -q "${parts[@]}" -o "$work/merged.exr" || die "vpm merge failed"
 t1=$(now)
 render_wall=$(elapsed "$t0" "$t1")
-timeout 300 "$vpm" render "$config" -q "${config_sets[@]}" --set render.passes="$total_passes" \
+timeout 120 "$vpm" render "$config" -q "${config_sets[@]}" --set render.passes="$total_passes" \
   --set render.spp=$((total_passes * spp_per_pass)) --threads 0 -o "$work/single.exr" ||
   die "the single-machine render failed"
 t2=$(now)
@@ -246,7 +255,7 @@ wait_jobs "$ref" "$arr" "$mrg"
 t4=$(now)
 sweep_wall=$(elapsed "$t3" "$t4")
 shard_files=$(ls "$work"/sweep/runs.shard-*-of-"$tasks".csv 2>/dev/null | wc -l)
-timeout 300 "$vpm" sweep "$sweep" --out "$work/sweep_single" --threads 0 --no-plots --quiet ||
+timeout 120 "$vpm" sweep "$sweep" --out "$work/sweep_single" --threads 0 --no-plots --quiet >"$work/logs/sweep_single.log" 2>&1 ||
   die "the unsharded sweep failed"
 sweep_report=$(python3 - "$work/sweep" "$work/sweep_single" <<'PY'
 import csv, filecmp, os, sys
