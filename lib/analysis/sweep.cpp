@@ -22,6 +22,7 @@
 #include "core/progress.h"
 #include "render/image_io.h"
 #include "render/run.h"
+#include "render/run_outputs.h"
 #include "render/run_record.h"
 #include "scene/params.h"
 #include "scene/scene.h"

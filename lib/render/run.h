@@ -27,7 +27,4 @@ struct RunResult {
 
 RunResult run_scene(const Scene& scene, const RunOptions& options);
 
-// Writes OUT (EXR), its PNG preview and its JSON sidecar, each atomically. Creates OUT's folder.
-void write_run_outputs(const std::filesystem::path& output, RunResult& result, double exposure);
-
 }  // namespace vpm

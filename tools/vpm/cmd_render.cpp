@@ -7,7 +7,7 @@
 
 #include "command.h"
 #include "core/progress.h"
-#include "render/run.h"
+#include "render/run_outputs.h"
 
 namespace {
 
