@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libbenchmark-dev libnanoflann-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libpng-dev
   python3-matplotlib ccache
+  python3-openvdb   # only to regenerate tests/data/vdb/puff.vdb (make_puff.py)
 )
 
 missing=()

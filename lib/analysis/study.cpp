@@ -2,6 +2,7 @@
 #include "analysis/study.h"
 
 #include <tbb/combinable.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -326,7 +327,8 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     if (!(std::abs(opt.gradient_slope) < 1.0)) throw Error("study: gradient slope must be in (-1, 1)");
     if (!(opt.boundary_distance >= 0.0 && opt.boundary_distance <= 1.0))
         throw Error("study: boundary distance must be in [0, 1]");
-    res.threads = tbb::this_task_arena::max_concurrency();
+    // The limit --threads set (tbb::global_control), not the machine's core count.
+    res.threads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     for (size_t k : opt.ks) {
         const std::string w = estimator_warning(Estimator::corrected, k);
         if (!w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
@@ -448,7 +450,17 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
                             }
                     }
                 });
+                // Exactly the estimates asked for: the last map's grid may hold more.
+                trials = std::min(trials, want);
+                samples.resize(trials * stride);
             }
+            if (sc == StudyScenario::photon_map || sc == StudyScenario::photon_pass)
+                if (dim == opt.dims.front())
+                    res.notes.push_back(std::string(scenario_name(sc)) + ": " + std::to_string(trials) +
+                                        " estimates per k (" +
+                                        (opt.photon_map_queries ? std::string("StudyOptions::photon_map_queries")
+                                                                : sc == StudyScenario::photon_map ? "--trials / 4" : "--trials / 10") +
+                                        ", at least 2: each estimate needs its own region of a photon map)");
             // reduce and attach theory
             for (size_t ki = 0; ki < nk; ++ki) {
                 const size_t k = opt.ks[ki];

@@ -30,7 +30,8 @@ int run_render(int argc, char** argv) {
     bool quiet = false;
     app.add_option("config", config, "Scene config (TOML)")->required();
     app.add_option("-o,--output", output, "Output EXR, name ending in .exr; OUT.png and OUT.json go beside it (default: render.output from the config, else out/render.exr)");
-    app.add_option("--set", sets, "Override a config key by dotted path, e.g. media.0.sigma_t_scale=10 (repeatable)");
+    app.add_option("--set", sets, "Override a config key by dotted path, e.g. media.0.sigma_t_scale=10 (repeatable)")
+        ->allow_extra_args(false);   // one value per --set, so `--set k=v CONFIG` leaves CONFIG alone
     app.add_option("--threads", threads, "Worker threads (0: all cores; default: render.threads)")->check(CLI::Range(0, 4096));
     app.add_flag("-q,--quiet", quiet, "No progress bar or log on stderr");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;

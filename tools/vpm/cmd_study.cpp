@@ -67,7 +67,7 @@ int run_study(int argc, char** argv) {
     app.add_option("--dims", dims, "dimensions, comma-separated (2: disc / pi r^2, 3: ball / 4/3 pi r^3)")
         ->capture_default_str();
     app.add_option("--k", ks, "k values, comma-separated (default 2..256 log-spaced)");
-    app.add_option("--trials", opt.trials, "trials per scenario and dimension")->capture_default_str();
+    app.add_option("--trials", opt.trials, "trials per scenario and dimension (photon_map: a quarter, photon_pass: a tenth of them, at least 2)")->capture_default_str();
     app.add_option("--n", opt.n, "points per trial (must exceed the largest k)")->capture_default_str();
     app.add_option("--seed", opt.seed, "random seed (results are identical on any thread count)")
         ->capture_default_str();
