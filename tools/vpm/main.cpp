@@ -65,7 +65,9 @@ int main(int argc, char** argv) {
         try {
             return c.run(int(args.size()), args.data());
         } catch (const UsageError& e) {
-            std::cerr << "vpm " << c.name << ": error: " << e.what() << "\n";
+            const std::string what = e.what();
+            std::cerr << "vpm " << c.name << ": error: " << what
+                      << (what.find("--help") == std::string::npos ? " (see vpm " + c.name + " --help)" : "") << "\n";
             return kExitUsage;
         } catch (const vpm::Error& e) {
             std::cerr << "vpm " << c.name << ": error: " << e.what() << "\n";
