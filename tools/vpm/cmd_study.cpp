@@ -78,7 +78,7 @@ int run_study(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_study.py");
-    app.add_flag("--quiet", quiet, "no progress lines");
+    app.add_flag("-q,--quiet", quiet, "no progress lines");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     {
         opt.dims = parse_list<int>(dims, "--dims");

@@ -46,7 +46,7 @@ int run_merge(int argc, char** argv) {
     app.add_option("DIRS", dirs, "sweep output folders (--out of each shard)")->required()->check(CLI::ExistingDirectory);
     app.add_option("--out", out, "merged folder (default: the first DIR)");
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_sweep.py");
-    app.add_flag("--quiet", quiet, "no progress lines");
+    app.add_flag("-q,--quiet", quiet, "no progress lines");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     auto log = [quiet](const std::string& s) {
         if (!quiet) std::cerr << s << std::endl;
@@ -88,7 +88,7 @@ int run_sweep_command(int argc, char** argv) {
                  "render the references of the whole sweep and stop (before a job array shares --out)");
     app.add_flag("--dry-run", dry_run, "validate the sweep and print the plan, run nothing");
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_sweep.py");
-    app.add_flag("--quiet", quiet, "no progress lines");
+    app.add_flag("-q,--quiet", quiet, "no progress lines");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     parse_shard(shard, opt.shard, opt.shards);
     auto log = [quiet](const std::string& s) {
