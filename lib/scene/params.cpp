@@ -57,6 +57,17 @@ std::string join_parts(const std::vector<std::string>& parts, size_t n) {
     return s;
 }
 
+// Throws unless `p` is an index into an array of `n` entries, naming the valid range.
+void check_index(const std::string& where, const std::string& p, const std::string& array, size_t n) {
+    const std::string range = n ? " (0 to " + std::to_string(n - 1) + ")" : std::string();
+    if (!is_index(p))
+        throw ConfigError(where + ": '" + p + "' is not an index of '" + array + "', which has " + std::to_string(n) +
+                          " entries" + range);
+    if (p.size() > 18 || std::stoull(p) >= n)
+        throw ConfigError(where + ": index " + p + " is past the end of '" + array + "', which has " +
+                          std::to_string(n) + " entries" + range);
+}
+
 // Parses the right-hand side of --set as a TOML value; a bare word that is not TOML is a string.
 toml::table parse_override_value(const std::string& value, const std::string& where) {
     check_toml_shape("v = " + value, where);
@@ -102,10 +113,7 @@ void apply_override(ConfigDocument& doc, const std::string& assignment) {
             }
         } else if (auto* a = cur->as_array()) {
             const std::string parent = join_parts(parts, i);
-            if (!is_index(p) || std::stoull(p.substr(0, 18)) >= a->size())
-                throw ConfigError(where + ": '" + p + "' is not an entry of '" + parent + "', which has " +
-                                  std::to_string(a->size()) + " entries" +
-                                  (a->empty() ? std::string() : " (0 to " + std::to_string(a->size() - 1) + ")"));
+            check_index(where, p, parent, a->size());
             next = a->get(std::stoul(p));
         }
         if (!next || (!next->is_table() && !next->is_array()))
@@ -121,10 +129,8 @@ void apply_override(ConfigDocument& doc, const std::string& assignment) {
     } else if (auto* a = cur->as_array(); a && is_index(last) && std::stoull(last.substr(0, 18)) < a->size()) {
         a->replace(a->cbegin() + static_cast<std::ptrdiff_t>(std::stoul(last)), std::move(*value));
     } else {
-        const std::string parent = join_parts(parts, parts.size() - 1);
-        const size_t n = cur->as_array() ? cur->as_array()->size() : 0;
-        throw ConfigError(where + ": '" + last + "' is not an entry of '" + parent + "', which has " +
-                          std::to_string(n) + " entries" + (n ? " (0 to " + std::to_string(n - 1) + ")" : std::string()));
+        check_index(where, last, join_parts(parts, parts.size() - 1), cur->as_array() ? cur->as_array()->size() : 0);
+        throw ConfigError(where + ": cannot set '" + last + "' here");
     }
     doc.overridden.insert(key);
 }
@@ -150,6 +156,7 @@ void apply_base(ConfigDocument& doc, int depth) {
     if (depth > 8) throw ConfigError(where + "more than 8 nested base configs (a cycle?)");
     fs::path path(*name);
     if (path.is_relative()) path = doc.base_dir / path;
+    if (!fs::exists(path)) throw ConfigError(where + "cannot open " + path.string() + ": no such file");
     std::string text;
     try {
         text = read_config_text(path.string(), "base config");

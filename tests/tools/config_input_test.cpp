@@ -76,8 +76,8 @@ TEST(ConfigInput, SetErrorsBlameTheSet) {
     expect_error(dir, quote(dir.path / "inc.toml") + " --set render=3", {"--set render", "expected a table"});
     expect_error(dir, quote(dir.path / "inc.toml") + " --set media.-1.g=0", {"--set media.-1.g=0", "'media' has no entries"});
     expect_error(dir, quote(dir.path / "inc.toml") + " --set lights.-1.intensity=0",
-                 {"'-1' is not an entry of 'lights', which has 1 entries (0 to 0)"});
-    expect_error(dir, quote(dir.path / "inc.toml") + " --set lights.3.intensity=0", {"'3' is not an entry of 'lights'"});
+                 {"'-1' is not an index of 'lights', which has 1 entries (0 to 0)"});
+    expect_error(dir, quote(dir.path / "inc.toml") + " --set lights.3.intensity=0", {"index 3 is past the end of 'lights'"});
     expect_error(dir, quote(dir.path / "inc.toml") + " --set render.spp.x=1", {"'render.spp' is a single value"});
 }
 
