@@ -1,5 +1,5 @@
 // The fuzz_config seeds (fuzz/corpus/config) as a regression test that runs without clang: each
-// goes through parse_config + Scene::build exactly as the fuzz target does, and must either build
+// goes through parse_config + RunConfig::build exactly as the fuzz target does, and must either build
 // or fail with a vpm::Error (a message for the user), never crash or throw anything else.
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <string>
 
 #include "core/error.h"
+#include "render/run_config.h"
 #include "scene/config_file.h"
 #include "scene/params.h"
-#include "scene/scene.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;
@@ -21,8 +21,8 @@ namespace {
 // "" when it builds, else the vpm::Error message.
 std::string outcome(const std::string& text, const std::string& name) {
     try {
-        const auto scene = Scene::build(parse_config(text, name, fs::temp_directory_path()));
-        (void)scene->resolved_toml();
+        const RunConfig config = RunConfig::build(parse_config(text, name, fs::temp_directory_path()));
+        (void)config.resolved_toml();
         return "";
     } catch (const Error& e) {
         return e.what();
