@@ -2,11 +2,15 @@
 // what it leaves after a signal, and that concurrent runs leave one run's files.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/inotify.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
+#include <cstring>
 #include <cmath>
 #include <limits>
 
@@ -29,6 +33,33 @@ void expect_refused(const ScratchDir& dir, const std::string& args, const std::s
     EXPECT_EQ(o.err.rfind("vpm render: error: ", 0), 0u) << o.err;
     EXPECT_NE(o.err.find(needle), std::string::npos) << "'" << needle << "' not in: " << o.err;
     EXPECT_EQ(temporaries_in(dir.path), 0);
+}
+
+// Blocks until a file whose name contains `needle` is created in the watched folder (inotify fd).
+bool wait_for_creation(int fd, const char* needle) {
+    alignas(inotify_event) char buf[4096];
+    for (;;) {
+        const ssize_t n = ::read(fd, buf, sizeof buf);
+        if (n <= 0) return false;
+        for (ssize_t i = 0; i < n;) {
+            const auto* ev = reinterpret_cast<const inotify_event*>(buf + i);
+            if (ev->len && std::strstr(ev->name, needle)) return true;
+            i += ssize_t(sizeof(inotify_event) + ev->len);
+        }
+    }
+}
+
+// Starts `vpm render -q CONFIG -o OUT` at SIZE x SIZE pixels; stderr goes to /dev/null.
+pid_t spawn_vpm_render(const std::string& config, const std::string& out, int size) {
+    const std::string w = "render.width=" + std::to_string(size), h = "render.height=" + std::to_string(size);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        if (!::freopen("/dev/null", "w", stderr)) ::_exit(126);
+        ::execl(VPM_BINARY, VPM_BINARY, "render", "-q", config.c_str(), "-o", out.c_str(), "--set", w.c_str(), "--set",
+                h.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    return pid;
 }
 
 }  // namespace
@@ -112,7 +143,9 @@ TEST(OutputSafety, StudyOutFolderCheckedBeforeTheWork) {
 
 TEST(OutputSafety, ConcurrentRunsLeaveOneRunsFiles) {
     // Two scenes that differ only in light intensity: the sidecar says which run wrote it, and
-    // the EXR and PNG must be that run's (rendered once alone first, for comparison).
+    // the EXR and PNG must be that run's (rendered once alone first, for comparison). End to end;
+    // with the old one-file-at-a-time renames about half the runs of this test caught a mixed set,
+    // RenamesWaitForTheFolderLock below checks the mechanism deterministically.
     ScratchDir dir;
     write_file(dir.path / "a.toml", tiny_medium_scene(2.0));
     write_file(dir.path / "b.toml", tiny_medium_scene(9.0));
@@ -217,4 +250,58 @@ TEST(OutputSafety, SidecarLoadsAgainAsTheConfig) {
     auto b = nlohmann::json::parse(read_file(dir.path / "second.json"));
     b["config"]["render"]["output"] = a["config"]["render"]["output"];
     EXPECT_EQ(a["config"], b["config"]);
+}
+
+TEST(OutputSafety, SigtermWhileVpmWritesLeavesNoTemporary) {
+    // The real binary: inotify wakes the test the moment vpm creates its first temporary (the
+    // EXR of a 1024x1024 image, whose ZIP encoding alone takes far longer than a signal needs to
+    // arrive), and the test sends SIGTERM at once. No sleeps, no polling.
+    ScratchDir dir;
+    write_file(dir.path / "s.toml", tiny_medium_scene());
+    const fs::path out_dir = dir.path / "out";
+    fs::create_directories(out_dir);
+    const int fd = ::inotify_init1(IN_CLOEXEC);
+    ASSERT_GE(fd, 0);
+    ASSERT_GE(::inotify_add_watch(fd, out_dir.c_str(), IN_CREATE), 0);
+    const std::string out = (out_dir / "big.exr").string();
+    const pid_t pid = spawn_vpm_render(dir.file("s.toml"), out, 1024);
+    ASSERT_GT(pid, 0);
+    const bool signalled = wait_for_creation(fd, ".tmp-");
+    if (signalled) ::kill(pid, SIGTERM);
+    ::close(fd);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(signalled);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "vpm finished before the signal arrived (exit "
+                                     << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << ")";
+    EXPECT_EQ(WTERMSIG(status), SIGTERM);
+    EXPECT_EQ(temporaries_in(dir.path), 0);
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(OutputSafety, RenamesWaitForTheFolderLock) {
+    // A reader holding the folder's lock (as README tells readers to) sees no file of a run
+    // replaced until it lets go, even once all three temporaries are written; then all three
+    // appear. Deterministic: inotify reports the sidecar's temporary, the last one staged.
+    ScratchDir dir;
+    write_file(dir.path / "s.toml", tiny_medium_scene());
+    const fs::path out_dir = dir.path / "out";
+    fs::create_directories(out_dir);
+    const int lock = ::open(out_dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    ASSERT_GE(lock, 0);
+    ASSERT_EQ(::flock(lock, LOCK_EX), 0);
+    const int fd = ::inotify_init1(IN_CLOEXEC);
+    ASSERT_GE(fd, 0);
+    ASSERT_GE(::inotify_add_watch(fd, out_dir.c_str(), IN_CREATE), 0);
+    const pid_t pid = spawn_vpm_render(dir.file("s.toml"), (out_dir / "r.exr").string(), 16);
+    ASSERT_GT(pid, 0);
+    const bool staged = wait_for_creation(fd, "r.json.tmp-");
+    ::close(fd);
+    EXPECT_TRUE(staged);
+    for (const char* f : {"r.exr", "r.png", "r.json"}) EXPECT_FALSE(fs::exists(out_dir / f)) << f << " replaced under the lock";
+    ::close(lock);   // releases the lock
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+    for (const char* f : {"r.exr", "r.png", "r.json"}) EXPECT_TRUE(fs::is_regular_file(out_dir / f)) << f;
 }
