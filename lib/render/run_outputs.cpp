@@ -24,7 +24,7 @@ fs::path folder_of(const fs::path& output) {
 
 }  // namespace
 
-void check_run_outputs(const fs::path& output) {
+void check_run_outputs(const fs::path& output, const std::vector<fs::path>& extra) {
     std::string ext = output.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (ext != ".exr")
@@ -34,7 +34,9 @@ void check_run_outputs(const fs::path& output) {
                         sidecar_path_for(output).filename().string() + ")");
     // The folder first: a missing one is created here, before the work, not after it.
     prepare_output_folder(folder_of(output));
-    for (const fs::path& p : {output, preview_path_for(output), sidecar_path_for(output)}) {
+    std::vector<fs::path> all = {output, preview_path_for(output), sidecar_path_for(output)};
+    all.insert(all.end(), extra.begin(), extra.end());
+    for (const fs::path& p : all) {
         check_output_file(p);
         prepare_output_folder(folder_of(resolve_output_target(p)));   // a symlink may lead elsewhere
     }
@@ -47,8 +49,11 @@ size_t count_nonfinite_pixels(const Image& image) {
     return n;
 }
 
-void write_run_outputs(const fs::path& output, RunResult& result, double exposure) {
-    check_run_outputs(output);
+void write_run_outputs(const fs::path& output, RunResult& result, double exposure,
+                       const std::vector<std::pair<fs::path, std::string>>& extra_text) {
+    std::vector<fs::path> extra;
+    for (const auto& [path, text] : extra_text) extra.push_back(path);
+    check_run_outputs(output, extra);
     const Timer timer;
     // The final image, not the samples: finite samples can still sum to an Inf pixel.
     result.record.set("render.nonfinite_pixels", uint64_t(count_nonfinite_pixels(result.image)));
@@ -60,6 +65,7 @@ void write_run_outputs(const fs::path& output, RunResult& result, double exposur
     result.record.set("output.png", preview_path_for(output).string());
     result.record.set("peak_rss_bytes", peak_rss_bytes());
     files.push_back(stage_text(sidecar_path_for(output), result.record.dump(2) + "\n"));
+    for (const auto& [path, text] : extra_text) files.push_back(stage_text(path, text));
     commit_together(files);
 }
 

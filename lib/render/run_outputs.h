@@ -6,6 +6,9 @@
 // OUT leave a set that comes from one run; symlinks are written through; special files are refused.
 #include <cstddef>
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "render/image.h"
 #include "render/run.h"
@@ -14,13 +17,16 @@ namespace vpm {
 
 // Before any work: checks that OUT ends in .exr, that none of the three files is a folder,
 // device, FIFO or socket, and creates OUT's folder and proves it writable. Throws FileError.
-void check_run_outputs(const std::filesystem::path& output);
+// `extra` are further files of the run (e.g. OUT.passes.csv), checked the same way.
+void check_run_outputs(const std::filesystem::path& output, const std::vector<std::filesystem::path>& extra = {});
 
 // Pixels with a NaN or Inf in any channel.
 size_t count_nonfinite_pixels(const Image& image);
 
-// Records render.nonfinite_pixels and the write phase, then writes OUT, its PNG preview and its
-// JSON sidecar (see above). Creates OUT's folder. Throws FileError.
-void write_run_outputs(const std::filesystem::path& output, RunResult& result, double exposure);
+// Records render.nonfinite_pixels and the write phase, then writes OUT, its PNG preview, its
+// JSON sidecar and the `extra_text` files (path, contents) as one set (see above). Creates OUT's
+// folder. Throws FileError.
+void write_run_outputs(const std::filesystem::path& output, RunResult& result, double exposure,
+                       const std::vector<std::pair<std::filesystem::path, std::string>>& extra_text = {});
 
 }  // namespace vpm

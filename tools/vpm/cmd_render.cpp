@@ -1,5 +1,7 @@
 // vpm render CONFIG [-o OUT.exr] [--set KEY=VALUE]... [--threads N] [--quiet]
+#include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
@@ -8,6 +10,10 @@
 #include "arguments.h"
 #include "command.h"
 #include "core/progress.h"
+#include "analysis/error_metrics.h"
+#include "core/error.h"
+#include "render/image_io.h"
+#include "render/run.h"
 #include "render/run_outputs.h"
 
 namespace {
@@ -34,6 +40,11 @@ int run_render(int argc, char** argv) {
         ->allow_extra_args(false);   // one value per --set, so `--set k=v CONFIG` leaves CONFIG alone
     app.add_option("--threads", threads, "Worker threads (0: all cores; default: render.threads)")->check(CLI::Range(0, 4096));
     app.add_flag("-q,--quiet", quiet, "No progress bar or log on stderr");
+    std::string reference;
+    app.add_option("--reference", reference,
+                   "Reference EXR: after every pass, write the error of the mean so far against it to OUT.passes.csv "
+                   "(pass, spp, elapsed seconds, relative RMSE, relative mean error)")
+        ->check(CLI::ExistingFile);
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
 
     // Command-line settings go through the same validation as the file and end up in the
@@ -49,7 +60,10 @@ int run_render(int argc, char** argv) {
     const vpm::RenderSettings& render = run_config.render;
     const double load_seconds = load_timer.seconds();
     // Before the work: a run that cannot write its outputs fails now, not after the render.
-    vpm::check_run_outputs(render.output);
+    std::filesystem::path passes_path = render.output;
+    passes_path.replace_extension(".passes.csv");
+    if (!reference.empty()) vpm::check_run_outputs(render.output, {passes_path});
+    else vpm::check_run_outputs(render.output);
     const int n_threads = render.threads > 0 ? render.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
 
@@ -61,12 +75,40 @@ int run_render(int argc, char** argv) {
     vpm::RunOptions options;
     options.progress = !quiet;
     options.log = log;
+    std::ostringstream passes_csv;
+    vpm::RunError last_error;
+    if (!reference.empty()) {
+        const vpm::Image ref = vpm::read_exr(reference);
+        if (ref.width != render.width || ref.height != render.height)
+            throw vpm::Error(reference + ": reference is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
+                             ", the render " + std::to_string(render.width) + "x" + std::to_string(render.height));
+        passes_csv.precision(9);
+        passes_csv << "pass,spp,elapsed_s,rel_rmse,rel_mean_error\n";
+        int pass = 0, spp = 0;
+        options.on_pass = [&passes_csv, &last_error, ref, pass, spp](const vpm::Image& mean, const vpm::PassStats& p) mutable {
+            last_error = vpm::run_error(mean, ref);
+            spp += p.spp;
+            passes_csv << ++pass << ',' << spp << ',' << p.elapsed << ',' << last_error.rel_rmse << ','
+                       << last_error.rel_mean_error << '\n';
+        };
+    }
     vpm::RunResult result = vpm::run(run_config, options);
+    if (!reference.empty()) {
+        result.record.set("reference.file", reference);
+        result.record.set("reference.rel_rmse", last_error.rel_rmse);
+        result.record.set("reference.rel_mean_error", last_error.rel_mean_error);
+    }
     result.record.phase("load", load_seconds);
     result.record.set("threads", n_threads);
     std::vector<std::string> args(argv, argv + argc);
     result.record.set("command_line", args);
-    vpm::write_run_outputs(render.output, result, render.exposure);
+    // The passes table is one of the run's files: committed together with the image and sidecar.
+    std::vector<std::pair<std::filesystem::path, std::string>> extra;
+    if (!reference.empty()) extra.emplace_back(passes_path, passes_csv.str());
+    vpm::write_run_outputs(render.output, result, render.exposure, extra);
+    if (!reference.empty() && log)
+        *log << "error against " << reference << ": rel RMSE " << last_error.rel_rmse << " after "
+             << result.stats.passes.size() << " pass(es); per pass in " << passes_path.string() << "\n";
     if (log) *log << "wrote " << render.output << " (+ .png, .json)\n";
     if (const size_t bad = vpm::count_nonfinite_pixels(result.image))
         std::cerr << "vpm render: warning: " << bad << " of " << size_t(result.image.width) * size_t(result.image.height)
