@@ -27,6 +27,7 @@ TEST(CliErrors, BadCommandLinesGiveOneLineAndExitCode2) {
         {"bench nope", "vpm bench: error: "},
         {"bench equal-time --size 12", "vpm bench: error: "},
         {"make-media --bogus", "vpm make-media: error: "},
+        {"merge", "vpm merge: error: "},
         {"no-such-command", "vpm: error: "},
         {"", "vpm: error: "},
     };

@@ -102,6 +102,25 @@ TEST(OutputSafety, FifoAndFolderAreRefused) {
     EXPECT_FALSE(fs::exists(dir.path / "x.exr"));
 }
 
+TEST(OutputSafety, PassesTableIsPartOfTheRunsFiles) {
+    // --reference adds OUT.passes.csv: checked before the work and written with the others.
+    ScratchDir dir;
+    write_file(dir.path / "s.toml", tiny_medium_scene());
+    Outcome o = run_vpm("render -q " + quote(dir.path / "s.toml") + " -o " + quote(dir.path / "ref.exr"), dir.path);
+    ASSERT_EQ(o.code, 0) << o.err;
+    fs::create_directories(dir.path / "r.passes.csv");
+    expect_refused(dir, quote(dir.path / "s.toml") + " --reference " + quote(dir.path / "ref.exr") + " -o " +
+                            quote(dir.path / "r.exr"),
+                   "r.passes.csv");
+    EXPECT_FALSE(fs::exists(dir.path / "r.exr"));
+    fs::remove(dir.path / "r.passes.csv");
+    o = run_vpm("render -q " + quote(dir.path / "s.toml") + " --reference " + quote(dir.path / "ref.exr") + " -o " +
+                    quote(dir.path / "r.exr"),
+                dir.path);
+    ASSERT_EQ(o.code, 0) << o.err;
+    EXPECT_NE(read_file(dir.path / "r.passes.csv").find("pass,spp,elapsed_s"), std::string::npos);
+}
+
 TEST(OutputSafety, SymlinkIsWrittenThrough) {
     ScratchDir dir;
     write_file(dir.path / "s.toml", tiny_medium_scene());
