@@ -68,6 +68,11 @@ TEST(VdbIo, SharedSmokeSampleLoads) {
     // /work/wt/<name> finds it two levels up instead.
     std::string path = VPM_SHARED_DIR "/samples/smoke.vdb";
     if (!fs::exists(path)) path = VPM_SOURCE_DIR "/../../shared/samples/smoke.vdb";
+    // Not part of the repository (unknown license, tests/data/vdb/README.md): a plain clone skips
+    // this test; VdbThirdParty.PuffWrittenByPyopenvdbLoads covers a VDB written by another tool.
+    if (!fs::exists(path))
+        GTEST_SKIP() << "../shared/samples/smoke.vdb is absent (it is not redistributed with the repository; "
+                        "see tests/data/vdb/README.md)";
     const auto grids = list_vdb_grids(path);
     ASSERT_FALSE(grids.empty());
     for (const auto& g : grids) std::cout << "[smoke.vdb] grid '" << g.name << "' (" << g.type << ")\n";
