@@ -214,8 +214,8 @@ namespace grid_detail {
 
 // 3D DDA over a lattice of n cells per axis, cell width h (a power of two, so the scalings are
 // exact), lower corner `base`, along the index-space line o + t d for t in [ta, tb] (the caller
-// has clipped [ta, tb] to the lattice). Calls visit(cell, t_enter, t_exit) for each cell crossed,
-// in order; returns false as soon as visit does, true when the walk reached tb or left the lattice.
+// has clipped [ta, tb] to the lattice). Calls visit(cell, t_enter, t_exit) for consecutive pieces
+// covering [ta, tb], in order; returns false as soon as visit does, true when it reached tb.
 template <class Visit>
 inline bool dda(const Vec3& o, const Vec3& d, const Vec3& base, double h, const Vec3i& n, double ta, double tb,
                 Visit&& visit) {
@@ -247,7 +247,13 @@ inline bool dda(const Vec3& o, const Vec3& d, const Vec3& base, double h, const 
         if (t_exit >= tb) return true;
         t = t_exit;
         cell[a] += step[a];
-        if (cell[a] < 0 || cell[a] >= n[a]) return true;
+        if (cell[a] < 0 || cell[a] >= n[a]) {
+            // [ta, tb] lies inside the lattice, so this is rounding at its last face: the last
+            // cell takes the rest up to tb (the pieces always cover [ta, tb] without gaps).
+            cell[a] -= step[a];
+            t_next[a] = kInfinity;
+            continue;
+        }
         // Recomputed from the origin each step, so no drift accumulates along long rays.
         t_next[a] = (cell[a] + (step[a] > 0 ? 1 : 0) - qo[a]) * inv_qd[a];
     }
