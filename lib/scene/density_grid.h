@@ -216,24 +216,26 @@ namespace grid_detail {
 // exact), lower corner `base`, along the index-space line o + t d for t in [ta, tb] (the caller
 // has clipped [ta, tb] to the lattice). Calls visit(cell, t_enter, t_exit) for consecutive pieces
 // covering [ta, tb], in order; returns false as soon as visit does, true when it reached tb.
+// inv_d = 1 / d per axis (computed once per ray: the walks nest, and divisions are what a DDA
+// setup costs).
 template <class Visit>
-inline bool dda(const Vec3& o, const Vec3& d, const Vec3& base, double h, const Vec3i& n, double ta, double tb,
-                Visit&& visit) {
+inline bool dda(const Vec3& o, const Vec3& d, const Vec3& inv_d, const Vec3& base, double h, const Vec3i& n, double ta,
+                double tb, Visit&& visit) {
     const double inv_h = 1.0 / h;
     double qo[3], qd[3], inv_qd[3], t_next[3];
     int cell[3], step[3];
     for (int a = 0; a < 3; ++a) {
         qo[a] = (o[a] - base[a]) * inv_h;
         qd[a] = d[a] * inv_h;
-        inv_qd[a] = 1.0 / qd[a];
+        inv_qd[a] = inv_d[a] * h;
         const double q = qo[a] + ta * qd[a];   // entry cell, clamped against rounding
         cell[a] = std::min(std::max(static_cast<int>(std::floor(q)), 0), n[a] - 1);
         if (qd[a] > 0.0) {
             step[a] = 1;
-            t_next[a] = (cell[a] + 1 - qo[a]) / qd[a];
+            t_next[a] = (cell[a] + 1 - qo[a]) * inv_qd[a];
         } else if (qd[a] < 0.0) {
             step[a] = -1;
-            t_next[a] = (cell[a] - qo[a]) / qd[a];
+            t_next[a] = (cell[a] - qo[a]) * inv_qd[a];
         } else {
             step[a] = 0;
             t_next[a] = kInfinity;
@@ -260,7 +262,8 @@ inline bool dda(const Vec3& o, const Vec3& d, const Vec3& base, double h, const 
 }
 
 // Clips [t0, t1] of o + t d against the box [lo, hi]; false when nothing is left (or NaN).
-inline bool clip_line(const Bounds3& box, const Vec3& o, const Vec3& d, double t0, double t1, double& ta, double& tb) {
+inline bool clip_line(const Bounds3& box, const Vec3& o, const Vec3& d, const Vec3& inv_d, double t0, double t1,
+                      double& ta, double& tb) {
     ta = t0;
     tb = t1;
     for (int a = 0; a < 3; ++a) {
@@ -269,7 +272,7 @@ inline bool clip_line(const Bounds3& box, const Vec3& o, const Vec3& d, double t
             if (!(o[a] >= lo && o[a] <= hi)) return false;
             continue;
         }
-        const double inv = 1.0 / d[a];
+        const double inv = inv_d[a];
         double tn = (lo - o[a]) * inv, tf = (hi - o[a]) * inv;
         if (tn > tf) std::swap(tn, tf);
         ta = std::max(ta, tn);
@@ -283,11 +286,12 @@ inline bool clip_line(const Bounds3& box, const Vec3& o, const Vec3& d, double t
 template <class Visit>
 int DensityGrid::traverse_fine(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const {
     if (blocks_.empty() || active_bounds_.empty()) return 0;
+    const Vec3 inv_d = d.cwiseInverse();
     double ta, tb;
-    if (!grid_detail::clip_line(active_bounds_, o, d, t0, t1, ta, tb)) return 0;
+    if (!grid_detail::clip_line(active_bounds_, o, d, inv_d, t0, t1, ta, tb)) return 0;
     int steps = 0;
     const Vec3 base = (block_lo_ * kDim).cast<double>();
-    grid_detail::dda(o, d, base, double(kDim), nblocks_, ta, tb, [&](const int* c, double a, double b) {
+    grid_detail::dda(o, d, inv_d, base, double(kDim), nblocks_, ta, tb, [&](const int* c, double a, double b) {
         ++steps;
         const size_t i = block_index(c[0], c[1], c[2]);
         const float m = majorant_[i];
@@ -307,7 +311,7 @@ int DensityGrid::traverse_fine(const Vec3& o, const Vec3& d, double t0, double t
         }
         const float* sm = sub_majorant_.data() + static_cast<size_t>(sub) * 64;
         const int lo[3] = {s.lo[0], s.lo[1], s.lo[2]};
-        return grid_detail::dda(o, d, Vec3(lo[0], lo[1], lo[2]), 2.0, Vec3i(4, 4, 4), a, b,
+        return grid_detail::dda(o, d, inv_d, Vec3(lo[0], lo[1], lo[2]), 2.0, Vec3i(4, 4, 4), a, b,
                                 [&](const int* q, double a2, double b2) {
                                     ++steps;
                                     const float mm = sm[(q[0] * 4 + q[1]) * 4 + q[2]];

@@ -52,6 +52,8 @@ struct TrilinearRayField {
 
     TrilinearRayField(const DensityGrid& g, const Eigen::Affine3d& world_to_index, const Ray& ray)
         : grid(g), o(world_to_index * ray.origin), d(world_to_index.linear() * ray.dir), cells_per_t(d.lpNorm<1>()) {}
+    // Only the closed form's cell walk needs it, which most rays never take.
+    Vec3 inv_d() const { return d.cwiseInverse(); }
 
     template <class V>
     int walk(double t0, double t1, V&& visit) const {
@@ -68,7 +70,7 @@ struct TrilinearRayField {
     template <class V>
     bool cells(const Segment& s, TrackingStats& st, V&& visit) const {
         const Vec3 lo(s.lo[0], s.lo[1], s.lo[2]);
-        return grid_detail::dda(o, d, lo, 1.0, Vec3i::Constant(s.size), s.ta, s.tb, [&](const int* c, double a, double b) {
+        return grid_detail::dda(o, d, inv_d(), lo, 1.0, Vec3i::Constant(s.size), s.ta, s.tb, [&](const int* c, double a, double b) {
             ++st.cells;
             const int x = s.lo[0] + c[0], y = s.lo[1] + c[1], z = s.lo[2] + c[2];
             double v[8];
