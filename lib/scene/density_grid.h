@@ -18,9 +18,11 @@
 // - Sub-block level, for blocks whose stencil is not constant: 4^3 sub-blocks of 2^3 voxel
 //   cells each; sub-block s covers [8B+2s, 8B+2s+2]^3 and its majorant is the max of the 27
 //   voxels 8B+2s .. 8B+2s+2 that trilinear interpolation reads there (the trilinear weights are
-//   convex, so that max bounds every value in the closed region). No ring: lookups made under a
-//   sub-block majorant clamp the point into the closed region first (density_in), which only
-//   undoes rounding of o + t d (the DDA put t in that region).
+//   convex, so that max bounds every value in the closed region). No ring: lookups clamp the
+//   point into the block's closed region first (density_in), which only undoes rounding of
+//   o + t d (the DDA put t in that block). Tracking uses them to thin the block majorant's
+//   tentative collisions before any density lookup (majorant_tracking.h), which costs no DDA
+//   steps at the sub-block level.
 // - Blocks whose own value and all 26 neighbours are one constant c are flagged uniform: the
 //   density is exactly c throughout their region, so tracking can use closed forms there.
 //
@@ -127,31 +129,44 @@ public:
     template <class Visit>
     int traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const;
 
-    // One piece of the two-level majorant walk: the line parameter interval [ta, tb], a majorant
-    // of the density over it, and the closed index-space region [lo, lo + size]^3 it lies in
-    // (size 8: a block, size 2: a sub-block). uniform: the density is exactly `majorant` there.
+    // One piece of the majorant walk: the line parameter interval [ta, tb] inside one block, the
+    // block's majorant of the density over it, and the block's closed index-space region
+    // [lo, lo + 8]^3. uniform: the density is exactly `majorant` there. sub: the block's 64
+    // sub-block majorants (null if it has none), for local_majorant().
     struct Segment {
         double ta, tb;
         double majorant;
         bool uniform;
-        int size;
+        const float* sub;
         int lo[3];
     };
-    // Walks the two-level majorant grid along o + t d, t in [t0, t1]: blocks with majorant 0 are
-    // stepped over without a call, blocks with sub-block majorants are refined into their
-    // sub-blocks (sub-blocks with majorant 0 skipped too). Calls visit(const Segment&) in order of
-    // t; stops when it returns false. Returns the number of DDA steps taken (blocks + sub-blocks).
+    // Walks the block majorant grid along o + t d, t in [t0, t1], clipped to active_bounds():
+    // blocks with majorant 0 are stepped over without a call. Calls visit(const Segment&) in order
+    // of t; stops when it returns false. Returns the number of DDA steps taken.
     template <class Visit>
     int traverse_fine(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const;
 
+    // p clamped into the segment's closed block region. The walk put the parameter t in that
+    // region; clamping only undoes rounding of o + t d, and keeps lookups under the segment's
+    // majorants exactly (sub-block majorants have no ring).
+    static Vec3 clamp_to(const Vec3& p, const Segment& s) {
+        Vec3 q;
+        for (int a = 0; a < 3; ++a) q[a] = std::min(std::max(p[a], double(s.lo[a])), double(s.lo[a] + kDim));
+        return q;
+    }
+    // A majorant of density_in(p, s) at this one point: the majorant of the sub-block holding the
+    // clamped p (sub-block s covers [2s, 2s + 2] of the block; on a shared face both bound it).
+    double local_majorant(const Vec3& p, const Segment& s) const {
+        if (!s.sub) return s.majorant;
+        const Vec3 q = clamp_to(p, s);
+        int i[3];
+        for (int a = 0; a < 3; ++a) i[a] = std::min(static_cast<int>((q[a] - s.lo[a]) * 0.5), 3);
+        return s.sub[(i[0] * 4 + i[1]) * 4 + i[2]];
+    }
     // density(p) with p first clamped into the segment's closed region. The walk put the
     // parameter t in that region; clamping only undoes rounding of o + t d, and keeps the lookup
     // under the segment's majorant exactly (sub-block majorants have no ring).
-    double density_in(const Vec3& p, const Segment& s) const {
-        Vec3 q;
-        for (int a = 0; a < 3; ++a) q[a] = std::min(std::max(p[a], double(s.lo[a])), double(s.lo[a] + s.size));
-        return density(q);
-    }
+    double density_in(const Vec3& p, const Segment& s) const { return density(clamp_to(p, s)); }
 
     // The 8 voxels of the cell with lower corner (x, y, z), as v[dx*4 + dy*2 + dz] (0 outside).
     void stencil(int x, int y, int z, double v[8]) const {
@@ -298,32 +313,15 @@ int DensityGrid::traverse_fine(const Vec3& o, const Vec3& d, double t0, double t
         if (!(m > 0.0f)) return true;
         const int32_t sub = sub_[i];
         Segment s;
+        s.ta = a;
+        s.tb = b;
+        s.majorant = m;
+        s.uniform = (sub == kUniform);
+        s.sub = sub >= 0 ? sub_majorant_.data() + static_cast<size_t>(sub) * 64 : nullptr;
         s.lo[0] = (block_lo_.x() + c[0]) * kDim;
         s.lo[1] = (block_lo_.y() + c[1]) * kDim;
         s.lo[2] = (block_lo_.z() + c[2]) * kDim;
-        if (sub < 0) {
-            s.ta = a;
-            s.tb = b;
-            s.majorant = m;
-            s.uniform = (sub == kUniform);
-            s.size = kDim;
-            return bool(visit(static_cast<const Segment&>(s)));
-        }
-        const float* sm = sub_majorant_.data() + static_cast<size_t>(sub) * 64;
-        const int lo[3] = {s.lo[0], s.lo[1], s.lo[2]};
-        return grid_detail::dda(o, d, inv_d, Vec3(lo[0], lo[1], lo[2]), 2.0, Vec3i(4, 4, 4), a, b,
-                                [&](const int* q, double a2, double b2) {
-                                    ++steps;
-                                    const float mm = sm[(q[0] * 4 + q[1]) * 4 + q[2]];
-                                    if (!(mm > 0.0f)) return true;
-                                    s.ta = a2;
-                                    s.tb = b2;
-                                    s.majorant = mm;
-                                    s.uniform = false;
-                                    s.size = 2;
-                                    for (int k = 0; k < 3; ++k) s.lo[k] = lo[k] + 2 * q[k];
-                                    return bool(visit(static_cast<const Segment&>(s)));
-                                });
+        return bool(visit(static_cast<const Segment&>(s)));
     });
     return steps;
 }

@@ -12,6 +12,9 @@
 //       each with majorant >= the density everywhere on it (pieces with majorant 0 may be left
 //       out); stops when visit returns false; returns the walk's step count (for statistics).
 //   double density(const Segment& s, double t) const;   // density at t, t in [s.ta, s.tb]
+//   double local_majorant(const Segment& s, double t) const;
+//       a bound on density(s, t) at this t, <= s.majorant and cheaper than density() (e.g. a finer
+//       level of majorants); may simply return s.majorant
 //   static constexpr bool kHasExact;
 //   and, when kHasExact (a closed-form optical depth is available on some segments):
 //   double exact_cost(const Segment& s) const;
@@ -29,7 +32,9 @@
 //   depth, transmittance exp(-tau), no null collisions at all; this is what keeps the cost per
 //   path bounded as the density grows;
 // - otherwise delta tracking (free flights) or ratio tracking (transmittance) against the
-//   segment's majorant.
+//   segment's majorant, whose tentative collisions are first thinned by the local majorant:
+//   a density lookup happens only at the points of the finer majorant process (mu_loc / mu of
+//   them), so lookups follow the finer majorant while the walk steps only over segments.
 // Both are exact, and mixing them along a ray is too: the free flight carries one exponential
 // optical-depth budget E through the closed-form segments (memoryless: after a segment of depth
 // tau without a collision, E - tau is again a unit exponential), and the transmittance is a
@@ -47,11 +52,13 @@ namespace vpm {
 // Work done by tracking calls (for tests and benchmarks).
 struct TrackingStats {
     int64_t blocks = 0;    // majorant-walk steps (DDA cells at both levels)
-    int64_t lookups = 0;   // point density lookups (tentative collisions of delta / ratio tracking)
+    int64_t tentative = 0; // tentative collisions of delta / ratio tracking against segment majorants
+    int64_t lookups = 0;   // point density lookups (the tentative collisions left after thinning)
     int64_t cells = 0;     // voxel cells whose optical depth was integrated in closed form
     int64_t exact = 0;     // segments handled in closed form
     void add(const TrackingStats& o) {
         blocks += o.blocks;
+        tentative += o.tentative;
         lookups += o.lookups;
         cells += o.cells;
         exact += o.exact;
@@ -115,8 +122,13 @@ double sample_free_flight(const Field& f, double scale, double t0, double t1, Rn
             t = tn > t ? tn : std::nextafter(t, kInfinity);   // always advance (rounding at huge t)
             Em = -1.0;
             if (!(t < s.tb)) return true;
+            ++st.tentative;
+            // Real with probability sigma_t / mu. sigma_t <= scale * local majorant, so a point
+            // with u * mu above that is a null collision whatever the density: no lookup.
+            const double u = rng.uniform() * mu;
+            if (!(u < scale * f.local_majorant(s, t))) continue;
             ++st.lookups;
-            if (rng.uniform() * mu < scale * f.density(s, t)) {   // else a null collision
+            if (u < scale * f.density(s, t)) {   // else a null collision
                 result = t;
                 return false;
             }
@@ -164,8 +176,17 @@ double transmittance(const Field& f, double scale, double t0, double t1, Rng& rn
             t = tn > t ? tn : std::nextafter(t, kInfinity);
             Em = -1.0;
             if (!(t < s.tb)) return true;
+            ++st.tentative;
+            // Ratio tracking against the finer majorant mu_loc <= mu, whose process is this one
+            // thinned with probability mu_loc / mu: the expected factor is 1 - sigma_t / mu either way.
+            double mu_loc = mu;
+            const double m_loc = f.local_majorant(s, t);
+            if (m_loc < s.majorant) {
+                mu_loc = scale * m_loc;
+                if (!(rng.uniform() * mu < mu_loc)) continue;
+            }
             ++st.lookups;
-            T *= std::max(0.0, 1.0 - scale * f.density(s, t) / mu);   // sigma_t <= mu up to rounding
+            T *= std::max(0.0, 1.0 - scale * f.density(s, t) / mu_loc);   // sigma_t <= mu_loc up to rounding
             if (!roulette()) return false;
         }
     });
