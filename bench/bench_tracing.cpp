@@ -8,9 +8,11 @@
 //   BM_MediumWalk/T/S       the photon random walk inside the medium (free flights, albedo
 //                           roulette, HG scattering; no surfaces, no storing) started by the spot
 //                           light's rays, at sigma_t_scale S (40 = the default scene): real
-//                           collisions/s and, per real collision, density lookups (tentative
-//                           collisions), voxel cells integrated in closed form, and their sum
-//                           ("evaluations": each reads one 8-voxel stencil). T = 0: the current
+//                           collisions/s and, per real collision, tentative collisions of delta
+//                           tracking, density lookups (the tentative collisions that survive
+//                           thinning by the sub-block majorants), voxel cells integrated in
+//                           closed form, lookups + cells ("evals": each reads one 8-voxel
+//                           stencil) and majorant-walk DDA steps. T = 0: the current
 //                           tracker (lib/scene/majorant_tracking.h); T = 1: the tracker before
 //                           issue 12 (delta tracking against the 8^3-block majorants only), kept
 //                           here as the baseline so before/after run interleaved in one process.
@@ -164,6 +166,7 @@ void BM_MediumWalk(benchmark::State& state) {
     }
     const double r = real ? double(real) : 1.0;
     state.counters["collisions/s"] = benchmark::Counter(double(real), benchmark::Counter::kIsRate);
+    state.counters["tentative/collision"] = double(legacy ? st.lookups : st.tentative) / r;
     state.counters["lookups/collision"] = double(st.lookups) / r;
     state.counters["cells/collision"] = double(st.cells) / r;
     state.counters["evals/collision"] = double(st.lookups + st.cells) / r;

@@ -184,7 +184,7 @@ std::vector<CellSpec> specs(bool quick) {
     // One extremely dense voxel in near-vacuum (OpenVDB grid written by the tool).
     {
         CellSpec s{"dense voxel", "1e6 in 1e-6", "dense_voxel.toml", {}, Ref::path};
-        s.note = "64^3 grid; per-block majorants keep the tracking cost local";
+        s.note = "64^3 grid; local majorants and the closed-form optical depth keep the tracking cost bounded";
         v.push_back(s);
     }
     // Grid media at stiff densities (issue 12), each with both integrators: the default plume at
