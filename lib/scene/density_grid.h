@@ -27,8 +27,9 @@
 //   density is exactly c throughout their region, so tracking can use closed forms there.
 //
 // Exact optical depth: inside one voxel cell [i, i+1]^3 the trilinear field along a line is a
-// cubic in the line parameter; cell_poly() gives it in Bernstein form (non-negative coefficients
-// when the voxels are), whose integral and its inverse are cheap (see majorant_tracking.h).
+// cubic in the line parameter; stencil() gives the cell's 8 voxels and
+// tracking::trilinear_along() (majorant_tracking.h) the cubic in Bernstein form (non-negative
+// coefficients when the voxels are), whose integral and its inverse are cheap.
 //
 // After finalize() the object is immutable: every query is const, allocation-free and thread-safe.
 #include <algorithm>
@@ -103,7 +104,7 @@ public:
     // Index-space box outside which density() is exactly 0: (data_lo - 1, data_hi + 1).
     const Bounds3& index_bounds() const { return index_bounds_; }
     // A tighter such box: the union of the regions of blocks with a non-zero majorant, within
-    // index_bounds() (empty when the grid is 0 everywhere). traverse_fine clips to it first.
+    // index_bounds() (empty when the grid is 0 everywhere). walk_segments clips to it first.
     const Bounds3& active_bounds() const { return active_bounds_; }
     // Block range of the majorant grid: blocks block_lo() .. block_lo() + block_count() - 1.
     const Vec3i& block_lo() const { return block_lo_; }
@@ -125,7 +126,8 @@ public:
     // Walks the majorant grid along the index-space line p(t) = o + t d for t in [t0, t1]
     // (t1 may be infinite), calling visit(t_enter, t_exit, majorant) for each block crossed in
     // order; stops early when visit returns false. Blocks with majorant 0 are visited as well
-    // (the caller skips them cheaply). Returns the number of blocks visited.
+    // (the caller skips them cheaply). Returns the number of blocks visited. (The plain block
+    // walk; tracking uses walk_segments. Kept for tests and bench_tracing's baseline tracker.)
     template <class Visit>
     int traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const;
 
@@ -144,7 +146,7 @@ public:
     // blocks with majorant 0 are stepped over without a call. Calls visit(const Segment&) in order
     // of t; stops when it returns false. Returns the number of DDA steps taken.
     template <class Visit>
-    int traverse_fine(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const;
+    int walk_segments(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const;
 
     // p clamped into the segment's closed block region. The walk put the parameter t in that
     // region; clamping only undoes rounding of o + t d, and keeps lookups under the segment's
@@ -299,7 +301,7 @@ inline bool clip_line(const Bounds3& box, const Vec3& o, const Vec3& d, const Ve
 }  // namespace grid_detail
 
 template <class Visit>
-int DensityGrid::traverse_fine(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const {
+int DensityGrid::walk_segments(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const {
     if (blocks_.empty() || active_bounds_.empty()) return 0;
     const Vec3 inv_d = d.cwiseInverse();
     double ta, tb;

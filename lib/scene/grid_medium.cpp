@@ -63,7 +63,7 @@ struct TrilinearRayField {
 
     template <class V>
     int walk(double t0, double t1, V&& visit) const {
-        return grid.traverse_fine(o, d, t0, t1, visit);
+        return grid.walk_segments(o, d, t0, t1, visit);
     }
     double density(const Segment& s, double t) const { return grid.density_in(o + t * d, s); }
     double local_majorant(const Segment& s, double t) const { return grid.local_majorant(o + t * d, s); }

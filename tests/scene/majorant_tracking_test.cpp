@@ -161,7 +161,7 @@ TEST(MajorantWalk, SegmentsAreContiguousAndBoundEveryLookup) {
                                     (rng.uniform() - 0.5) * 1.4 * ext.z());
             const Vec3 d = Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (r % 3 == 0 ? 1.0 : 3.0);
             double last = 0.0;
-            g->traverse_fine(o, d, 0.0, 1e3, [&](const DensityGrid::Segment& s) {
+            g->walk_segments(o, d, 0.0, 1e3, [&](const DensityGrid::Segment& s) {
                 EXPECT_LE(s.ta, s.tb);
                 EXPECT_GE(s.ta, last - 1e-9 * (1 + std::abs(last)));
                 // Between segments the density is 0 (sample the gap). Consecutive segments of
