@@ -15,6 +15,7 @@
 #include "scene/grid_medium.h"
 #include "scene/majorant_tracking.h"
 #include "scene/vdb_io.h"
+#include "../support/sample_statistics.h"
 
 using namespace vpm;
 
@@ -22,17 +23,7 @@ namespace {
 
 const std::string kMediaDir = VPM_SOURCE_DIR "/media";
 
-struct MeanSe {
-    double sum = 0, sum2 = 0;
-    int n = 0;
-    void add(double v) {
-        sum += v;
-        sum2 += v * v;
-        ++n;
-    }
-    double mean() const { return sum / n; }
-    double se() const { return std::sqrt(std::max(0.0, sum2 / n - mean() * mean()) / (n - 1)); }
-};
+using MeanSe = test::Sample;
 
 // A product field f(x, y, z) = (a0 + a1 x)(b0 + b1 y)(c0 + c1 z) sampled at the voxel centres of
 // a dims^3 grid. Trilinear interpolation reproduces a multilinear function exactly, so inside the
