@@ -4,7 +4,10 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include "core/henyey_greenstein.h"
 #include "core/sampling.h"
+#include "photon/ball_extinction.h"
+#include "photon/bounded_radius.h"
 #include "render/direct_light.h"
 #include "render/path_vertex.h"
 
@@ -12,45 +15,21 @@ namespace vpm {
 
 namespace {
 
-// Fixed points uniform in the unit ball (Halton 2, 3, 5 through the volume-preserving warp): a
-// deterministic quadrature, so the ball average adds no noise of its own.
-constexpr int kBallPoints = 32;
-const std::array<Vec3, kBallPoints>& unit_ball_points() {
-    static const std::array<Vec3, kBallPoints> points = [] {
-        auto halton = [](int i, int base) {
-            double f = 1.0, r = 0.0;
-            for (; i > 0; i /= base) {
-                f /= base;
-                r += f * (i % base);
-            }
-            return r;
-        };
-        std::array<Vec3, kBallPoints> p;
-        for (int i = 0; i < kBallPoints; ++i)
-            p[size_t(i)] = sample_uniform_ball(halton(i + 1, 2), halton(i + 1, 3), halton(i + 1, 5));
-        return p;
-    }();
-    return points;
-}
-
 double total_sigma_t(const Scene& scene, const Vec3& x) {
     double sigma_t = 0.0;   // overlapping media: photons of all of them are in the map
     for (const auto& m : scene.media) sigma_t += m->sigma_t(x);
     return sigma_t;
 }
 
-double ball_mean_sigma_t(const Scene& scene, const Vec3& x, double radius) {
-    double sum = 0.0;
-    for (const Vec3& p : unit_ball_points()) sum += total_sigma_t(scene, x + radius * p);
-    return sum / kBallPoints;
-}
-
 }  // namespace
 
 struct PhotonMapIntegrator::ThreadState {
+    explicit ThreadState(const Scene& scene) : ball(scene.media) {}
+    BallExtinction ball;   // mean sigma_t over kNN balls (photons.extinction = "ball")
     struct Local {
         GatherBuffers buffers;
         EstimatorStats stats, surface_stats;
+        uint64_t continued = 0;   // camera paths continued past a collision (bounded radius)
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
@@ -59,13 +38,19 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMap& ma
     : scene_(scene), map_(map), surface_map_(surface_map), estimator_(parse_estimator(scene.photons.estimator)), k_(size_t(scene.photons.k)),
       max_radius_(scene.photons.max_radius > 0 ? scene.photons.max_radius : kInfinity),
       nee_(scene.photons.direct == "nee"), ball_extinction_(scene.photons.extinction == "ball"),
-      threads_(std::make_unique<ThreadState>()) {}
+      threads_(std::make_unique<ThreadState>(scene)) {}
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
 EstimatorStats PhotonMapIntegrator::stats() const {
     EstimatorStats total;
     for (const auto& l : threads_->local) total.merge(l.stats);
+    return total;
+}
+
+uint64_t PhotonMapIntegrator::continued_paths() const {
+    uint64_t total = 0;
+    for (const auto& l : threads_->local) total += l.continued;
     return total;
 }
 
@@ -98,10 +83,24 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             const double sigma_t = total_sigma_t(scene_, x);
             if (sigma_t > 0.0 && !map_.empty()) {
                 auto& local = threads_->local.local();
-                const Estimate<Rgb> s = estimate_in_scattering(map_, x, -ray.dir, m.g(), estimator_, k_, max_radius_,
+                const double radius = bounded_radius(max_radius_, scene_.photons.max_radius_mfp, sigma_t);
+                const Estimate<Rgb> s = estimate_in_scattering(map_, x, -ray.dir, m.g(), estimator_, k_, radius,
                                                                local.buffers, &local.stats);
+                if (radius < max_radius_) {   // the mean-free-path bound (photon/bounded_radius.h)
+                    const BoundedQuery q = bounded_query(s, k_);
+                    if (q == BoundedQuery::zero) break;
+                    if (q == BoundedQuery::continue_path) {   // too few photons: scatter and go on
+                        ++local.continued;
+                        if (!nee_) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
+                        throughput = weight;
+                        const double u1 = rng.uniform(), u2 = rng.uniform();
+                        ray = Ray{x, hg_sample(ray.dir, m.g(), u1, u2)};
+                        if (!survive_roulette(throughput, depth + 1, scene_.render.rr_depth, rng)) break;
+                        continue;
+                    }
+                }
                 // The ball can miss every quadrature point's smoke only if it is tiny; then use the point.
-                const double ball = ball_extinction_ && s.radius > 0.0 ? ball_mean_sigma_t(scene_, x, s.radius) : 0.0;
+                const double ball = ball_extinction_ && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
                 radiance += weight * s.value / (ball > 0.0 ? ball : sigma_t);
             }
             break;

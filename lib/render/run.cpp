@@ -7,9 +7,12 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "render/image_io.h"
+#include "photon/photon_allocation.h"
+#include "photon/photon_budget.h"
 #include "photon/photon_map.h"
 #include "photon/photon_tracer.h"
 #include "render/path_tracer.h"
+#include "render/photon_lights_report.h"
 #include "render/photon_map_integrator.h"
 
 namespace vpm {
@@ -37,7 +40,14 @@ PhotonMap build_volume_photon_map(const Scene& scene, const RunOptions& options,
     ts.max_bounces = ps.max_bounces;
     ts.progress = options.progress;
     ts.store_surface = surface;
+    // Stops before the real work when the pilot projects a map that cannot fit; progress lines.
+    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), options.log);
+    // Photons per light: by a pilot's importance where the camera looks, or by power.
+    const LightAllocation allocation =
+        ps.allocation == "importance" ? importance_allocation(scene, ts) : power_allocation(scene);
+    ts.light_weights = allocation.weights;
     PhotonTraceResult traced = trace_photons(scene, ts);
+    report_photon_lights(scene, allocation, traced, record, options.log);
     record.phase("trace", traced.seconds);
     const size_t stored = traced.photons.size();
     record.set("photons.emitted", traced.paths);
@@ -133,7 +143,10 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     if (const auto* pm = dynamic_cast<const PhotonMapIntegrator*>(integrator.get())) {
         const EstimatorStats st = pm->stats();
         for (const auto& [name, count] : st.fields()) result.record.set("photons.estimate_cases." + name, count);
-        if (options.log) *options.log << "estimates: " << st.to_string() << "\n";
+        result.record.set("photons.continued_paths", pm->continued_paths());
+        if (options.log)
+            *options.log << "estimates: " << st.to_string() << "; camera paths continued past a collision "
+                         << "(fewer than k photons within photons.max_radius_mfp): " << pm->continued_paths() << "\n";
         const EstimatorStats ss = pm->surface_stats();
         if (ss.queries) {
             for (const auto& [name, count] : ss.fields()) result.record.set("photons.surface_estimate_cases." + name, count);

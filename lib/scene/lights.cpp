@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "core/sampling.h"
+#include "scene/emission_bounds.h"
 
 namespace vpm {
 
@@ -80,25 +81,6 @@ private:
     double cos_max_;
 };
 
-// A disc perpendicular to `dir` that covers the scene's bounding sphere: lights at infinity
-// emit photons through it, so every photon that can reach the scene is sampled exactly once.
-struct SceneDisc {
-    Vec3 center = Vec3::Zero();
-    double radius = 0.0;
-    void set(const Bounds3& b) {
-        if (b.empty()) { center = Vec3::Zero(); radius = 0.0; return; }
-        center = 0.5 * (b.lo + b.hi);
-        radius = 0.5 * (b.hi - b.lo).norm() * 1.001 + 1e-9;
-    }
-    // Origin of a ray travelling along `dir` that starts outside the bounding sphere.
-    Vec3 sample_origin(const Vec3& dir, double u1, double u2) const {
-        const Frame f(dir);
-        const Eigen::Vector2d d = radius * sample_uniform_disc(u1, u2);
-        return center - radius * dir + d.x() * f.s + d.y() * f.t;
-    }
-    double area() const { return kPi * radius * radius; }
-};
-
 class DirectionalLight : public Light {
 public:
     DirectionalLight(const Vec3& direction, const Rgb& irradiance) : dir_(direction), irradiance_(irradiance) {}
@@ -110,11 +92,12 @@ public:
         return true;
     }
     EmissionSample sample_emission(Rng& rng) const override {
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        return {Ray{disc_.sample_origin(dir_, u1, u2), dir_}, power()};
+        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+        return {Ray{bounds_.sample_origin(dir_, u1, u2, u3), dir_}, power()};
     }
-    Rgb power() const override { return irradiance_ * disc_.area(); }
-    void set_scene_bounds(const Bounds3& b) override { disc_.set(b); }
+    // Only the light crossing the silhouette of what can be lit (emission_bounds.h).
+    Rgb power() const override { return irradiance_ * bounds_.projected_area(dir_); }
+    void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
     std::string describe() const override {
         std::ostringstream s;
         s << "directional light along (" << dir_.transpose() << "), irradiance " << rgb_string(irradiance_);
@@ -124,7 +107,7 @@ public:
 private:
     Vec3 dir_;
     Rgb irradiance_;
-    SceneDisc disc_;
+    EmissionBounds bounds_;
 };
 
 class QuadLight : public Light {
@@ -188,19 +171,23 @@ public:
         out.weight = radiance_ * (4.0 * kPi);
         return true;
     }
+    // Direction uniform over the sphere (pdf 1 / 4 pi), origin uniform over the silhouette of what
+    // can be lit seen along it (pdf 1 / A_proj(dir)): power L 4 pi A_proj(dir), whose mean over
+    // directions is power() = L pi S (emission_bounds.h).
     EmissionSample sample_emission(Rng& rng) const override {
-        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform();
+        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(),
+                     u5 = rng.uniform();
         const Vec3 dir = sample_uniform_sphere(u1, u2);   // travel direction of the photon
-        return {Ray{disc_.sample_origin(dir, u3, u4), dir}, power()};
+        return {Ray{bounds_.sample_origin(dir, u3, u4, u5), dir}, radiance_ * (4.0 * kPi * bounds_.projected_area(dir))};
     }
-    Rgb power() const override { return radiance_ * (4.0 * kPi * disc_.area()); }
+    Rgb power() const override { return radiance_ * (4.0 * kPi * bounds_.mean_projected_area()); }
     Rgb escaped_radiance(const Vec3&) const override { return radiance_; }
-    void set_scene_bounds(const Bounds3& b) override { disc_.set(b); }
+    void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
     std::string describe() const override { return "constant environment, radiance " + rgb_string(radiance_); }
 
 private:
     Rgb radiance_;
-    SceneDisc disc_;
+    EmissionBounds bounds_;
 };
 
 }  // namespace

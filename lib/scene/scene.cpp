@@ -51,6 +51,8 @@ PhotonSettings read_photons(Params p) {
     s.memory_budget_fraction = p.real("memory_budget_fraction", s.memory_budget_fraction, {0.0, 1.0, true, false});
     s.final_gather = p.boolean("final_gather", s.final_gather);
     s.extinction = p.choice("extinction", s.extinction, {"point", "ball"});
+    s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
+    s.allocation = p.choice("allocation", s.allocation, {"importance", "power"});
     p.finish();
     return s;
 }

@@ -49,6 +49,13 @@ struct PhotonSettings {
     // Extinction the volume estimate is divided by: "ball" = mean sigma_t over the kNN ball,
     // "point" = sigma_t at the collision (DESIGN.md's formula); see photon_map_integrator.h.
     std::string extinction = "ball";
+    // Dense media: the kNN radius is bounded by this many mean free paths at the query, 1/sigma_t(x)
+    // each; where fewer than k photons lie within it the camera path continues instead
+    // (photon/bounded_radius.h). 0: no bound.
+    double max_radius_mfp = 2.0;
+    // Photons per light: "importance" (a pilot finds where each light's photons meet the camera's
+    // view) | "power" (proportional to power); photon/photon_allocation.h.
+    std::string allocation = "importance";
 };
 
 // A real collision sampled along a ray among all media.
