@@ -21,7 +21,7 @@
 #include "render/path_tracer.h"
 #include "render/photon_map_integrator.h"
 #include "render/render_loop.h"
-#include "scene/scene.h"
+#include "render/run_config.h"
 
 using namespace vpm;
 
@@ -39,10 +39,11 @@ double now() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-double image_mean(const Scene& scene, const Integrator& integrator, uint64_t seed, int spp, uint64_t stream) {
+double image_mean(const RunConfig& config, const Integrator& integrator, uint64_t seed, int spp, uint64_t stream) {
+    const Scene& scene = *config.scene;
     RenderOptions o;
-    o.width = scene.render.width;
-    o.height = scene.render.height;
+    o.width = config.render.width;
+    o.height = config.render.height;
     o.spp = spp;
     o.seed = seed;
     o.progress = false;
@@ -81,32 +82,38 @@ int main(int argc, char** argv) {
         }
     }
     std::printf("| sigma_t_scale | PM mean +- SE | PT mean +- SE | PM/PT - 1 | (PM-PT)/SE | trace s | render s | "
-                "r_k/mfp median | fixed-radius share |\n|---:|---|---|---:|---:|---:|---:|---:|---:|\n");
+                "PT render s | r_k/mfp median (unbounded) | continued per camera sample |\n"
+                "|---:|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (double scale : scales) {
         std::vector<std::string> o = {"render.width=" + std::to_string(size), "render.height=" + std::to_string(size),
                                       "media.0.sigma_t_scale=" + std::to_string(scale),
                                       "photons.count=" + std::to_string(photons)};
         o.insert(o.end(), sets.begin(), sets.end());
-        auto scene = Scene::load(bench::config_path("homogeneous.toml"), o);
+        o.push_back("render.integrator=photon_map");
+        const RunConfig config = RunConfig::load(bench::config_path("homogeneous.toml"), o);
+        const Scene* scene = config.scene.get();
+        const PhotonMapSettings& ps = photon_map_settings(config);
         Sample pm, pt;
         double trace_s = 0, render_s = 0;
         EstimatorStats cases;
+        uint64_t continued = 0;
         std::vector<double> radii;
         for (int r = 0; r < repeats; ++r) {
             PhotonTraceSettings ts;
             ts.count = photons;
-            ts.seed = scene->render.seed;
+            ts.seed = config.render.seed;
             ts.stream_offset = uint64_t(r);
-            ts.store_direct = scene->photons.direct == "photon_map";
+            ts.store_direct = ps.direct == DirectLighting::photon_map;
             ts.progress = false;
             double t0 = now();
             const PhotonMap map(trace_photons(*scene, ts).photons);
             trace_s += now() - t0;
-            PhotonMapIntegrator integrator(*scene, map);
+            PhotonMapIntegrator integrator(*scene, ps, map);
             t0 = now();
-            pm.add(image_mean(*scene, integrator, 7 + uint64_t(r), pm_spp, uint64_t(r)));
+            pm.add(image_mean(config, integrator, 7 + uint64_t(r), pm_spp, uint64_t(r)));
             render_s += now() - t0;
             cases.merge(integrator.stats());
+            continued += integrator.continued_paths();
             if (r == 0) {   // kNN radius at camera collisions, in mean free paths
                 const double sigma_t = scene->media[0]->sigma_t(Vec3::Zero());
                 GatherBuffers buf;
@@ -115,20 +122,23 @@ int main(int argc, char** argv) {
                     const Ray ray = scene->camera.generate_ray(rng.uniform() * size, rng.uniform() * size);
                     const MediumEvent ev = scene->sample_medium(ray, kInfinity, rng);
                     if (!ev) continue;
-                    const auto s = estimate_in_scattering(map, ray.at(ev.t), -ray.dir, 0.5, Estimator::corrected,
-                                                          size_t(scene->photons.k), kInfinity, buf);
+                    const auto s = estimate_in_scattering(map, ray.at(ev.t), -ray.dir, 0.5, ps.estimator,
+                                                          size_t(ps.k), kInfinity, buf);
                     radii.push_back(s.radius * sigma_t);
                 }
             }
         }
-        const PathTracer tracer(*scene);
-        for (int r = 0; r < repeats; ++r) pt.add(image_mean(*scene, tracer, 1000 + uint64_t(r), pt_spp / repeats, 0));
+        const PathTracer tracer(*scene, ps.walk);
+        double pt_s = now();
+        for (int r = 0; r < repeats; ++r) pt.add(image_mean(config, tracer, 1000 + uint64_t(r), pt_spp / repeats, 0));
+        pt_s = (now() - pt_s) / repeats;
         std::sort(radii.begin(), radii.end());
         const double se = std::sqrt(pm.se() * pm.se() + pt.se() * pt.se());
-        std::printf("| %g | %.5g +- %.2g | %.5g +- %.2g | %+.3f | %+.1f | %.2f | %.2f | %.3g | %.3f |\n", scale, pm.mean(),
-                    pm.se(), pt.mean(), pt.se(), pm.mean() / pt.mean() - 1.0, (pm.mean() - pt.mean()) / se, trace_s / repeats,
-                    render_s / repeats, radii.empty() ? 0.0 : radii[radii.size() / 2],
-                    cases.queries ? double(cases.fixed_radius) / double(cases.queries) : 0.0);
+        const double samples = double(repeats) * pm_spp * size * size;
+        std::printf("| %g | %.5g +- %.2g | %.5g +- %.2g | %+.3f | %+.1f | %.2f | %.3f | %.3f | %.3g | %.3f |\n", scale,
+                    pm.mean(), pm.se(), pt.mean(), pt.se(), pm.mean() / pt.mean() - 1.0, (pm.mean() - pt.mean()) / se,
+                    trace_s / repeats, render_s / repeats, pt_s, radii.empty() ? 0.0 : radii[radii.size() / 2],
+                    double(continued) / samples);
         std::fflush(stdout);
     }
     return 0;

@@ -2,13 +2,12 @@
 // 1e5 photons, NEE for single scattering) and with the reference path tracer, at 128x128, 16 spp,
 // on 1 and 2 threads (the speed-up is the ratio of the two real times).
 //
-//   BM_PhotonMapRender/T   run_scene(): photon pass + kd-tree + render, T threads
-//   BM_PathTraceRender/T   run_scene() with the path tracer, T threads
+//   BM_PhotonMapRender/T   run(): photon pass + kd-tree + render, T threads
+//   BM_PathTraceRender/T   run() with the path tracer, T threads
 //
 // usage: bench_render [--benchmark_filter=...] [--benchmark_repetitions=N]
 #include <benchmark/benchmark.h>
 #include <ctime>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
 #include "bench_common.h"
@@ -20,21 +19,20 @@ namespace {
 
 const std::vector<std::string> kCommon = {"render.width=128", "render.height=128"};
 
-void run(benchmark::State& state, const char* config, std::vector<std::string> sets) {
+void run_config(benchmark::State& state, const char* config, std::vector<std::string> sets) {
     for (const auto& s : kCommon) sets.push_back(s);
-    const auto scene = Scene::load(bench::config_path(config), sets);
+    const RunConfig loaded = RunConfig::load(bench::config_path(config), sets);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(state.range(0)));
     RunOptions o;
     o.progress = false;
     double samples = 0, trace = 0, build = 0, render = 0;
     const std::clock_t cpu0 = std::clock();   // process CPU time, all threads
     for (auto _ : state) {
-        const RunResult r = run_scene(*scene, o);
-        samples += double(r.stats.samples);
-        const auto& ph = r.record.json().at("phases");
-        if (ph.contains("trace")) trace += ph["trace"]["seconds"].get<double>();
-        if (ph.contains("build")) build += ph["build"]["seconds"].get<double>();
-        render += ph["render"]["seconds"].get<double>();
+        const RunResult r = vpm::run(loaded, o);
+        samples += double(r.stats.render.samples);
+        trace += r.stats.seconds("trace");
+        build += r.stats.seconds("build");
+        render += r.stats.seconds("render");
         ++o.stream_offset;
     }
     const double it = double(state.iterations());
@@ -50,11 +48,11 @@ void run(benchmark::State& state, const char* config, std::vector<std::string> s
 }
 
 void BM_PhotonMapRender(benchmark::State& state) {
-    run(state, "default_photon_map.toml", {"photons.count=100000", "render.spp=16"});
+    run_config(state, "default_photon_map.toml", {"photons.count=100000", "render.spp=16"});
 }
 BENCHMARK(BM_PhotonMapRender)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
 
-void BM_PathTraceRender(benchmark::State& state) { run(state, "default.toml", {"render.spp=16"}); }
+void BM_PathTraceRender(benchmark::State& state) { run_config(state, "default.toml", {"render.spp=16"}); }
 BENCHMARK(BM_PathTraceRender)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
 
 }  // namespace

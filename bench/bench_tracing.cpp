@@ -24,15 +24,15 @@
 #include "core/sampling.h"
 #include "photon/photon_tracer.h"
 #include "scene/grid_medium.h"
-#include "scene/scene.h"
+#include "render/run_config.h"
 
 using namespace vpm;
 
 namespace {
 
 const Scene& default_scene() {
-    static const std::unique_ptr<Scene> scene = Scene::load(bench::config_path("default.toml"));
-    return *scene;
+    static const RunConfig config = RunConfig::load(bench::config_path("default.toml"));
+    return *config.scene;
 }
 
 void BM_PhotonTrace(benchmark::State& state) {

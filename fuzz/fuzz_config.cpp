@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "scene/params.h"
-#include "scene/scene.h"
+#include "render/run_config.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
@@ -20,8 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             return d;
         }();
         auto doc = vpm::parse_config(text, "fuzz.toml", dir);
-        auto scene = vpm::Scene::build(doc);
-        (void)scene->resolved_toml();
+        const vpm::RunConfig config = vpm::RunConfig::build(doc);
+        (void)config.resolved_toml();
     } catch (const vpm::Error&) {
     }
     return 0;

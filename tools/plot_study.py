@@ -15,7 +15,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+# Estimators come from the CSV (the registry's order); known ones keep their colours.
 COLOURS = {"classic": "tab:red", "corrected": "tab:blue", "mse_optimal": "tab:green"}
+OTHER_COLOURS = ["tab:purple", "tab:orange", "tab:brown", "tab:pink", "tab:olive", "tab:cyan", "tab:gray"]
+
+
+def estimator_colours(rows):
+    names = list(dict.fromkeys(r["estimator"] for r in rows))
+    others = iter(OTHER_COLOURS * (1 + len(names) // len(OTHER_COLOURS)))
+    return {n: COLOURS[n] if n in COLOURS else next(others) for n in names}
 
 
 def num(s):
@@ -32,6 +40,7 @@ def main():
         return 2
     rows = list(csv.DictReader(open(sys.argv[1], newline="")))
     out = sys.argv[2]
+    colours = estimator_colours(rows)
     scenarios = sorted({r["scenario"] for r in rows}, key=lambda s: [r["scenario"] for r in rows].index(s))
     for sc in scenarios:
         sub = [r for r in rows if r["scenario"] == sc]
@@ -39,7 +48,7 @@ def main():
         for kind in ("error", "mse"):
             fig, axes = plt.subplots(1, len(dims), figsize=(6 * len(dims), 4.5), squeeze=False)
             for ax, dim in zip(axes[0], dims):
-                for est, col in COLOURS.items():
+                for est, col in colours.items():
                     rr = [r for r in sub if int(r["dim"]) == dim and r["estimator"] == est]
                     if not rr:
                         continue

@@ -5,7 +5,6 @@
 #include <map>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "core/progress.h"
@@ -85,8 +84,8 @@ void coincident_cell(StressCell& c, size_t n, size_t k, double offset) {
     uint64_t queries = 0;
     for (int i = -2; i <= 2; ++i) {
         const Vec3 x = Vec3(0.25, -0.5, 1.0) + Vec3(0.0, 0.0, offset * i);
-        for (Estimator e : kAllEstimators) {
-            if (k < estimator_min_k(e)) continue;
+        for (const Estimator& e : Estimator::all()) {
+            if (k < e.min_k()) continue;
             const Estimate<Rgb> est = estimate_in_scattering(map, x, Vec3(0, 0, 1), 0.5, e, k, kInfinity, buf, &stats);
             for (int ch = 0; ch < 3; ++ch) {
                 c.nonfinite_samples += !std::isfinite(est.value[ch]);
@@ -236,29 +235,23 @@ StressReport run_stress(const StressOptions& o) {
             sets.insert(sets.end(), spec.sets.begin(), spec.sets.end());
             if (spec.scene == "dense_voxel.toml") sets.push_back("media.0.file=\"" + vdb.generic_string() + "\"");
             const std::string file = (o.configs / spec.scene).string();
-            auto scene = Scene::load(file, sets);
+            const RunConfig config = RunConfig::load(file, sets);
             RunOptions ro;
             ro.progress = false;
             const Timer t;
-            RunResult r = run_scene(*scene, ro);
+            RunResult r = run(config, ro);
             c.seconds = t.seconds();
             c.nonfinite_pixels = nonfinite_count(r.image);
-            c.nonfinite_samples = r.stats.nonfinite_samples;
+            c.nonfinite_samples = r.stats.render.nonfinite_samples;
             c.value = image_mean(r.image);
-            const nlohmann::json& j = r.record.json();
-            if (j.contains("photons") && j["photons"].contains("energy")) {
-                const auto& p = j["photons"];
+            if (const auto& p = r.stats.photons) {
                 c.photon_pass = true;
-                c.energy_imbalance = p["energy"]["relative_imbalance"].get<double>();
-                c.emitted = p["emitted"].get<uint64_t>();
-                c.stored = p["stored"].get<uint64_t>();
-                c.truncated_paths = p["truncated_paths"].get<uint64_t>();
-                double te = 0.0, em = 0.0;
-                for (int ch = 0; ch < 3; ++ch) {
-                    te += p["energy"]["truncated"][ch].get<double>();
-                    em += p["energy"]["emitted"][ch].get<double>();
-                }
-                c.truncated_energy = em > 0 ? te / em : 0.0;
+                c.energy_imbalance = p->energy.relative_imbalance();
+                c.emitted = p->emitted;
+                c.stored = p->stored;
+                c.truncated_paths = p->truncated_paths;
+                const double em = p->energy.emitted.sum();
+                c.truncated_energy = em > 0 ? p->energy.truncated.sum() / em : 0.0;
             }
             if (spec.ref == Ref::analytic) {
                 c.has_reference = true;
@@ -268,14 +261,13 @@ StressReport run_stress(const StressOptions& o) {
                 // The unbiased path tracer on the same scene, 16x more samples per pixel.
                 std::vector<std::string> rs = sets;
                 rs.push_back("render.integrator=\"path\"");
-                rs.push_back("render.spp=" + std::to_string(16 * scene->render.spp));
-                auto ref_scene = Scene::load(file, rs);
-                RunResult ref = run_scene(*ref_scene, ro);
+                rs.push_back("render.spp=" + std::to_string(16 * config.render.spp));
+                RunResult ref = run(RunConfig::load(file, rs), ro);
                 c.has_reference = true;
                 c.reference_kind = "path tracer";
                 c.reference = image_mean(ref.image);
                 c.nonfinite_pixels += nonfinite_count(ref.image);
-                c.nonfinite_samples += ref.stats.nonfinite_samples;
+                c.nonfinite_samples += ref.stats.render.nonfinite_samples;
             } else if (spec.ref == Ref::compare) {
                 auto it = images.find(spec.compare_to);
                 if (it != images.end() && it->second.rgb.size() == r.image.rgb.size()) {

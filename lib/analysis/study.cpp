@@ -19,7 +19,8 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/photon_map.h"
-#include "scene/scene.h"
+#include "analysis/builtin_scenes.h"
+#include "render/run_config.h"
 #include "photon/photon_tracer.h"
 
 namespace vpm {
@@ -154,36 +155,17 @@ std::vector<size_t> default_k_list() {
 }
 
 Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w) {
-    const double kk = double(k);
-    const double f = n > 0 ? double(n - 1) / double(n) : 1.0;   // E[1/U^2] finite-n factor
-    Theory t;
-    double mean = 0, m2 = kInfinity;
-    switch (e) {
-        case Estimator::classic:
-            mean = kk / (kk - 1.0);
-            if (k > 2) m2 = kk * (c_w + kk - 1.0) * f / ((kk - 1.0) * (kk - 2.0));
-            break;
-        case Estimator::corrected:
-            mean = 1.0;
-            if (k > 2) m2 = (c_w + kk - 2.0) * f / (kk - 2.0);
-            break;
-        case Estimator::mse_optimal: {
-            const double c = (kk - 2.0) / (kk - 1.0);
-            mean = c;
-            if (k > 2) m2 = c * c * (c_w + kk - 2.0) * f / (kk - 2.0);
-            break;
-        }
-    }
-    t.error = mean - 1.0;
-    t.variance = std::isfinite(m2) ? m2 - mean * mean : kInfinity;
-    t.mse = std::isfinite(m2) ? t.variance + t.error * t.error : kInfinity;
-    return t;
+    e.validate_k(k);
+    if (!e.entry().uniform_theory) throw Error(std::string("study: estimator ") + e.name() + " has no uniform theory");
+    return e.entry().uniform_theory(k, n, c_w);
 }
 
 Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
                          const std::function<double(double)>& mass_fraction, double r_max,
                          double phi_over_truth) {
-    validate_estimator_k(e, k);
+    e.validate_k(k);
+    if (!e.entry().unit_weight_count)
+        throw Error(std::string("study: estimator ") + e.name() + " has no quadrature theory (not a constant kernel)");
     const double kk = double(k), nn = double(n);
     const double mu = kk / (nn + 1.0);
     const double t_lo = std::log(mu) - (40.0 / std::max(1.0, kk - 2.0) + 12.0 / std::sqrt(kk));
@@ -210,9 +192,7 @@ Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
     }
     i1 *= h / 3.0;
     i2 *= h / 3.0;
-    double c = kk;
-    if (e == Estimator::corrected) c = kk - 1.0;
-    if (e == Estimator::mse_optimal) c = kk - 2.0;
+    const double c = e.entry().unit_weight_count(k);
     Theory th;
     const double mean = c * phi_over_truth * i1;
     th.error = mean - 1.0;
@@ -228,7 +208,9 @@ Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
 
 PhotonPassMap study_photon_pass_map(size_t emitted, uint64_t seed, uint64_t map_index) {
     // The same furnace the renderer's bias test uses; its truth follows from the scene itself.
-    const auto scene = Scene::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml");
+    const RunConfig config =
+        RunConfig::build(parse_config(builtin_uniform_furnace_toml(), "uniform_furnace.toml (built in)", "."));
+    const Scene* scene = config.scene.get();
     const double sigma_t = scene->media.at(0)->sigma_t(Vec3::Zero());
     const double radiance = scene->escaped_radiance(Vec3::UnitZ())[1];
     PhotonTraceSettings ts;
@@ -252,7 +234,7 @@ namespace {
 void run_photon_pass(const StudyOptions& opt, size_t kmax, size_t stride,
                      tbb::combinable<EstimatorStats>& stats, std::vector<double>& samples, size_t& trials,
                      size_t& n, const std::function<void(const std::string&)>& say) {
-    const size_t nk = opt.ks.size(), ne = kAllEstimators.size();
+    const size_t nk = opt.ks.size(), ne = Estimator::all().size();
     // Each query needs its own ball of ~k_max photons from a fresh photon pass, so this scenario
     // costs ~trials x k_max traced collisions: it takes a tenth of the trials by default.
     const size_t want = opt.photon_map_queries ? opt.photon_map_queries : std::max<size_t>(2, opt.trials / 10);
@@ -286,8 +268,8 @@ void run_photon_pass(const StudyOptions& opt, size_t kmax, size_t stride,
             }
             for (size_t ki = 0; ki < nk; ++ki)
                 for (size_t ei = 0; ei < ne; ++ei) {
-                    const Estimator e = kAllEstimators[ei];
-                    if (opt.ks[ki] < estimator_min_k(e)) continue;
+                    const Estimator e = Estimator::all()[ei];
+                    if (opt.ks[ki] < e.min_k()) continue;
                     local[q * stride + ki * ne + ei] =
                         estimate_density<double>(e, w.data(), d2.data(), found, found < kmax, opt.ks[ki], kInfinity, 3, &st)
                             .value;
@@ -305,17 +287,32 @@ void run_photon_pass(const StudyOptions& opt, size_t kmax, size_t stride,
 
 }  // namespace
 
-StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<void(const std::string&)>& log) {
-    Timer timer;
-    StudyResult res;
-    res.options = opt_in;
-    StudyOptions& opt = res.options;
+namespace {
+
+// One sample per (trial, k, estimator): samples[t * stride + ki * ne + ei], estimate / truth.
+struct SampleGrid {
+    size_t nk = 0, ne = 0;
+    size_t stride() const { return nk * ne; }
+    size_t at(size_t t, size_t ki, size_t ei) const { return t * stride() + ki * ne + ei; }
+};
+
+// Applies every registered estimator at every k to one sorted neighbour list.
+void estimate_all(const StudyOptions& opt, const SampleGrid& grid, size_t t, const double* w, const double* d2,
+                  size_t found, bool complete, int dim, EstimatorStats& st, std::vector<double>& samples) {
+    for (size_t ki = 0; ki < grid.nk; ++ki)
+        for (size_t ei = 0; ei < grid.ne; ++ei) {
+            const Estimator e = Estimator::all()[ei];
+            if (opt.ks[ki] < e.min_k()) continue;
+            samples[grid.at(t, ki, ei)] =
+                estimate_density<double>(e, w, d2, found, complete, opt.ks[ki], kInfinity, dim, &st).value;
+        }
+}
+
+// Sorts options, fills defaults and rejects what the study cannot run.
+void validate_study_options(StudyOptions& opt) {
     if (opt.ks.empty()) opt.ks = default_k_list();
     std::sort(opt.ks.begin(), opt.ks.end());
     opt.ks.erase(std::unique(opt.ks.begin(), opt.ks.end()), opt.ks.end());
-    auto say = [&](const std::string& s) {
-        if (log) log(s);
-    };
     if (opt.ks.front() < 2) throw Error("study: --k values must be >= 2 (got " + std::to_string(opt.ks.front()) + ")");
     if (opt.trials < 2) throw Error("study: --trials must be >= 2");
     const size_t kmax = opt.ks.back();
@@ -326,12 +323,166 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     if (!(std::abs(opt.gradient_slope) < 1.0)) throw Error("study: gradient slope must be in (-1, 1)");
     if (!(opt.boundary_distance >= 0.0 && opt.boundary_distance <= 1.0))
         throw Error("study: boundary distance must be in [0, 1]");
-    res.threads = tbb::this_task_arena::max_concurrency();
-    for (size_t k : opt.ks) {
-        const std::string w = estimator_warning(Estimator::corrected, k);
-        if (!w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
+}
+
+// The synthetic scenarios: n points per trial from the scenario's density, query at the centre.
+void run_synthetic(const StudyOptions& opt, StudyScenario sc, int dim, const SampleGrid& grid,
+                   tbb::combinable<EstimatorStats>& stats, std::vector<double>& samples) {
+    const size_t trials = opt.trials, n = opt.n, kmax = opt.ks.back();
+    samples.assign(trials * grid.stride(), 0.0);
+    const double vol = unit_volume(dim);
+    double phi = vol / double(n);   // truth = 1
+    if (sc == StudyScenario::gaussian) phi = std::pow(2.0 * kPi, 0.5 * dim) / double(n);
+    const double a = opt.gradient_slope, bd = opt.boundary_distance;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, trials), [&](const tbb::blocked_range<size_t>& range) {
+        std::vector<Pt> pts(n);
+        std::vector<double> w(kmax), d2(kmax);
+        EstimatorStats& st = stats.local();
+        for (size_t t = range.begin(); t != range.end(); ++t) {
+            Rng rng = trial_rng(opt.seed, stream_id(sc, dim, t));
+            for (size_t i = 0; i < n; ++i) {
+                Vec3 p;
+                double wt = 1.0;
+                switch (sc) {
+                    case StudyScenario::gradient:
+                        do p = uniform_point(dim, rng);
+                        while (rng.uniform() * (1.0 + std::abs(a)) >= 1.0 + a * p.x());
+                        break;
+                    case StudyScenario::gaussian:
+                        p = Vec3(std_normal(rng), std_normal(rng), dim == 3 ? std_normal(rng) : 0.0);
+                        break;
+                    case StudyScenario::boundary:
+                        p = uniform_point(dim, rng) - Vec3(bd, 0.0, 0.0);
+                        break;
+                    case StudyScenario::weighted:
+                        p = uniform_point(dim, rng);
+                        wt = -std::log1p(-rng.uniform());   // Exp(1)
+                        break;
+                    default: p = uniform_point(dim, rng); break;
+                }
+                pts[i] = {p.squaredNorm(), wt * phi};
+            }
+            auto by_d2 = [](const Pt& x, const Pt& y) { return x.d2 < y.d2; };
+            if (kmax < n) std::nth_element(pts.begin(), pts.begin() + (kmax - 1), pts.end(), by_d2);
+            std::sort(pts.begin(), pts.begin() + kmax, by_d2);
+            for (size_t i = 0; i < kmax; ++i) {
+                w[i] = pts[i].w;
+                d2[i] = pts[i].d2;
+            }
+            estimate_all(opt, grid, t, w.data(), d2.data(), kmax, kmax >= n, dim, st, samples);
+        }
+    });
+}
+
+// Real photon map: uniform photons in the unit cube, queries on a grid of well-separated
+// interior points (balls never overlap or leave the cube). Returns the trials run.
+size_t run_photon_map(const StudyOptions& opt, const SampleGrid& grid, tbb::combinable<EstimatorStats>& stats,
+                      std::vector<double>& samples, const std::function<void(const std::string&)>& say) {
+    const size_t n = opt.photon_map_size, kmax = opt.ks.back();
+    if (n <= kmax) throw Error("study: photon map size must exceed the largest k");
+    const double r_max = std::cbrt(3.0 * double(kmax) / (4.0 * kPi * double(n)));
+    const double margin = 1.3 * r_max;
+    const size_t g = std::max<size_t>(1, size_t((1.0 - 2.0 * margin) / (2.0 * margin)) + 1);
+    const double spacing = g > 1 ? (1.0 - 2.0 * margin) / double(g - 1) : 0.0;
+    const size_t per_map = g * g * g;
+    const size_t want = opt.photon_map_queries ? opt.photon_map_queries : std::max<size_t>(2, opt.trials / 4);
+    const size_t maps = (want + per_map - 1) / per_map;
+    const size_t trials = maps * per_map;
+    samples.assign(trials * grid.stride(), 0.0);
+    const double phi = 1.0 / double(n);   // power density 1
+    say("study: photon_map: " + std::to_string(maps) + " maps of " + std::to_string(n) + " photons, " +
+        std::to_string(per_map) + " queries each");
+    tbb::parallel_for(size_t(0), maps, [&](size_t m) {
+        Rng rng = trial_rng(opt.seed, stream_id(StudyScenario::photon_map, 3, m));
+        std::vector<PhotonInput> ph(n);
+        for (auto& p : ph) {
+            p.position = Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            p.direction = sample_uniform_sphere(u1, u2);
+            p.power = Rgb::Constant(phi);
+        }
+        const PhotonMap map(ph);
+        NeighbourList list;
+        std::vector<double> w(kmax), d2(kmax);
+        EstimatorStats& st = stats.local();
+        const Vec3 wo = Vec3::UnitZ();
+        for (size_t q = 0; q < per_map; ++q) {
+            const size_t ix = q % g, iy = (q / g) % g, iz = q / (g * g);
+            const Vec3 x = Vec3::Constant(margin) + spacing * Vec3(double(ix), double(iy), double(iz));
+            const size_t found = map.knn(x, kmax, kInfinity, list);
+            for (size_t i = 0; i < found; ++i) {
+                // same weighting as estimate_in_scattering; isotropic phase 1/(4 pi)
+                w[i] = 4.0 * kPi * hg_eval(list[i].direction.dot(wo), 0.0) * list[i].power[1];
+                d2[i] = list[i].d2;
+            }
+            estimate_all(opt, grid, m * per_map + q, w.data(), d2.data(), found, found < kmax, 3, st, samples);
+        }
+    });
+    return trials;
+}
+
+// The theory column of one row, where the estimator's registry entry and the scenario give one.
+void attach_theory(const StudyOptions& opt, StudyScenario sc, StudyRow& row) {
+    const Estimator e = row.estimator;
+    const size_t k = row.k, n = row.n;
+    const int dim = row.dim;
+    Theory th, lim;
+    row.has_theory = false;
+    row.theory_source = "none";
+    switch (sc) {
+        case StudyScenario::uniform:
+        case StudyScenario::gradient:
+        case StudyScenario::photon_map:
+        case StudyScenario::photon_pass:
+        case StudyScenario::weighted: {
+            if (!e.entry().uniform_theory) return;
+            const double c_w = sc == StudyScenario::weighted ? 2.0 : 1.0;   // Exp(1) weights: E[w^2]/E[w]^2 = 2
+            th = uniform_theory(e, k, n, c_w);
+            lim = uniform_theory(e, k, 0, c_w);
+            row.theory_source = "exact";
+            break;
+        }
+        case StudyScenario::gaussian:
+            if (!e.entry().unit_weight_count) return;
+            th = quadrature_theory(e, k, n, dim, [dim](double r) { return gaussian_mass(dim, r); }, 40.0,
+                                   std::pow(2.0 * kPi, 0.5 * dim) / double(n));
+            lim = th;
+            row.theory_source = "quadrature";
+            break;
+        case StudyScenario::boundary: {
+            if (!e.entry().unit_weight_count) return;
+            const double bd = opt.boundary_distance, uv = unit_volume(dim);
+            th = quadrature_theory(e, k, n, dim, [dim, bd, uv](double r) { return lens_volume(dim, bd, r) / uv; },
+                                   1.0 + bd, uv / double(n));
+            lim = th;
+            row.theory_source = "quadrature";
+            break;
+        }
+        default: return;
     }
-    const size_t nk = opt.ks.size(), ne = kAllEstimators.size(), stride = nk * ne;
+    row.has_theory = true;
+    row.th_error = th.error;
+    row.th_variance = th.variance;
+    row.th_mse = th.mse;
+    row.th_variance_limit = lim.variance;
+}
+
+}  // namespace
+
+StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<void(const std::string&)>& log) {
+    Timer timer;
+    StudyResult res;
+    res.options = opt_in;
+    StudyOptions& opt = res.options;
+    validate_study_options(opt);
+    auto say = [&](const std::string& s) {
+        if (log) log(s);
+    };
+    res.threads = tbb::this_task_arena::max_concurrency();
+    for (size_t k : opt.ks)
+        for (const Estimator& e : Estimator::all())
+            if (const std::string w = e.warning(k); !w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
+    const SampleGrid grid{opt.ks.size(), Estimator::all().size()};
     tbb::combinable<EstimatorStats> stats;
 
     for (StudyScenario sc : opt.scenarios) {
@@ -343,168 +494,29 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
             size_t n = opt.n;
             std::vector<double> samples;
             if (!real_map) {
-                samples.assign(trials * stride, 0.0);
-                const double vol = unit_volume(dim);
-                double phi = vol / double(n);   // truth = 1
-                if (sc == StudyScenario::gaussian) phi = std::pow(2.0 * kPi, 0.5 * dim) / double(n);
-                const double a = opt.gradient_slope, bd = opt.boundary_distance;
-                tbb::parallel_for(tbb::blocked_range<size_t>(0, trials), [&](const tbb::blocked_range<size_t>& range) {
-                    std::vector<Pt> pts(n);
-                    std::vector<double> w(kmax), d2(kmax);
-                    EstimatorStats& st = stats.local();
-                    for (size_t t = range.begin(); t != range.end(); ++t) {
-                        Rng rng = trial_rng(opt.seed, stream_id(sc, dim, t));
-                        for (size_t i = 0; i < n; ++i) {
-                            Vec3 p;
-                            double wt = 1.0;
-                            switch (sc) {
-                                case StudyScenario::gradient:
-                                    do p = uniform_point(dim, rng);
-                                    while (rng.uniform() * (1.0 + std::abs(a)) >= 1.0 + a * p.x());
-                                    break;
-                                case StudyScenario::gaussian:
-                                    p = Vec3(std_normal(rng), std_normal(rng), dim == 3 ? std_normal(rng) : 0.0);
-                                    break;
-                                case StudyScenario::boundary:
-                                    p = uniform_point(dim, rng) - Vec3(bd, 0.0, 0.0);
-                                    break;
-                                case StudyScenario::weighted:
-                                    p = uniform_point(dim, rng);
-                                    wt = -std::log1p(-rng.uniform());   // Exp(1)
-                                    break;
-                                default: p = uniform_point(dim, rng); break;
-                            }
-                            pts[i] = {p.squaredNorm(), wt * phi};
-                        }
-                        auto by_d2 = [](const Pt& x, const Pt& y) { return x.d2 < y.d2; };
-                        if (kmax < n) std::nth_element(pts.begin(), pts.begin() + (kmax - 1), pts.end(), by_d2);
-                        std::sort(pts.begin(), pts.begin() + kmax, by_d2);
-                        for (size_t i = 0; i < kmax; ++i) {
-                            w[i] = pts[i].w;
-                            d2[i] = pts[i].d2;
-                        }
-                        for (size_t ki = 0; ki < nk; ++ki)
-                            for (size_t ei = 0; ei < ne; ++ei) {
-                                const Estimator e = kAllEstimators[ei];
-                                if (opt.ks[ki] < estimator_min_k(e)) continue;
-                                samples[t * stride + ki * ne + ei] =
-                                    estimate_density<double>(e, w.data(), d2.data(), kmax, kmax >= n, opt.ks[ki],
-                                                             kInfinity, dim, &st)
-                                        .value;
-                            }
-                    }
-                });
+                run_synthetic(opt, sc, dim, grid, stats, samples);
             } else if (sc == StudyScenario::photon_pass) {
-                run_photon_pass(opt, kmax, stride, stats, samples, trials, n, say);
+                run_photon_pass(opt, opt.ks.back(), grid.stride(), stats, samples, trials, n, say);
             } else {
-                // Real photon map: uniform photons in the unit cube, queries on a grid of
-                // well-separated interior points (balls never overlap or leave the cube).
                 n = opt.photon_map_size;
-                if (n <= kmax) throw Error("study: photon map size must exceed the largest k");
-                const double r_max = std::cbrt(3.0 * double(kmax) / (4.0 * kPi * double(n)));
-                const double margin = 1.3 * r_max;
-                const size_t g = std::max<size_t>(1, size_t((1.0 - 2.0 * margin) / (2.0 * margin)) + 1);
-                const double spacing = g > 1 ? (1.0 - 2.0 * margin) / double(g - 1) : 0.0;
-                const size_t per_map = g * g * g;
-                const size_t want = opt.photon_map_queries ? opt.photon_map_queries : std::max<size_t>(2, opt.trials / 4);
-                const size_t maps = (want + per_map - 1) / per_map;
-                trials = maps * per_map;
-                samples.assign(trials * stride, 0.0);
-                const double phi = 1.0 / double(n);   // power density 1
-                say("study: photon_map: " + std::to_string(maps) + " maps of " + std::to_string(n) + " photons, " +
-                    std::to_string(per_map) + " queries each");
-                tbb::parallel_for(size_t(0), maps, [&](size_t m) {
-                    Rng rng = trial_rng(opt.seed, stream_id(sc, dim, m));
-                    std::vector<PhotonInput> ph(n);
-                    for (auto& p : ph) {
-                        p.position = Vec3(rng.uniform(), rng.uniform(), rng.uniform());
-                        const double u1 = rng.uniform(), u2 = rng.uniform();
-                        p.direction = sample_uniform_sphere(u1, u2);
-                        p.power = Rgb::Constant(phi);
-                    }
-                    const PhotonMap map(ph);
-                    NeighbourList list;
-                    std::vector<double> w(kmax), d2(kmax);
-                    EstimatorStats& st = stats.local();
-                    const Vec3 wo = Vec3::UnitZ();
-                    for (size_t q = 0; q < per_map; ++q) {
-                        const size_t ix = q % g, iy = (q / g) % g, iz = q / (g * g);
-                        const Vec3 x = Vec3::Constant(margin) + spacing * Vec3(double(ix), double(iy), double(iz));
-                        const size_t found = map.knn(x, kmax, kInfinity, list);
-                        for (size_t i = 0; i < found; ++i) {
-                            // same weighting as estimate_in_scattering; isotropic phase 1/(4 pi)
-                            w[i] = 4.0 * kPi * hg_eval(list[i].direction.dot(wo), 0.0) * list[i].power[1];
-                            d2[i] = list[i].d2;
-                        }
-                        const size_t t = m * per_map + q;
-                        for (size_t ki = 0; ki < nk; ++ki)
-                            for (size_t ei = 0; ei < ne; ++ei) {
-                                const Estimator e = kAllEstimators[ei];
-                                if (opt.ks[ki] < estimator_min_k(e)) continue;
-                                samples[t * stride + ki * ne + ei] =
-                                    estimate_density<double>(e, w.data(), d2.data(), found, found < kmax,
-                                                             opt.ks[ki], kInfinity, 3, &st)
-                                        .value;
-                            }
-                    }
-                });
+                trials = run_photon_map(opt, grid, stats, samples, say);
             }
-            // reduce and attach theory
-            for (size_t ki = 0; ki < nk; ++ki) {
-                const size_t k = opt.ks[ki];
-                for (size_t ei = 0; ei < ne; ++ei) {
-                    const Estimator e = kAllEstimators[ei];
-                    if (k < estimator_min_k(e)) continue;
+            for (size_t ki = 0; ki < grid.nk; ++ki)
+                for (size_t ei = 0; ei < grid.ne; ++ei) {
                     StudyRow row;
+                    row.estimator = Estimator::all()[ei];
+                    row.k = opt.ks[ki];
+                    if (row.k < row.estimator.min_k()) continue;
                     row.scenario = scenario_name(sc);
                     row.dim = dim;
-                    row.k = k;
-                    row.estimator = e;
                     row.n = n;
-                    reduce(samples, trials, stride, ki * ne + ei, row);
-                    Theory th, lim;
-                    row.has_theory = true;
-                    switch (sc) {
-                        case StudyScenario::uniform:
-                        case StudyScenario::gradient:
-                        case StudyScenario::photon_map:
-                        case StudyScenario::photon_pass:
-                            th = uniform_theory(e, k, n, 1.0);
-                            lim = uniform_theory(e, k, 0, 1.0);
-                            row.theory_source = "exact";
-                            break;
-                        case StudyScenario::weighted:
-                            th = uniform_theory(e, k, n, 2.0);
-                            lim = uniform_theory(e, k, 0, 2.0);
-                            row.theory_source = "exact";
-                            break;
-                        case StudyScenario::gaussian:
-                            th = quadrature_theory(e, k, n, dim, [dim](double r) { return gaussian_mass(dim, r); },
-                                                   40.0, std::pow(2.0 * kPi, 0.5 * dim) / double(n));
-                            lim = th;
-                            row.theory_source = "quadrature";
-                            break;
-                        case StudyScenario::boundary: {
-                            const double bd = opt.boundary_distance, uv = unit_volume(dim);
-                            th = quadrature_theory(
-                                e, k, n, dim, [dim, bd, uv](double r) { return lens_volume(dim, bd, r) / uv; },
-                                1.0 + bd, uv / double(n));
-                            lim = th;
-                            row.theory_source = "quadrature";
-                            break;
-                        }
-                        default: row.has_theory = false; row.theory_source = "none"; break;
-                    }
-                    row.th_error = th.error;
-                    row.th_variance = th.variance;
-                    row.th_mse = th.mse;
-                    row.th_variance_limit = lim.variance;
+                    reduce(samples, trials, grid.stride(), grid.at(0, ki, ei), row);
+                    attach_theory(opt, sc, row);
                     res.rows.push_back(row);
                 }
-            }
             char buf[200];
             std::snprintf(buf, sizeof buf, "study: %-10s %dD  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
-                          scenario_name(sc), dim, trials, nk, n, t_sc.seconds(), timer.seconds());
+                          scenario_name(sc), dim, trials, grid.nk, n, t_sc.seconds(), timer.seconds());
             say(buf);
         }
     }
@@ -518,7 +530,7 @@ std::string study_csv(const StudyResult& r) {
     s << "scenario,dim,k,estimator,n,trials,mean_rel_error,se_mean,rel_variance,rel_mse,se_mse,"
          "theory_rel_error,theory_rel_variance,theory_rel_mse,theory_rel_variance_limit,theory_source\n";
     for (const StudyRow& row : r.rows) {
-        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << estimator_name(row.estimator) << ','
+        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << row.estimator.name() << ','
           << row.n << ',' << row.trials << ',' << fmt(row.mean_error) << ',' << fmt(row.se_mean) << ','
           << fmt(row.rel_variance) << ',' << fmt(row.rel_mse) << ',' << fmt(row.se_mse) << ',';
         if (row.has_theory)
@@ -549,7 +561,7 @@ std::string study_markdown(const StudyResult& r) {
               << "| k | estimator | rel. error +- SE | theory | rel. variance | theory | rel. MSE +- SE | theory |\n"
               << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
         }
-        s << "| " << row.k << " | " << estimator_name(row.estimator) << " | " << fmt(row.mean_error) << " +- "
+        s << "| " << row.k << " | " << row.estimator.name() << " | " << fmt(row.mean_error) << " +- "
           << fmt(row.se_mean) << " | " << (row.has_theory ? fmt(row.th_error) : "") << " | " << fmt(row.rel_variance)
           << " | " << (row.has_theory ? fmt(row.th_variance) : "") << " | " << fmt(row.rel_mse) << " +- "
           << fmt(row.se_mse) << " | " << (row.has_theory ? fmt(row.th_mse) : "") << " |\n";
@@ -564,13 +576,24 @@ std::string study_markdown(const StudyResult& r) {
 
 std::string study_summary_table(const StudyResult& r, const std::string& scenario, int dim,
                                 const std::vector<size_t>& ks) {
+    // One column per registered estimator, in registry order.
+    const std::vector<Estimator>& all = Estimator::all();
     std::ostringstream s;
-    s << "| k | classic (theory) | corrected (theory) | mse_optimal (theory) | MSE classic / corrected / mse_optimal (theory) |\n"
-      << "|---:|---|---|---|---|\n";
+    std::string names;
+    s << "| k";
+    for (const Estimator& e : all) {
+        s << " | " << e.name() << " (theory)";
+        names += (names.empty() ? "" : " / ") + std::string(e.name());
+    }
+    s << " | MSE " << names << " (theory) |\n|---:|";
+    for (size_t i = 0; i <= all.size(); ++i) s << "---|";
+    s << "\n";
     for (size_t k : ks) {
-        const StudyRow* rows[3] = {nullptr, nullptr, nullptr};
+        std::vector<const StudyRow*> rows(all.size(), nullptr);
         for (const StudyRow& row : r.rows)
-            if (row.scenario == scenario && row.dim == dim && row.k == k) rows[size_t(row.estimator)] = &row;
+            if (row.scenario == scenario && row.dim == dim && row.k == k)
+                for (size_t i = 0; i < all.size(); ++i)
+                    if (row.estimator == all[i]) rows[i] = &row;
         if (!rows[0]) continue;
         s << "| " << k;
         for (const StudyRow* row : rows) {
@@ -579,10 +602,10 @@ std::string study_summary_table(const StudyResult& r, const std::string& scenari
               << fmt_fixed(row->th_error, 4) << ")";
         }
         s << " | ";
-        for (int i = 0; i < 3; ++i)
+        for (size_t i = 0; i < rows.size(); ++i)
             if (rows[i]) s << (i ? " / " : "") << fmt_fixed(rows[i]->rel_mse, 4);
         s << " (";
-        for (int i = 0; i < 3; ++i)
+        for (size_t i = 0; i < rows.size(); ++i)
             if (rows[i]) s << (i ? " / " : "") << fmt_fixed(rows[i]->th_mse, 4);
         s << ") |\n";
     }

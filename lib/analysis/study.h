@@ -67,7 +67,7 @@ struct StudyRow {
     std::string scenario;
     int dim = 3;
     size_t k = 0;
-    Estimator estimator = Estimator::classic;
+    Estimator estimator = Estimator::all().front();
     size_t n = 0, trials = 0;
     double mean_error = 0, se_mean = 0;   // mean(e) - 1 and its standard error
     double rel_variance = 0;              // sample variance of e
@@ -91,9 +91,7 @@ struct StudyResult {
 // Theory for the uniform-type scenarios: unit ball/disc, n points, i.i.d. weights with
 // c_w = E[w^2]/E[w]^2 (1 for unit weights). Returns (relative error, variance, MSE); +inf
 // variance/MSE at k = 2 for classic and corrected. n = 0 gives the n -> infinity limit.
-struct Theory {
-    double error = 0, variance = 0, mse = 0;
-};
+using Theory = EstimatorTheory;
 Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w = 1.0);
 
 // Quadrature theory for unit weights: n points with mass fraction F(r) within distance r of the

@@ -24,7 +24,6 @@
 #include "render/run.h"
 #include "render/run_record.h"
 #include "scene/params.h"
-#include "scene/scene.h"
 
 namespace fs = std::filesystem;
 
@@ -74,13 +73,6 @@ std::vector<fs::path> run_csvs(const fs::path& dir) {
     }
     std::sort(out.begin(), out.end());
     return out;
-}
-
-double phase_seconds(const nlohmann::json& j, const char* phase) {
-    const auto p = j.find("phases");
-    if (p == j.end()) return 0.0;
-    const auto q = p->find(phase);
-    return q == p->end() ? 0.0 : q->value("seconds", 0.0);
 }
 
 std::string opts_sidecar_name(int shard, int shards) {
@@ -165,15 +157,16 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
         const fs::path rel = fs::path("references") / (r->scene + ".exr");
         const fs::path path = opt.out / rel;
         if (!fs::exists(path)) {
-            const auto scene = Scene::build(load_config(spec.scene.string(), plan.references.at(r->scene)));
-            log("sweep: rendering reference " + r->scene + " (path tracer, " + std::to_string(scene->render.spp) +
-                " spp, " + std::to_string(scene->render.width) + "x" + std::to_string(scene->render.height) + ")");
+            const RunConfig config = RunConfig::build(load_config(spec.scene.string(), plan.references.at(r->scene)));
+            const RenderSettings& rs = config.render;
+            log("sweep: rendering reference " + r->scene + " (path tracer, " + std::to_string(rs.spp) + " spp, " +
+                std::to_string(rs.width) + "x" + std::to_string(rs.height) + ")");
             RunOptions ro;
             ro.progress = opt.progress;
             ro.stream_offset = kReferenceStream;
-            RunResult res = run_scene(*scene, ro);
-            write_run_outputs(path, res, scene->render.exposure);
-            log("sweep: reference " + r->scene + " in " + fixed(res.stats.seconds, 1) + " s");
+            RunResult res = vpm::run(config, ro);
+            write_run_outputs(path, res, rs.exposure);
+            log("sweep: reference " + r->scene + " in " + fixed(res.stats.render.seconds, 1) + " s");
         }
         references[r->scene] = read_exr(path);
         reference_column[r->scene] = rel.string();
@@ -193,20 +186,18 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
             if (i >= todo.size()) return;
             const PlannedRun& run = *todo[i];
             try {
-                const auto scene = Scene::build(load_config(spec.scene.string(), run.overrides));
+                const RunConfig config = RunConfig::build(load_config(spec.scene.string(), run.overrides));
                 RunOptions ro;
                 ro.progress = false;
                 ro.stream_offset = run.stream_offset;
-                RunResult res = run_scene(*scene, ro);
+                RunResult res = vpm::run(config, ro);
                 const fs::path image_rel = fs::path("images") / (run.hash + ".exr");
                 write_exr(opt.out / image_rel, res.image);
                 const Image& ref = references.at(run.scene);
                 const RunError err = run_error(res.image, ref);
-                const nlohmann::json& j = res.record.json();
-                const double trace = phase_seconds(j, "trace"), build = phase_seconds(j, "build"),
-                             render = phase_seconds(j, "render");
-                uint64_t stored = 0;
-                if (j.contains("photons") && j["photons"].contains("stored")) stored = j["photons"]["stored"].get<uint64_t>();
+                const double trace = res.stats.seconds("trace"), build = res.stats.seconds("build"),
+                             render = res.stats.seconds("render");
+                const uint64_t stored = res.stats.photons ? res.stats.photons->stored : 0;
                 std::vector<std::string> row = {std::to_string(run.index), run.hash, run.point, run.scene, run.method,
                                                 std::to_string(run.spp), std::to_string(run.repeat),
                                                 std::to_string(run.seed), std::to_string(run.stream_offset)};
@@ -542,8 +533,7 @@ size_t merge_sweeps(const std::vector<fs::path>& dirs, const fs::path& out,
     return rows;
 }
 
-bool plot_sweep(const fs::path& out, const std::function<void(const std::string&)>& log) {
-    const fs::path script = fs::path(VPM_SOURCE_DIR) / "tools" / "plot_sweep.py";
+bool plot_sweep(const fs::path& out, const fs::path& script, const std::function<void(const std::string&)>& log) {
     auto quote = [](const std::string& s) {
         std::string q = "'";
         for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);

@@ -60,7 +60,9 @@ std::string write_sweep_report(const std::filesystem::path& out, const std::vect
 size_t merge_sweeps(const std::vector<std::filesystem::path>& dirs, const std::filesystem::path& out,
                     const std::function<void(const std::string&)>& log = {});
 
-// Runs tools/plot_sweep.py on the folder with /usr/bin/python3; false (and a log line) if not available.
-bool plot_sweep(const std::filesystem::path& out, const std::function<void(const std::string&)>& log);
+// Runs `script` (tools/plot_sweep.py) on the folder with /usr/bin/python3; false (and a log line
+// saying why) when python3, the script or matplotlib is missing: plotting is optional.
+bool plot_sweep(const std::filesystem::path& out, const std::filesystem::path& script,
+                const std::function<void(const std::string&)>& log);
 
 }  // namespace vpm

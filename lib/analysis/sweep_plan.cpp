@@ -11,7 +11,8 @@
 #include "analysis/row_hash.h"
 #include "core/error.h"
 #include "scene/params.h"
-#include "scene/scene.h"
+#include "render/photon_map_integrator.h"
+#include "render/run_config.h"
 
 namespace fs = std::filesystem;
 
@@ -192,13 +193,13 @@ struct Built {
 };
 
 Built build_config(const SweepSpec& spec, const std::vector<std::string>& overrides) {
-    const auto scene = Scene::build(load_config(spec.scene.string(), overrides));
+    RunConfig config = RunConfig::build(load_config(spec.scene.string(), overrides));
     Built b;
-    b.resolved = scene->resolved;
-    b.seed = scene->render.seed;
-    b.integrator = scene->render.integrator;
-    b.estimator = scene->photons.estimator;
-    b.spp = scene->render.spp;
+    b.resolved = std::move(config.resolved);
+    b.seed = config.render.seed;
+    b.integrator = config.integrator->name;
+    b.estimator = photon_map_settings(config).estimator.name();
+    b.spp = config.render.spp;
     return b;
 }
 

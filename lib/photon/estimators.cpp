@@ -6,38 +6,78 @@
 
 namespace vpm {
 
-const char* estimator_name(Estimator e) {
-    switch (e) {
-        case Estimator::classic: return "classic";
-        case Estimator::corrected: return "corrected";
-        case Estimator::mse_optimal: return "mse_optimal";
+namespace {
+
+// Constant kernel keeping `kept` of the k nearest, scaled by `scale`: for n uniform points
+// (density 1) U = V(r_k)/|R| ~ Beta(k, n-k+1), E[1/U] = n/(k-1), E[1/U^2] = n(n-1)/((k-1)(k-2)),
+// and given r_k the inner k-1 points are i.i.d. uniform in the ball, so with i.i.d. weights
+// E[S] = scale kept/(k-1) and E[S^2] = scale^2 kept (c_w + kept - 1) (n-1)/n / ((k-1)(k-2)).
+EstimatorTheory constant_kernel_theory(double kept, double scale, size_t k, size_t n, double c_w) {
+    const double kk = double(k);
+    const double f = n > 0 ? double(n - 1) / double(n) : 1.0;
+    const double mean = scale * kept / (kk - 1.0);
+    EstimatorTheory t;
+    t.error = mean - 1.0;
+    t.variance = t.mse = kInfinity;
+    if (k > 2) {
+        const double m2 = scale * scale * kept * (c_w + kept - 1.0) * f / ((kk - 1.0) * (kk - 2.0));
+        t.variance = m2 - mean * mean;
+        t.mse = t.variance + t.error * t.error;
     }
-    return "unknown";
+    return t;
 }
 
-Estimator parse_estimator(const std::string& name) {
-    for (Estimator e : kAllEstimators)
-        if (name == estimator_name(e)) return e;
-    throw Error("estimator: unknown value '" + name + "' (allowed: classic, corrected, mse_optimal)");
+EstimatorTheory classic_theory(size_t k, size_t n, double c_w) { return constant_kernel_theory(double(k), 1.0, k, n, c_w); }
+EstimatorTheory corrected_theory(size_t k, size_t n, double c_w) {
+    return constant_kernel_theory(double(k) - 1.0, 1.0, k, n, c_w);
+}
+EstimatorTheory mse_optimal_theory(size_t k, size_t n, double c_w) {
+    return constant_kernel_theory(double(k) - 1.0, (double(k) - 2.0) / (double(k) - 1.0), k, n, c_w);
 }
 
-size_t estimator_min_k(Estimator e) {
-    switch (e) {
-        case Estimator::classic: return 1;
-        case Estimator::corrected: return 2;
-        case Estimator::mse_optimal: return 3;
-    }
-    return 1;
+// The registry: one line per estimator.
+const EstimatorEntry kEstimators[] = {
+    {"classic", "sum_{i=1..k} w_i / V(r_k), bias +1/(k-1)", 1, estimate_classic<double>, estimate_classic<Rgb>,
+     classic_theory, [](size_t k) { return double(k); }},
+    {"corrected", "sum_{i=1..k-1} w_i / V(r_k), unbiased", 2, estimate_corrected<double>, estimate_corrected<Rgb>,
+     corrected_theory, [](size_t k) { return double(k) - 1.0; }},
+    {"mse_optimal", "(k-2)/(k-1) sum_{i=1..k-1} w_i / V(r_k), bias -1/(k-1)", 3, estimate_mse_optimal<double>,
+     estimate_mse_optimal<Rgb>, mse_optimal_theory, [](size_t k) { return double(k) - 2.0; }},
+};
+
+}  // namespace
+
+const std::vector<Estimator>& Estimator::all() {
+    static const std::vector<Estimator> list = [] {
+        std::vector<Estimator> l;
+        for (const EstimatorEntry& e : kEstimators) l.push_back(Estimator(&e));
+        return l;
+    }();
+    return list;
 }
 
-void validate_estimator_k(Estimator e, size_t k) {
-    if (k < estimator_min_k(e))
-        throw Error(std::string("estimator ") + estimator_name(e) + ": k = " + std::to_string(k) +
-                    " is out of range (allowed: k >= " + std::to_string(estimator_min_k(e)) + ")");
+std::vector<std::string> Estimator::names() {
+    std::vector<std::string> n;
+    for (const Estimator& e : all()) n.push_back(e.name());
+    return n;
 }
 
-std::string estimator_warning(Estimator e, size_t k) {
-    if (e == Estimator::corrected && k == 2)
+Estimator Estimator::named(const std::string& name) {
+    for (const Estimator& e : all())
+        if (name == e.name()) return e;
+    std::string allowed;
+    for (const std::string& n : names()) allowed += (allowed.empty() ? "" : ", ") + n;
+    throw Error("estimator: unknown value '" + name + "' (allowed: " + allowed + ")");
+}
+
+void Estimator::validate_k(size_t k) const {
+    if (k < min_k())
+        throw Error(std::string("estimator ") + name() + ": k = " + std::to_string(k) +
+                    " is out of range (allowed: k >= " + std::to_string(min_k()) + ")");
+}
+
+std::string Estimator::warning(size_t k) const {
+    if (std::string(name()) == "corrected" && k == 2)
         return "estimator corrected with k = 2 is unbiased but has infinite variance "
                "(relative variance 1/(k-2)); use k >= 3";
     return {};
@@ -107,7 +147,7 @@ namespace {
 template <class Weight>
 Estimate<Rgb> gather_and_estimate(const PhotonMap& map, const Vec3& x, Estimator e, size_t k, double max_radius,
                                   int dim, GatherBuffers& buf, EstimatorStats* stats, const Weight& weight) {
-    validate_estimator_k(e, k);
+    e.validate_k(k);
     size_t want = k;
     for (;;) {
         // Rule (b) with the whole map as the neighbourhood: one linear pass, the farthest last

@@ -1,5 +1,7 @@
 #pragma once
-// The kNN density estimators: every estimator vpm has lives in this file (and estimators.cpp).
+// The kNN density estimators and the rules around them. An estimator is one function below and
+// one line in the registry in estimators.cpp; everything that lists estimators (the config's
+// photons.estimator, sweep axes, the study's columns) reads that registry.
 //
 // Inputs are the neighbours of a query sorted by distance: their weighted powers
 // w_i = f(w_i, w_o) Phi_i (or unit weights in the study) and squared distances. r_k is the distance
@@ -27,7 +29,7 @@
 //      Moreover the combination "corrected when r_k <= R, else fixed radius R" is exactly
 //      unbiased for a Poisson process of intensity rho: with N = count in B(R), mu = rho V(R),
 //      E[(k-1)/V(r_k); r_k <= R] = rho P(N >= k-1) and E[N/V(R); N < k] = rho P(N <= k-2), which
-//      sum to rho. (tests/photon/test_estimators.cpp checks this by Monte Carlo.)
+//      sum to rho. (tests/photon/estimators_test.cpp checks this by Monte Carlo.)
 //  (b) no max_radius (infinite) and fewer than k photons exist in total: use them all, with the
 //      radius at the farthest one, i.e. apply the estimator with k' = count (the kNN estimator
 //      of the whole sample: V(r_n)/|R| ~ Beta(n, 1), corrected stays unbiased for a uniform
@@ -52,6 +54,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/error.h"
@@ -61,22 +64,21 @@
 namespace vpm {
 
 
-enum class Estimator { classic, corrected, mse_optimal };
-constexpr std::array<Estimator, 3> kAllEstimators = {Estimator::classic, Estimator::corrected,
-                                                     Estimator::mse_optimal};
-
-const char* estimator_name(Estimator e);
-// Throws vpm::Error naming the allowed values.
-Estimator parse_estimator(const std::string& name);
-// Smallest k the estimator is defined for (classic 1, corrected 2, mse_optimal 3).
-size_t estimator_min_k(Estimator e);
-// Throws vpm::Error when k is below estimator_min_k(e), with the allowed range in the message.
-void validate_estimator_k(Estimator e, size_t k);
-// Non-empty warning for a valid but ill-advised choice (corrected with k = 2: infinite variance).
-std::string estimator_warning(Estimator e, size_t k);
-
-// Ball volume: dim 2 -> pi r^2, dim 3 -> 4/3 pi r^3 (throws vpm::Error for other dims).
-double ball_volume(int dim, double r);
+// --- the estimators: one function each, listed in the registry (estimators.cpp) ---------------
+// An estimator sees the k nearest neighbours of a query sorted by distance (weights and squared
+// distances), the radius of its ball (r_k, or R for a fixed-radius estimate) and that ball's
+// volume in `dim` dimensions, so that kernel estimators fit the same signature.
+template <class T>
+struct Neighbours {
+    const T* w = nullptr;         // weights w_i, nearest first
+    const double* d2 = nullptr;   // squared distances, same order
+    size_t k = 0;                 // entries used; the k-th is the farthest
+    double radius = 0.0;          // r_k
+    double volume = 0.0;          // V(r_k) > 0
+    int dim = 3;
+};
+template <class T>
+using EstimateFn = T (*)(const Neighbours<T>&);
 
 template <class T>
 inline T zero_value() { return T(0.0); }
@@ -90,29 +92,70 @@ inline T sum_first(const T* w, size_t m) {
     return s;
 }
 
-// --- one function per estimator: w sorted by distance, k entries, volume = V(r_k) > 0 ----------
 template <class T>
-inline T estimate_classic(const T* w, size_t k, double volume) {
-    return sum_first(w, k) / volume;
+inline T estimate_classic(const Neighbours<T>& n) {
+    return sum_first(n.w, n.k) / n.volume;
 }
 template <class T>
-inline T estimate_corrected(const T* w, size_t k, double volume) {
-    return sum_first(w, k - 1) / volume;   // drop the k-th (farthest) photon
+inline T estimate_corrected(const Neighbours<T>& n) {
+    return sum_first(n.w, n.k - 1) / n.volume;   // drop the k-th (farthest) photon
 }
 template <class T>
-inline T estimate_mse_optimal(const T* w, size_t k, double volume) {
-    return sum_first(w, k - 1) * (double(k - 2) / (double(k - 1) * volume));
+inline T estimate_mse_optimal(const Neighbours<T>& n) {
+    return sum_first(n.w, n.k - 1) * (double(n.k - 2) / (double(n.k - 1) * n.volume));
 }
 
-template <class T>
-inline T apply_estimator(Estimator e, const T* w, size_t k, double volume) {
-    switch (e) {
-        case Estimator::classic: return estimate_classic(w, k, volume);
-        case Estimator::corrected: return estimate_corrected(w, k, volume);
-        case Estimator::mse_optimal: return estimate_mse_optimal(w, k, volume);
+// Relative error, variance and MSE of an estimate of a uniform density (truth 1).
+struct EstimatorTheory {
+    double error = 0, variance = 0, mse = 0;
+};
+
+// A registry entry: what users choose by name (photons.estimator, sweep axes, study columns).
+struct EstimatorEntry {
+    const char* name;
+    const char* formula;                  // one line for tables and --help
+    size_t min_k;                         // smallest k it is defined for
+    EstimateFn<double> scalar;            // the same function for unit weights (the study) ...
+    EstimateFn<Rgb> rgb;                  // ... and RGB photon powers (the renderer)
+    // Exact theory for n points uniform in a region, i.i.d. weights with c_w = E[w^2]/E[w]^2
+    // (n = 0: the limit n -> inf); null when not known.
+    EstimatorTheory (*uniform_theory)(size_t k, size_t n, double c_w);
+    // For a constant kernel with unit weights the estimate is count(k) / V(r_k); the study's
+    // quadrature theory for non-uniform densities uses it. Null for other kernels.
+    double (*unit_weight_count)(size_t k);
+};
+
+// A typed handle on one registry entry: cheap to copy and compare, never a dangling string.
+class Estimator {
+public:
+    // Throws vpm::Error naming the allowed values.
+    static Estimator named(const std::string& name);
+    // Every registered estimator, in registry order (the order of study and sweep columns).
+    static const std::vector<Estimator>& all();
+    static std::vector<std::string> names();
+
+    const EstimatorEntry& entry() const { return *entry_; }
+    const char* name() const { return entry_->name; }
+    size_t min_k() const { return entry_->min_k; }
+    // Throws vpm::Error when k < min_k(), with the allowed range in the message.
+    void validate_k(size_t k) const;
+    // Non-empty warning for a valid but ill-advised choice (corrected with k = 2: infinite variance).
+    std::string warning(size_t k) const;
+    template <class T>
+    T apply(const Neighbours<T>& n) const {
+        if constexpr (std::is_same_v<T, Rgb>) return entry_->rgb(n);
+        else return entry_->scalar(n);
     }
-    return zero_value<T>();
-}
+    bool operator==(const Estimator& o) const { return entry_ == o.entry_; }
+    bool operator!=(const Estimator& o) const { return entry_ != o.entry_; }
+
+private:
+    explicit Estimator(const EstimatorEntry* e) : entry_(e) {}
+    const EstimatorEntry* entry_;
+};
+
+// Ball volume: dim 2 -> pi r^2, dim 3 -> 4/3 pi r^3 (throws vpm::Error for other dims).
+double ball_volume(int dim, double r);
 
 // --- the rules ----------------------------------------------------------------------------------
 enum class EstimateCase {
@@ -146,13 +189,13 @@ struct Estimate {
 
 // w[i], d2[i]: the `found` nearest photons sorted by distance. complete: no further photons exist
 // (within max_radius) beyond these. max_radius: kInfinity for none. dim: 2 or 3.
-// Throws vpm::Error if k < estimator_min_k(e). stats may be null; need_more is not counted.
+// Throws vpm::Error if k < e.min_k(). stats may be null; need_more is not counted.
 // coincident_radius: distances <= it count as 0 for rule (c).
 template <class T>
 Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t found, bool complete,
                              size_t k, double max_radius, int dim, EstimatorStats* stats = nullptr,
                              double coincident_radius = 0.0) {
-    validate_estimator_k(e, k);
+    e.validate_k(k);
     Estimate<T> out;
     auto finish = [&](EstimateCase c) {
         out.kind = c;
@@ -179,7 +222,7 @@ Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t f
         if (limited) return fixed(EstimateCase::fixed_radius);
         kk = found;   // rule (b)
         kind = EstimateCase::all_photons;
-        if (kk < estimator_min_k(e)) {
+        if (kk < e.min_k()) {
             out.radius = std::sqrt(d2[found - 1]);
             return finish(EstimateCase::insufficient);
         }
@@ -203,7 +246,7 @@ Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t f
         v = ball_volume(dim, r);
         kind = EstimateCase::extended;
     }
-    out.value = apply_estimator(e, w, kk, v);
+    out.value = e.apply(Neighbours<T>{w, d2, kk, r, v, dim});
     out.radius = r;
     out.k_used = kk;
     return finish(kind);

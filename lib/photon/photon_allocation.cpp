@@ -5,7 +5,7 @@
 
 #include "photon/estimators.h"
 #include "photon/photon_map.h"
-#include "render/path_vertex.h"
+#include "transport/walk_steps.h"
 
 namespace vpm {
 
@@ -30,7 +30,7 @@ LightAllocation importance_allocation(const Scene& scene, const PhotonTraceSetti
     // Camera points: where camera paths first meet a medium or a surface.
     std::vector<Vec3> points;
     Rng rng(base.seed ^ 0x70696c6f74ULL, 0x63616d ^ base.stream_offset);
-    const int w = scene.render.width, h = scene.render.height;
+    const int w = scene.camera.width(), h = scene.camera.height();
     for (int i = 0; i < kPilotRays; ++i) {
         const Ray ray = scene.camera.generate_ray(rng.uniform() * w, rng.uniform() * h);
         const PathVertex v = next_vertex(scene, ray, rng);

@@ -9,7 +9,7 @@
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
 #include "core/sampling.h"
-#include "render/path_vertex.h"
+#include "transport/walk_steps.h"
 
 namespace vpm {
 

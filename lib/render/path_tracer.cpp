@@ -2,14 +2,14 @@
 
 #include "core/henyey_greenstein.h"
 #include "core/sampling.h"
-#include "render/direct_light.h"
-#include "render/path_vertex.h"
+#include "transport/direct_light.h"
+#include "transport/walk_steps.h"
 
 namespace vpm {
 
 Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
-    const int max_depth = scene_.render.max_depth;
-    const int rr_depth = scene_.render.rr_depth;
+    const int max_depth = walk_.max_depth;
+    const int rr_depth = walk_.rr_depth;
     Ray ray = camera_ray;
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
@@ -38,6 +38,23 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
         if (!survive_roulette(throughput, depth + 1, rr_depth, rng)) break;
     }
     return radiance;
+}
+
+namespace {
+
+struct PathTracerSettings : IntegratorSettings {
+    WalkSettings walk;
+    std::unique_ptr<Integrator> create(const Scene& scene) const override {
+        return std::make_unique<PathTracer>(scene, walk);
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<IntegratorSettings> read_path_tracer_settings(Params& render, Params&) {
+    auto s = std::make_unique<PathTracerSettings>();
+    s->walk = WalkSettings::read(render);
+    return s;
 }
 
 }  // namespace vpm

@@ -7,19 +7,28 @@
 //
 // Emission is counted only through NEE after the first vertex; camera rays that escape see the
 // environment directly. Area lights are not geometry, so no path can hit one: nothing is counted twice.
+#include <memory>
+
 #include "render/integrator.h"
 #include "scene/scene.h"
+#include "transport/walk_settings.h"
 
 namespace vpm {
 
+class Params;
+
 class PathTracer : public Integrator {
 public:
-    explicit PathTracer(const Scene& scene) : scene_(scene) {}
+    explicit PathTracer(const Scene& scene, const WalkSettings& walk = {}) : scene_(scene), walk_(walk) {}
     Rgb radiance(const Ray& ray, Rng& rng) const override;
     std::string name() const override { return "path"; }
 
 private:
     const Scene& scene_;
+    WalkSettings walk_;
 };
+
+// The registry's reader: the walk keys of [render].
+std::unique_ptr<IntegratorSettings> read_path_tracer_settings(Params& render, Params& root);
 
 }  // namespace vpm

@@ -1,26 +1,20 @@
 #pragma once
-// Where a photon pass's photons went, per light: the sidecar fields and log lines (issue 12).
-//
-//   photons.allocation                  "importance" | "power" (photon/photon_allocation.h)
-//   photons.stored_per_emitted          (volume + surface records) / photon paths emitted
-//   photons.lights[i]                   light, weight (share of photons), power_share, importance,
-//                                       emitted, landed (reached a medium collision or a surface),
-//                                       stored, stored_per_emitted, landed_fraction
-//
-// A light whose photons mostly reach nothing (landed_fraction < kWastedLightFraction) gets a
-// warning in the log and `wasted = true` in its record.
+// Where a photon pass's photons went, per light (issue 12): fills PhotonPassStats (allocation,
+// stored_per_emitted, lights; run_stats.h) and writes the log lines. A light whose photons mostly
+// reach nothing (landed / emitted < kWastedLightFraction: no medium collision, no surface) is
+// marked wasted and gets a warning in the log.
 #include <iosfwd>
 
 #include "photon/photon_allocation.h"
 #include "photon/photon_tracer.h"
-#include "render/run_record.h"
+#include "render/run_stats.h"
 #include "scene/scene.h"
 
 namespace vpm {
 
 constexpr double kWastedLightFraction = 0.5;
 
-void report_photon_lights(const Scene& scene, const LightAllocation& allocation, const PhotonTraceResult& traced,
-                          RunRecord& record, std::ostream* log);
+void report_photon_lights(const Scene& scene, const char* allocation_rule, const LightAllocation& allocation,
+                          const PhotonTraceResult& traced, PhotonPassStats& stats, std::ostream* log);
 
 }  // namespace vpm

@@ -1,6 +1,7 @@
 #include "render/photon_map_integrator.h"
 
 #include <array>
+#include <ostream>
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -8,8 +9,9 @@
 #include "core/sampling.h"
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
-#include "render/direct_light.h"
-#include "render/path_vertex.h"
+#include "scene/params.h"
+#include "transport/direct_light.h"
+#include "transport/walk_steps.h"
 
 namespace vpm {
 
@@ -34,13 +36,44 @@ struct PhotonMapIntegrator::ThreadState {
     mutable tbb::enumerable_thread_specific<Local> local;
 };
 
-PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMap& map, const PhotonMap* surface_map)
-    : scene_(scene), map_(map), surface_map_(surface_map), estimator_(parse_estimator(scene.photons.estimator)), k_(size_t(scene.photons.k)),
-      max_radius_(scene.photons.max_radius > 0 ? scene.photons.max_radius : kInfinity),
-      nee_(scene.photons.direct == "nee"), ball_extinction_(scene.photons.extinction == "ball"),
-      threads_(std::make_unique<ThreadState>(scene)) {}
+PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
+    : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
+      max_radius_(settings.search_radius()), threads_(std::make_unique<ThreadState>(scene)) {}
+
+PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
+                                         const PhotonMap& volume_map, const PhotonMap* surface_map)
+    : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
+      max_radius_(settings.search_radius()), threads_(std::make_unique<ThreadState>(scene)) {}
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
+
+void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
+    if (!owns_maps_) return;
+    std::ostream* log = context.log;
+    const bool surface = scene_.uses_embree() && !settings_.final_gather;
+    if (scene_.has_media() || surface) {
+        owned_ = run_photon_pass(scene_, settings_, context, surface, stats);
+        surface_map_ = surface ? &owned_.surface : nullptr;
+    } else if (log) {
+        *log << "photons: no media and no surface map, so no photon pass\n";
+    }
+    if (!scene_.has_media() && log) *log << "photons: no media, so the volume photon map is empty\n";
+    if (scene_.uses_embree() && !surface && log)
+        *log << "photons: final_gather = true, so no surface photon map (paths continue through surfaces)\n";
+}
+
+void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
+    stats.volume_estimates = this->stats();
+    stats.continued_paths = continued_paths();
+    if (log)
+        *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
+             << "(fewer than k photons within photons.max_radius_mfp): " << *stats.continued_paths << "\n";
+    const EstimatorStats ss = surface_stats();
+    if (ss.queries) {
+        stats.surface_estimates = ss;
+        if (log) *log << "surface estimates: " << ss.to_string() << "\n";
+    }
+}
 
 EstimatorStats PhotonMapIntegrator::stats() const {
     EstimatorStats total;
@@ -61,7 +94,7 @@ EstimatorStats PhotonMapIntegrator::surface_stats() const {
 }
 
 Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
-    const int max_depth = scene_.render.max_depth;
+    const int max_depth = settings_.walk.max_depth;
     Ray ray = camera_ray;
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
@@ -79,39 +112,40 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             const Medium& m = *event.medium;
             const Rgb weight = throughput * m.albedo();
             if ((weight == 0.0).all()) break;
-            if (nee_) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
+            if (settings_.direct == DirectLighting::nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
             const double sigma_t = total_sigma_t(scene_, x);
-            if (sigma_t > 0.0 && !map_.empty()) {
+            if (sigma_t > 0.0 && !map_->empty()) {
                 auto& local = threads_->local.local();
-                const double radius = bounded_radius(max_radius_, scene_.photons.max_radius_mfp, sigma_t);
-                const Estimate<Rgb> s = estimate_in_scattering(map_, x, -ray.dir, m.g(), estimator_, k_, radius,
+                const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
+                const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, size_t(settings_.k), radius,
                                                                local.buffers, &local.stats);
                 if (radius < max_radius_) {   // the mean-free-path bound (photon/bounded_radius.h)
-                    const BoundedQuery q = bounded_query(s, k_);
+                    const BoundedQuery q = bounded_query(s, size_t(settings_.k));
                     if (q == BoundedQuery::zero) break;
                     if (q == BoundedQuery::continue_path) {   // too few photons: scatter and go on
                         ++local.continued;
-                        if (!nee_) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
+                        if (settings_.direct != DirectLighting::nee)
+                            radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
                         throughput = weight;
                         const double u1 = rng.uniform(), u2 = rng.uniform();
                         ray = Ray{x, hg_sample(ray.dir, m.g(), u1, u2)};
-                        if (!survive_roulette(throughput, depth + 1, scene_.render.rr_depth, rng)) break;
+                        if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
                         continue;
                     }
                 }
                 // The ball can miss every quadrature point's smoke only if it is tiny; then use the point.
-                const double ball = ball_extinction_ && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
+                const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
                 radiance += weight * s.value / (ball > 0.0 ? ball : sigma_t);
             }
             break;
         }
         if ((hit.reflectance == 0.0).all()) break;
         if (surface_map_) {   // the surface photon map gives the light the path would gather
-            if (nee_) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
+            if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
             if (!surface_map_->empty()) {
                 auto& local = threads_->local.local();
-                const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal, estimator_,
-                                                                    k_, max_radius_, local.buffers, &local.surface_stats);
+                const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
+                                                                    settings_.estimator, size_t(settings_.k), max_radius_, local.buffers, &local.surface_stats);
                 radiance += throughput * hit.reflectance * (e.value / kPi);
             }
             break;
@@ -119,9 +153,32 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
         radiance += throughput * direct_light_on_surface(scene_, hit, rng);
         throughput *= hit.reflectance;
         ray = diffuse_bounce(hit, rng);
-        if (!survive_roulette(throughput, depth + 1, scene_.render.rr_depth, rng)) break;
+        if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
     }
     return radiance;
+}
+
+namespace {
+
+struct PhotonMapIntegratorSettings : IntegratorSettings {
+    PhotonMapSettings settings;
+    std::unique_ptr<Integrator> create(const Scene& scene) const override {
+        return std::make_unique<PhotonMapIntegrator>(scene, settings);
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<IntegratorSettings> read_photon_map_settings(Params& render, Params& root) {
+    auto s = std::make_unique<PhotonMapIntegratorSettings>();
+    Params photons = root.table("photons");
+    s->settings = PhotonMapSettings::read(render, photons);
+    photons.finish();
+    return s;
+}
+
+const PhotonMapSettings& photon_map_settings(const RunConfig& config) {
+    return static_cast<const PhotonMapIntegratorSettings&>(config.settings_for("photon_map")).settings;
 }
 
 }  // namespace vpm

@@ -39,16 +39,26 @@
 #include "photon/estimators.h"
 #include "photon/photon_map.h"
 #include "render/integrator.h"
+#include "render/photon_map_settings.h"
+#include "render/photon_pass.h"
+#include "render/run_config.h"
 #include "scene/scene.h"
 
 namespace vpm {
 
 class PhotonMapIntegrator : public Integrator {
 public:
-    // surface_map: null for none (final gather through surfaces).
-    PhotonMapIntegrator(const Scene& scene, const PhotonMap& map, const PhotonMap* surface_map = nullptr);
+    // Builds its own maps in prepare() (the photon pass).
+    PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings);
+    // Uses maps built elsewhere (tests, studies); prepare() then does nothing. surface_map: null for
+    // none (final gather through surfaces).
+    PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings, const PhotonMap& volume_map,
+                        const PhotonMap* surface_map = nullptr);
     ~PhotonMapIntegrator() override;
+
+    void prepare(const PassContext& context, RunStats& stats) override;
     Rgb radiance(const Ray& ray, Rng& rng) const override;
+    void collect(RunStats& stats, std::ostream* log) const override;
     std::string name() const override { return "photon_map"; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
     EstimatorStats stats() const;
@@ -61,14 +71,19 @@ public:
 private:
     struct ThreadState;
     const Scene& scene_;
-    const PhotonMap& map_;
+    PhotonMapSettings settings_;
+    bool owns_maps_;
+    PhotonMaps owned_;
+    const PhotonMap* map_;
     const PhotonMap* surface_map_;
-    Estimator estimator_;
-    size_t k_;
     double max_radius_;
-    bool nee_;
-    bool ball_extinction_;
     std::unique_ptr<ThreadState> threads_;
 };
+
+// The registry's reader: [photons] and the walk keys of [render].
+std::unique_ptr<IntegratorSettings> read_photon_map_settings(Params& render, Params& root);
+
+// A config's photon-map settings (read whichever integrator it chose).
+const PhotonMapSettings& photon_map_settings(const RunConfig& config);
 
 }  // namespace vpm

@@ -1,15 +1,16 @@
 #pragma once
-// One complete run of a scene: the passes its integrator needs (photon pass and photon map
-// only for the photon-map integrator), the render, and a RunRecord with every phase's time,
-// peak memory, the build log and the fully resolved config. Shared by `vpm render`, sweeps
-// and benchmarks so that they all measure the same thing.
+// One complete run of a config: the chosen integrator's passes (prepare), the camera pass, its
+// statistics (collect), typed in RunStats and serialised once into a RunRecord with the build
+// log and the fully resolved config. Shared by `vpm render`, sweeps, the stress matrix and
+// benchmarks so that they all measure the same thing.
 #include <filesystem>
 #include <ostream>
 
 #include "render/image.h"
 #include "render/render_loop.h"
+#include "render/run_config.h"
 #include "render/run_record.h"
-#include "scene/scene.h"
+#include "render/run_stats.h"
 
 namespace vpm {
 
@@ -21,11 +22,11 @@ struct RunOptions {
 
 struct RunResult {
     Image image;
-    RenderStats stats;
-    RunRecord record;
+    RunStats stats;
+    RunRecord record;   // the stats, written once, with the config and environment
 };
 
-RunResult run_scene(const Scene& scene, const RunOptions& options);
+RunResult run(const RunConfig& config, const RunOptions& options);
 
 // Writes OUT (EXR), its PNG preview and its JSON sidecar, each atomically. Creates OUT's folder.
 void write_run_outputs(const std::filesystem::path& output, RunResult& result, double exposure);

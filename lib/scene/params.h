@@ -13,6 +13,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -69,6 +70,20 @@ public:
     std::string choice(const std::string& key, const std::string& fallback,
                        const std::vector<std::string>& allowed);
     std::string choice(const std::string& key, const std::vector<std::string>& allowed);
+    // The same, mapped to a typed value: `allowed` pairs each accepted name with its value.
+    template <class T>
+    T choice(const std::string& key, const T& fallback, const std::vector<std::pair<std::string, T>>& allowed) {
+        std::string fallback_name;
+        std::vector<std::string> names;
+        for (const auto& [name, value] : allowed) {
+            names.push_back(name);
+            if (value == fallback) fallback_name = name;
+        }
+        const std::string chosen = choice(key, fallback_name, names);
+        for (const auto& [name, value] : allowed)
+            if (name == chosen) return value;
+        return fallback;
+    }
     // A number (grey) or a 3-array; every component in `range`.
     Rgb rgb(const std::string& key, const Rgb& fallback, Range range = Range::any());
     Rgb rgb(const std::string& key, Range range = Range::any());

@@ -13,11 +13,12 @@
 
 #include "analysis/row_hash.h"
 #include "analysis/sweep.h"
+#include "render/run_config.h"
 #include "analysis/sweep_csv.h"
 #include "analysis/sweep_plan.h"
 #include "core/error.h"
 #include "scene/params.h"
-#include "scene/scene.h"
+#include "render/run_config.h"
 
 namespace fs = std::filesystem;
 
@@ -246,13 +247,13 @@ TEST(SweepCsv, QuotingRoundTripsAndHeaderMismatchIsRefused) {
 }
 
 TEST_F(SweepTest, RowHashFollowsTheResolvedConfigNotItsSpelling) {
-    const auto a = Scene::build(load_config((dir_ / "scene.toml").string()));
-    const auto b = Scene::build(load_config((dir_ / "scene.toml").string(), {"photons.max_bounces=1000", "render.output=\"x.exr\""}));
-    const auto c = Scene::build(load_config((dir_ / "scene.toml").string(), {"photons.k=9"}));
-    EXPECT_EQ(run_hash(a->resolved, 3, 0), run_hash(b->resolved, 3, 0));   // explicit default, output path
-    EXPECT_NE(run_hash(a->resolved, 3, 0), run_hash(a->resolved, 3, 1));
-    EXPECT_NE(run_hash(a->resolved, 3, 0), run_hash(c->resolved, 3, 0));
-    EXPECT_EQ(scene_hash(a->resolved), scene_hash(c->resolved));          // photons do not change the reference
+    const auto a = RunConfig::build(load_config((dir_ / "scene.toml").string()));
+    const auto b = RunConfig::build(load_config((dir_ / "scene.toml").string(), {"photons.max_bounces=1000", "render.output=\"x.exr\""}));
+    const auto c = RunConfig::build(load_config((dir_ / "scene.toml").string(), {"photons.k=9"}));
+    EXPECT_EQ(run_hash(a.resolved, 3, 0), run_hash(b.resolved, 3, 0));   // explicit default, output path
+    EXPECT_NE(run_hash(a.resolved, 3, 0), run_hash(a.resolved, 3, 1));
+    EXPECT_NE(run_hash(a.resolved, 3, 0), run_hash(c.resolved, 3, 0));
+    EXPECT_EQ(scene_hash(a.resolved), scene_hash(c.resolved));          // photons do not change the reference
     EXPECT_EQ(hash_hex(""), "cbf29ce484222325");                          // FNV-1a offset basis
 }
 

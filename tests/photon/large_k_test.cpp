@@ -83,7 +83,7 @@ TEST(LargeK, RuleBFromTheWholeMapEqualsTheSortedEstimate) {
     GatherBuffers buf;
     EstimatorStats stats;
     const Vec3 q(0.1, 0.2, 0.3), w_o = Vec3(0.3, -0.5, 0.8).normalized();
-    for (Estimator e : kAllEstimators) {
+    for (const Estimator& e : Estimator::all()) {
         const Estimate<Rgb> fast = estimate_in_scattering(map, q, w_o, 0.4, e, 100000, kInfinity, buf, &stats);
         NeighbourList sorted;
         map.knn(q, map.size(), kInfinity, sorted);
@@ -97,6 +97,6 @@ TEST(LargeK, RuleBFromTheWholeMapEqualsTheSortedEstimate) {
         EXPECT_EQ(fast.kind, EstimateCase::all_photons);
         EXPECT_EQ(fast.k_used, map.size());
         EXPECT_DOUBLE_EQ(fast.radius, ref.radius);
-        EXPECT_TRUE(fast.value.isApprox(ref.value, 1e-12)) << estimator_name(e);
+        EXPECT_TRUE(fast.value.isApprox(ref.value, 1e-12)) << e.name();
     }
 }

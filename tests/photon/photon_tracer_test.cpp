@@ -5,7 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include "photon/photon_tracer.h"
-#include "scene/scene.h"
+#include "render/run_config.h"
 
 using namespace vpm;
 
@@ -27,7 +27,7 @@ type = "environment"
 radiance = 0.1
 [[media]]
 )" + medium + extra;
-    return Scene::build(parse_config(text, "photons.toml", VPM_SOURCE_DIR "/configs"));
+    return RunConfig::build(parse_config(text, "photons.toml", VPM_SOURCE_DIR "/configs")).scene;
 }
 
 const std::string kHomogeneous = "type = 'homogeneous'\nshape = 'sphere'\nradius = 1\nsigma_t_scale = 3\ng = 0.4\n";

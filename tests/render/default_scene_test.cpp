@@ -7,7 +7,6 @@
 #include <cstdio>
 
 #include "render/run.h"
-#include "scene/scene.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;
@@ -16,14 +15,14 @@ namespace {
 
 // Mean image value over `repeats` independent runs (photon maps and camera samples), with its SE.
 test::Sample mean_brightness(const std::vector<std::string>& overrides, int repeats) {
-    auto scene = Scene::load(VPM_SOURCE_DIR "/configs/default_photon_map.toml", overrides);
+    const RunConfig config = RunConfig::load(VPM_SOURCE_DIR "/configs/default_photon_map.toml", overrides);
     test::Sample brightness;
     for (int r = 0; r < repeats; ++r) {
         RunOptions o;
         o.progress = false;
         o.stream_offset = uint64_t(r);
-        const RunResult result = run_scene(*scene, o);
-        EXPECT_EQ(result.stats.nonfinite_samples, 0u);
+        const RunResult result = run(config, o);
+        EXPECT_EQ(result.stats.render.nonfinite_samples, 0u);
         double m = 0;
         for (size_t i = 0; i < result.image.rgb.size(); ++i) m += result.image.rgb[i];
         brightness.add(m / double(result.image.rgb.size()));

@@ -1,4 +1,4 @@
-// The memory-budget warning of run_scene: before the kd-tree is built, a photon map projected to
+// The memory-budget warning of the photon pass: before the kd-tree is built, a photon map projected to
 // exceed photons.memory_budget_fraction of physical memory is announced in the log, with the
 // projected size, and the projection and budget go into the run record (sidecar).
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@ using namespace vpm;
 
 namespace {
 
-std::unique_ptr<Scene> small_scene(const std::string& fraction) {
+RunConfig small_scene(const std::string& fraction) {
     const std::string text = R"(
 [render]
 width = 8
@@ -39,15 +39,15 @@ radius = 2
 sigma_t_scale = 1.0
 albedo = 0.9
 )";
-    return Scene::build(parse_config(text, "budget.toml", "."));
+    return RunConfig::build(parse_config(text, "budget.toml", "."));
 }
 
-RunResult run_logged(const Scene& scene, std::string& log) {
+RunResult run_logged(const RunConfig& config, std::string& log) {
     std::ostringstream s;
     RunOptions o;
     o.progress = false;
     o.log = &s;
-    RunResult r = run_scene(scene, o);
+    RunResult r = run(config, o);
     log = s.str();
     return r;
 }
@@ -55,9 +55,9 @@ RunResult run_logged(const Scene& scene, std::string& log) {
 }  // namespace
 
 TEST(MemoryBudget, TinyBudgetWarnsWithProjectedSize) {
-    const auto scene = small_scene("1e-12");   // ~24 GB * 1e-12: a few dozen bytes
+    const RunConfig config = small_scene("1e-12");   // ~24 GB * 1e-12: a few dozen bytes
     std::string log;
-    const RunResult r = run_logged(*scene, log);
+    const RunResult r = run_logged(config, log);
     const auto& j = r.record.json();
     const double stored = j.at("photons").at("stored").get<double>();
     ASSERT_GT(stored, 0.0);
@@ -73,9 +73,9 @@ TEST(MemoryBudget, TinyBudgetWarnsWithProjectedSize) {
 }
 
 TEST(MemoryBudget, DefaultBudgetDoesNotWarn) {
-    const auto scene = small_scene("0.5");
+    const RunConfig config = small_scene("0.5");
     std::string log;
-    const RunResult r = run_logged(*scene, log);
+    const RunResult r = run_logged(config, log);
     EXPECT_FALSE(r.record.json()["photons"]["over_memory_budget"].get<bool>());
     EXPECT_EQ(log.find("warning:"), std::string::npos) << log;
 }

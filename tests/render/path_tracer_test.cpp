@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "render/path_tracer.h"
-#include "scene/scene.h"
+#include "render/run_config.h"
 
 using namespace vpm;
 
@@ -28,7 +28,7 @@ radius = 1.0
 sigma_t_scale = )" + std::to_string(sigma_t) + R"(
 albedo = )" + std::to_string(albedo) + R"(
 g = )" + std::to_string(g) + "\n";
-    return Scene::build(parse_config(text, "furnace.toml", "."));
+    return RunConfig::build(parse_config(text, "furnace.toml", ".")).scene;
 }
 
 struct Estimate {
@@ -86,8 +86,9 @@ TEST(PathTracer, FurnaceLosesEnergyWithAlbedoBelowOne) {
 
 TEST(PathTracer, MaxDepthZeroSeesOnlyTheAttenuatedEnvironment) {
     auto scene = sphere_in_environment(1.0, 1.0, 0.0, 1.0);
-    scene->render.max_depth = 0;
-    PathTracer pt(*scene);
+    WalkSettings walk;
+    walk.max_depth = 0;
+    PathTracer pt(*scene, walk);
     const Estimate e = estimate(pt, Ray{Vec3(0, 0, 5), Vec3(0, 0, -1)}, 40000, 3);
     EXPECT_NEAR(e.mean, std::exp(-2.0), 3.0 * e.se);
 }

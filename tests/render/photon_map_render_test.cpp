@@ -12,7 +12,7 @@
 #include "render/path_tracer.h"
 #include "render/photon_map_integrator.h"
 #include "render/render_loop.h"
-#include "scene/scene.h"
+#include "render/run_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;
@@ -20,14 +20,14 @@ using namespace vpm;
 namespace {
 
 
-std::unique_ptr<Scene> furnace() {
-    return Scene::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
-                       {"render.width=24", "render.height=24", "render.spp=1", "photons.count=100000"});
+RunConfig furnace() {
+    return RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
+                           {"render.width=24", "render.height=24", "render.spp=1", "photons.count=100000"});
 }
 
-// Mean image value (green channel) at the scene's spp.
-double image_mean(const Scene& scene, const PhotonMap& map, uint64_t seed) {
-    return test::image_mean(scene, PhotonMapIntegrator(scene, map), seed, scene.render.spp);
+// Mean image value (green channel) at the config's spp.
+double image_mean(const RunConfig& config, const PhotonMapSettings& settings, const PhotonMap& map, uint64_t seed) {
+    return test::image_mean(config, PhotonMapIntegrator(*config.scene, settings, map), seed, config.render.spp);
 }
 
 using test::Sample;
@@ -39,23 +39,24 @@ TEST(PhotonMapRender, ClassicOverestimatesByKOverKMinusOneCorrectedDoesNot) {
     // leave chains of collisions), so the mean image value varies ~5% per map: the absolute
     // checks use the standard error over maps, and the classic/corrected ratio is checked paired
     // (same map, same camera rays), which is far more precise.
-    auto scene = furnace();
-    const double kEnv = scene->escaped_radiance(Vec3::UnitZ())[1];   // the furnace's radiance everywhere
+    const RunConfig config = furnace();
+    PhotonMapSettings ps = photon_map_settings(config);
+    const double kEnv = config.scene->escaped_radiance(Vec3::UnitZ())[1];   // the furnace's radiance everywhere
     const int repeats = 12;
     const int ks[] = {4, 8, 16};
     Sample classic[3], corrected[3], excess[3];
     for (int r = 0; r < repeats; ++r) {
         PhotonTraceSettings ts;
-        ts.count = uint64_t(scene->photons.count);
+        ts.count = uint64_t(ps.count);
         ts.seed = 1000 + uint64_t(r);
         ts.progress = false;
-        const PhotonMap map(trace_photons(*scene, ts).photons);
+        const PhotonMap map(trace_photons(*config.scene, ts).photons);
         for (int i = 0; i < 3; ++i) {
-            scene->photons.k = ks[i];
-            scene->photons.estimator = "classic";
-            const double c = image_mean(*scene, map, 77 + uint64_t(r));
-            scene->photons.estimator = "corrected";
-            const double u = image_mean(*scene, map, 77 + uint64_t(r));
+            ps.k = ks[i];
+            ps.estimator = Estimator::named("classic");
+            const double c = image_mean(config, ps, map, 77 + uint64_t(r));
+            ps.estimator = Estimator::named("corrected");
+            const double u = image_mean(config, ps, map, 77 + uint64_t(r));
             classic[i].add(c);
             corrected[i].add(u);
             excess[i].add(c / u - 1.0);
@@ -79,9 +80,9 @@ TEST(PhotonMapRender, ClassicOverestimatesByKOverKMinusOneCorrectedDoesNot) {
 }
 
 TEST(PhotonMapRender, PathTracerAgreesWithTheFurnace) {
-    auto scene = furnace();
-    const double kEnv = scene->escaped_radiance(Vec3::UnitZ())[1];   // the furnace's radiance everywhere
-    const PathTracer pt(*scene);
+    const RunConfig config = furnace();
+    const double kEnv = config.scene->escaped_radiance(Vec3::UnitZ())[1];   // the furnace's radiance everywhere
+    const PathTracer pt(*config.scene);
     double sum = 0, sum2 = 0;
     const int n = 20000;
     for (int i = 0; i < n; ++i) {
@@ -97,15 +98,16 @@ TEST(PhotonMapRender, PathTracerAgreesWithTheFurnace) {
 TEST(PhotonMapRender, BallExtinctionEqualsPointInsideAHomogeneousMedium) {
     // Every kNN ball near the furnace's centre lies inside the sphere, where sigma_t is constant:
     // the two normalisations must give the same image.
-    auto scene = furnace();
+    const RunConfig config = furnace();
+    PhotonMapSettings ps = photon_map_settings(config);
     PhotonTraceSettings ts;
     ts.count = 50000;
     ts.progress = false;
-    const PhotonMap map(trace_photons(*scene, ts).photons);
-    scene->photons.extinction = "point";
-    const double point = image_mean(*scene, map, 5);
-    scene->photons.extinction = "ball";
-    const double ball = image_mean(*scene, map, 5);
+    const PhotonMap map(trace_photons(*config.scene, ts).photons);
+    ps.extinction = ExtinctionNormalisation::point;
+    const double point = image_mean(config, ps, map, 5);
+    ps.extinction = ExtinctionNormalisation::ball;
+    const double ball = image_mean(config, ps, map, 5);
     EXPECT_NEAR(ball, point, 1e-9 * point);
     EXPECT_GT(point, 0.0);
 }

@@ -6,7 +6,8 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "scene/scene.h"
+#include "render/photon_map_integrator.h"
+#include "render/run_config.h"
 
 using namespace vpm;
 
@@ -36,8 +37,8 @@ albedo = [0.9, 0.8, 0.7]
 g = 0.3
 )";
 
-std::unique_ptr<Scene> build(const std::string& text, const std::vector<std::string>& overrides = {}) {
-    return Scene::build(parse_config(text, "test.toml", ".", overrides));
+RunConfig build(const std::string& text, const std::vector<std::string>& overrides = {}) {
+    return RunConfig::build(parse_config(text, "test.toml", ".", overrides));
 }
 
 // Builds and returns the ConfigError message ("" when no error).
@@ -66,11 +67,11 @@ std::string replace(std::string text, const std::string& from, const std::string
 }  // namespace
 
 TEST(Config, MinimalSceneBuilds) {
-    auto scene = build(kMinimal);
-    EXPECT_EQ(scene->render.width, 8);
-    EXPECT_EQ(scene->media.size(), 1u);
-    EXPECT_NEAR(scene->media[0]->albedo()[1], 0.8, 0);
-    EXPECT_EQ(scene->render.integrator, "path");
+    auto config = build(kMinimal);
+    EXPECT_EQ(config.render.width, 8);
+    EXPECT_EQ(config.scene->media.size(), 1u);
+    EXPECT_NEAR(config.scene->media[0]->albedo()[1], 0.8, 0);
+    EXPECT_STREQ(config.integrator->name, "path");
 }
 
 TEST(Config, UnknownKeyNamesKeyAndLine) {
@@ -122,7 +123,7 @@ TEST(Config, MalformedTomlNamesTheLine) {
 }
 
 TEST(Config, MissingFileIsAFileError) {
-    EXPECT_THROW(Scene::load("/nonexistent/scene.toml"), FileError);
+    EXPECT_THROW(RunConfig::load("/nonexistent/scene.toml"), FileError);
 }
 
 TEST(Config, CorrectedEstimatorRejectsKOne) {
@@ -131,11 +132,11 @@ TEST(Config, CorrectedEstimatorRejectsKOne) {
 }
 
 TEST(Config, SetOverridesAreAppliedAndValidated) {
-    auto scene = build(kMinimal, {"media.0.sigma_t_scale=10", "render.spp=64", "photons.k=8", "render.integrator=photon_map"});
-    EXPECT_EQ(scene->render.spp, 64);
-    EXPECT_EQ(scene->photons.k, 8);
-    EXPECT_EQ(scene->render.integrator, "photon_map");
-    EXPECT_DOUBLE_EQ(scene->media[0]->sigma_t(Vec3::Zero()), 10.0);
+    auto config = build(kMinimal, {"media.0.sigma_t_scale=10", "render.spp=64", "photons.k=8", "render.integrator=photon_map"});
+    EXPECT_EQ(config.render.spp, 64);
+    EXPECT_EQ(photon_map_settings(config).k, 8);
+    EXPECT_STREQ(config.integrator->name, "photon_map");
+    EXPECT_DOUBLE_EQ(config.scene->media[0]->sigma_t(Vec3::Zero()), 10.0);
 
     std::string msg = error_of(kMinimal, {"media.0.g=2"});
     EXPECT_NE(msg.find("--set media.0.g: media.0.g: value 2 is out of range"), std::string::npos) << msg;
@@ -149,12 +150,12 @@ TEST(Config, SetOverridesAreAppliedAndValidated) {
 
 TEST(Config, ResolvedConfigRoundTrips) {
     auto first = build(kMinimal);
-    const std::string resolved = first->resolved_toml();
+    const std::string resolved = first.resolved_toml();
     // Defaults are written out.
     EXPECT_NE(resolved.find("integrator = 'path'"), std::string::npos) << resolved;
     EXPECT_NE(resolved.find("fov = 40"), std::string::npos) << resolved;
     auto second = build(resolved);
-    EXPECT_EQ(second->resolved_toml(), resolved);
+    EXPECT_EQ(second.resolved_toml(), resolved);
 }
 
 TEST(Config, SceneWithoutLightsIsAnError) {
@@ -165,11 +166,11 @@ TEST(Config, SceneWithoutLightsIsAnError) {
 }
 
 TEST(Config, HomogeneousSceneBuildsNeitherEmbreeNorOpenVdb) {
-    auto scene = build(kMinimal);
-    EXPECT_FALSE(scene->uses_embree());
-    EXPECT_FALSE(scene->uses_openvdb());
+    auto config = build(kMinimal);
+    EXPECT_FALSE(config.scene->uses_embree());
+    EXPECT_FALSE(config.scene->uses_openvdb());
     bool said_embree = false, said_vdb = false;
-    for (const auto& line : scene->build_log) {
+    for (const auto& line : config.scene->build_log) {
         said_embree |= line == "Embree: not built (no shapes)";
         said_vdb |= line == "OpenVDB: not used (no grid media)";
     }
@@ -181,9 +182,9 @@ TEST(Config, OnlyScenesWithShapesCreateAnEmbreeDevice) {
     const size_t before = Surfaces::devices_created();
     build(kMinimal);
     EXPECT_EQ(Surfaces::devices_created(), before);
-    auto scene = build(std::string(kMinimal) + "\n[[shapes]]\ntype = \"quad\"\ncenter = [0, -1, 0]\nu = [2, 0, 0]\nv = [0, 0, 2]\n");
+    auto config = build(std::string(kMinimal) + "\n[[shapes]]\ntype = \"quad\"\ncenter = [0, -1, 0]\nu = [2, 0, 0]\nv = [0, 0, 2]\n");
     EXPECT_EQ(Surfaces::devices_created(), before + 1);
-    EXPECT_TRUE(scene->uses_embree());
+    EXPECT_TRUE(config.scene->uses_embree());
 }
 
 TEST(Config, BaseConfigIsMergedUnderTheIncludingFile) {
@@ -192,11 +193,11 @@ TEST(Config, BaseConfigIsMergedUnderTheIncludingFile) {
     {
         std::ofstream(dir / "base.toml") << kMinimal;
     }
-    auto scene = build("base = \"" + (dir / "base.toml").string() + "\"\n[render]\nspp = 5\n[photons]\nk = 9\n");
-    EXPECT_EQ(scene->render.spp, 5);
-    EXPECT_EQ(scene->render.width, 8);   // from the base
-    EXPECT_EQ(scene->photons.k, 9);
-    EXPECT_EQ(scene->media.size(), 1u);
+    auto config = build("base = \"" + (dir / "base.toml").string() + "\"\n[render]\nspp = 5\n[photons]\nk = 9\n");
+    EXPECT_EQ(config.render.spp, 5);
+    EXPECT_EQ(config.render.width, 8);   // from the base
+    EXPECT_EQ(photon_map_settings(config).k, 9);
+    EXPECT_EQ(config.scene->media.size(), 1u);
     // An error in a key that came from the base names the base file and its line.
     {
         std::ofstream(dir / "bad.toml") << std::string(kMinimal) + "\n[photons]\nkk = 3\n";

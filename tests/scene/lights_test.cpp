@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "scene/lights.h"
+#include "scene/light_registry.h"
 
 #include "../support/render_statistics.h"
 

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "render/render_loop.h"
-#include "scene/scene.h"
+#include "render/run_config.h"
 
 namespace vpm::test {
 
@@ -24,16 +24,16 @@ struct Sample {
     double se() const { return std::sqrt(std::max(0.0, sum2 / n - mean() * mean()) / (n - 1)); }
 };
 
-// Mean of the green channel over an image rendered with the scene's size and camera.
-inline double image_mean(const Scene& scene, const Integrator& integrator, uint64_t seed, int spp) {
+// Mean of the green channel over an image rendered with the config's size and camera.
+inline double image_mean(const RunConfig& config, const Integrator& integrator, uint64_t seed, int spp) {
     RenderOptions o;
-    o.width = scene.render.width;
-    o.height = scene.render.height;
+    o.width = config.render.width;
+    o.height = config.render.height;
     o.spp = spp;
     o.seed = seed;
     o.progress = false;
     RenderStats stats;
-    const Image image = render_image(scene.camera, integrator, o, stats);
+    const Image image = render_image(config.scene->camera, integrator, o, stats);
     EXPECT_EQ(stats.nonfinite_samples, 0u);
     double m = 0;
     for (int y = 0; y < image.height; ++y)

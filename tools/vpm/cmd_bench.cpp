@@ -47,7 +47,7 @@ double relative_rmse(const vpm::Image& x, const vpm::Image& ref) {
 
 struct Timed {
     vpm::Image image;
-    double seconds = 0.0;   // wall time of run_scene (all phases)
+    double seconds = 0.0;   // wall time of the run (all phases)
     int spp = 0;
 };
 
@@ -56,16 +56,16 @@ struct Timed {
 constexpr uint64_t kReferenceStream = 7919;
 
 Timed run(const std::string& config, std::vector<std::string> sets, uint64_t stream_offset = 0) {
-    auto scene = vpm::Scene::load(config, sets);
+    const vpm::RunConfig run_config = vpm::RunConfig::load(config, sets);
     vpm::RunOptions o;
     o.progress = false;
     o.stream_offset = stream_offset;
     const vpm::Timer t;
-    vpm::RunResult r = vpm::run_scene(*scene, o);
+    vpm::RunResult r = vpm::run(run_config, o);
     Timed out;
     out.seconds = t.seconds();
     out.image = std::move(r.image);
-    out.spp = scene->render.spp;
+    out.spp = run_config.render.spp;
     return out;
 }
 

@@ -30,26 +30,27 @@ int run_render(int argc, char** argv) {
     if (threads >= 0) sets.push_back("render.threads=" + std::to_string(threads));
 
     const vpm::Timer load_timer;
-    auto scene = vpm::Scene::load(config, sets);
+    const vpm::RunConfig run_config = vpm::RunConfig::load(config, sets);
+    const vpm::RenderSettings& render = run_config.render;
     const double load_seconds = load_timer.seconds();
-    const int n_threads = scene->render.threads > 0 ? scene->render.threads : tbb::info::default_concurrency();
+    const int n_threads = render.threads > 0 ? render.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
 
     std::ostream* log = quiet ? nullptr : &std::cerr;
     if (log) {
         *log << "load: " << config << " in " << load_seconds << " s, " << n_threads << " threads\n";
-        for (const auto& line : scene->build_log) *log << "  " << line << "\n";
+        for (const auto& line : run_config.scene->build_log) *log << "  " << line << "\n";
     }
     vpm::RunOptions options;
     options.progress = !quiet;
     options.log = log;
-    vpm::RunResult result = vpm::run_scene(*scene, options);
+    vpm::RunResult result = vpm::run(run_config, options);
     result.record.phase("load", load_seconds);
     result.record.set("threads", n_threads);
     std::vector<std::string> args(argv, argv + argc);
     result.record.set("command_line", args);
-    vpm::write_run_outputs(scene->render.output, result, scene->render.exposure);
-    if (log) *log << "wrote " << scene->render.output << " (+ .png, .json)\n";
+    vpm::write_run_outputs(render.output, result, render.exposure);
+    if (log) *log << "wrote " << render.output << " (+ .png, .json)\n";
     return 0;
 }
 

@@ -10,6 +10,7 @@
 
 #include "analysis/stress.h"
 #include "command.h"
+#include "data_files.h"
 #include "core/error.h"
 #include "core/progress.h"
 
@@ -22,7 +23,7 @@ int run_stress_command(int argc, char** argv) {
         "the relative error against a reference. Exit code 1 when any cell has a NaN/Inf or an energy\n"
         "imbalance above 1e-6.",
         "vpm stress");
-    std::string out = "out/stress", md, configs = std::string(VPM_SOURCE_DIR) + "/configs/stress", only;
+    std::string out = "out/stress", md, configs = vpm::cli::data_file("configs/stress").string(), only;
     bool quick = false;
     app.add_option("--out", out, "Scratch folder (the dense-voxel VDB goes here)");
     app.add_option("--md", md, "Markdown table to write (default: OUT/STRESS.md)");

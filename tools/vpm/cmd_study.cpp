@@ -16,6 +16,7 @@
 
 #include "analysis/study.h"
 #include "command.h"
+#include "data_files.h"
 #include "render/image_io.h"
 #include "core/error.h"
 
@@ -117,7 +118,7 @@ int run_study(int argc, char** argv) {
         log("study: wrote " + (out / "study.csv").string() + ", study.md, study.json in " +
             std::to_string(res.seconds) + " s");
         if (!no_plots) {
-            const std::filesystem::path script = std::filesystem::path(VPM_SOURCE_DIR) / "tools" / "plot_study.py";
+            const std::filesystem::path script = cli::data_file("tools/plot_study.py");
             if (std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
                 const std::string cmd = "/usr/bin/python3 " + shell_quote(script.string()) + " " +
                                         shell_quote((out / "study.csv").string()) + " " + shell_quote(out.string());

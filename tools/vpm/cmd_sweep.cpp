@@ -14,6 +14,7 @@
 #include "analysis/sweep.h"
 #include "analysis/sweep_plan.h"
 #include "command.h"
+#include "data_files.h"
 #include "core/error.h"
 
 namespace vpm {
@@ -57,7 +58,7 @@ int run_merge(int argc, char** argv) {
     std::vector<std::filesystem::path> paths(dirs.begin(), dirs.end());
     const std::filesystem::path target = out.empty() ? paths[0] : std::filesystem::path(out);
     merge_sweeps(paths, target, log);
-    if (!no_plots) plot_sweep(target, log);
+    if (!no_plots) plot_sweep(target, vpm::cli::data_file("tools/plot_sweep.py"), log);
     std::cerr << "vpm sweep merge: wrote " << (target / "runs.csv").string() << ", points.csv, summary.md" << std::endl;
     return 0;
 }
@@ -125,7 +126,7 @@ int run_sweep_command(int argc, char** argv) {
         return 0;
     }
     const SweepOutcome res = run_sweep(plan, opt);
-    if (!no_plots) plot_sweep(opt.out, log);
+    if (!no_plots) plot_sweep(opt.out, vpm::cli::data_file("tools/plot_sweep.py"), log);
     std::cerr << "vpm sweep: " << res.ran << " runs in " << res.seconds << " s (" << res.skipped << " already done"
               << (res.remaining ? ", " + std::to_string(res.remaining) + " left for the next call" : std::string()) << "); wrote "
               << res.csv.string() << ", points.csv, summary.md, sweep.json in " << opt.out.string() << std::endl;

@@ -1,6 +1,6 @@
 // The surface photon map (2D kNN estimate over pi r_k^2) in the renderer.
 //
-// The 2D estimators on synthetic uniform disc sets are tested in tests/photon/test_estimators.cpp
+// The 2D estimators on synthetic uniform disc sets are tested in tests/photon/estimators_test.cpp
 // (EstimatorsMonteCarlo.Disc2D); here the same order statistics are checked through the whole
 // pipeline: photon tracer -> surface map -> PhotonMapIntegrator. Every statistical check uses the
 // standard error over independent photon maps (fixed seeds).
@@ -26,9 +26,10 @@ namespace {
 using test::Sample;
 using test::image_mean;
 
-PhotonTraceResult trace(const Scene& scene, uint64_t seed, bool store_direct) {
+PhotonTraceResult trace(const RunConfig& config, uint64_t seed, bool store_direct) {
+    const Scene& scene = *config.scene;
     PhotonTraceSettings ts;
-    ts.count = uint64_t(scene.photons.count);
+    ts.count = uint64_t(photon_map_settings(config).count);
     ts.seed = seed;
     ts.store_direct = store_direct;
     ts.store_surface = true;
@@ -42,7 +43,7 @@ PhotonTraceResult trace(const Scene& scene, uint64_t seed, bool store_direct) {
 constexpr double kFloorRho = 0.5, kIrradiance = 2.0;
 const Vec3 kLightDir = Vec3(0.3, -1.0, 0.2).normalized();
 
-std::unique_ptr<Scene> flat_floor() {
+RunConfig flat_floor(const std::vector<std::string>& overrides = {}) {
     const std::string text = R"(
 [render]
 width = 32
@@ -67,12 +68,12 @@ u = [5, 0, 0]
 v = [0, 0, 5]
 reflectance = 0.5
 )";
-    return Scene::build(parse_config(text, "flat_floor.toml", "."));
+    return RunConfig::build(parse_config(text, "flat_floor.toml", ".", overrides));
 }
 
 // A closed diffuse box [-1,1]^3 (reflectance 0.5) with a quad light under its ceiling, no medium;
 // the camera inside looks at the back wall.
-std::unique_ptr<Scene> closed_box(bool with_medium) {
+RunConfig closed_box(bool with_medium, const std::vector<std::string>& overrides = {}) {
     std::string text = R"(
 [render]
 width = 24
@@ -109,28 +110,30 @@ sigma_t_scale = 2.0
 albedo = [0.9, 0.7, 0.5]
 g = 0.2
 )";
-    return Scene::build(parse_config(text, "closed_box.toml", "."));
+    return RunConfig::build(parse_config(text, "closed_box.toml", ".", overrides));
 }
 
 }  // namespace
 
 TEST(SurfacePhotonMap, FlatFloorClassicHighByOneOverKMinusOneCorrectedConsistent) {
-    auto scene = flat_floor();
+    const RunConfig config = flat_floor();
+    const Scene& scene = *config.scene;
+    PhotonMapSettings ps = photon_map_settings(config);
     const double truth = kFloorRho / kPi * kIrradiance * (-kLightDir.y());
     const int repeats = 8;
     const int ks[] = {4, 8, 32};
     Sample classic[3], corrected[3], excess[3];
     for (int r = 0; r < repeats; ++r) {
-        const PhotonTraceResult traced = trace(*scene, 300 + uint64_t(r), true);
+        const PhotonTraceResult traced = trace(config, 300 + uint64_t(r), true);
         ASSERT_TRUE(traced.photons.empty());   // no medium: no volume photons
         const PhotonMap surface(traced.surface_photons);
         const PhotonMap volume;
         for (int i = 0; i < 3; ++i) {
-            scene->photons.k = ks[i];
-            scene->photons.estimator = "classic";
-            const double c = image_mean(*scene, PhotonMapIntegrator(*scene, volume, &surface), 11 + uint64_t(r), 1);
-            scene->photons.estimator = "corrected";
-            const double u = image_mean(*scene, PhotonMapIntegrator(*scene, volume, &surface), 11 + uint64_t(r), 1);
+            ps.k = ks[i];
+            ps.estimator = Estimator::named("classic");
+            const double c = image_mean(config, PhotonMapIntegrator(scene, ps, volume, &surface), 11 + uint64_t(r), 1);
+            ps.estimator = Estimator::named("corrected");
+            const double u = image_mean(config, PhotonMapIntegrator(scene, ps, volume, &surface), 11 + uint64_t(r), 1);
             classic[i].add(c / truth);
             corrected[i].add(u / truth);
             excess[i].add(c / u - 1.0);
@@ -152,22 +155,24 @@ TEST(SurfacePhotonMap, FlatFloorClassicHighByOneOverKMinusOneCorrectedConsistent
 }
 
 TEST(SurfacePhotonMap, ClosedBoxWallAgreesWithPathTracer) {
-    auto scene = closed_box(false);
+    const RunConfig config = closed_box(false);
+    const Scene& scene = *config.scene;
+    PhotonMapSettings ps = photon_map_settings(config);
     // Reference: the path tracer over the same pixels, many samples (independent pixel seeds).
-    const PathTracer pt(*scene);
+    const PathTracer pt(scene, ps.walk);
     Sample reference;
-    for (int r = 0; r < 6; ++r) reference.add(image_mean(*scene, pt, 900 + uint64_t(r), 16));
+    for (int r = 0; r < 6; ++r) reference.add(image_mean(config, pt, 900 + uint64_t(r), 16));
     const int repeats = 8, k = 8;
     Sample classic, corrected;
     for (int r = 0; r < repeats; ++r) {
-        const PhotonTraceResult traced = trace(*scene, 500 + uint64_t(r), true);
+        const PhotonTraceResult traced = trace(config, 500 + uint64_t(r), true);
         const PhotonMap surface(traced.surface_photons);
         const PhotonMap volume;
-        scene->photons.k = k;
-        scene->photons.estimator = "classic";
-        classic.add(image_mean(*scene, PhotonMapIntegrator(*scene, volume, &surface), 21 + uint64_t(r), 1));
-        scene->photons.estimator = "corrected";
-        corrected.add(image_mean(*scene, PhotonMapIntegrator(*scene, volume, &surface), 21 + uint64_t(r), 1));
+        ps.k = k;
+        ps.estimator = Estimator::named("classic");
+        classic.add(image_mean(config, PhotonMapIntegrator(scene, ps, volume, &surface), 21 + uint64_t(r), 1));
+        ps.estimator = Estimator::named("corrected");
+        corrected.add(image_mean(config, PhotonMapIntegrator(scene, ps, volume, &surface), 21 + uint64_t(r), 1));
     }
     const double ref = reference.mean();
     std::printf("closed box wall: path %.5f +- %.5f, corrected %.5f +- %.5f, classic %.5f +- %.5f "
@@ -183,25 +188,23 @@ TEST(SurfacePhotonMap, ClosedBoxWallAgreesWithPathTracer) {
 TEST(SurfacePhotonMap, NeeConventionStoresOnlyScatteredPhotons) {
     // With store_direct false the surface map holds exactly the hits after the first event: in the
     // closed box without medium that is every hit but each path's first.
-    auto scene = closed_box(false);
-    scene->photons.count = 20000;
-    const PhotonTraceResult all = trace(*scene, 7, true);
-    const PhotonTraceResult indirect = trace(*scene, 7, false);
+    const RunConfig config = closed_box(false, {"photons.count=20000"});
+    const PhotonTraceResult all = trace(config, 7, true);
+    const PhotonTraceResult indirect = trace(config, 7, false);
     EXPECT_EQ(all.surface_photons.size(), all.surface_hits);
     EXPECT_EQ(indirect.surface_hits, all.surface_hits);   // same random walks
-    EXPECT_EQ(indirect.surface_photons.size() + uint64_t(scene->photons.count), all.surface_photons.size());
+    EXPECT_EQ(indirect.surface_photons.size() + 20000u, all.surface_photons.size());
 }
 
 TEST(SurfacePhotonMap, ClosedBoxStoredPowerIsEmittedOverOneMinusReflectance) {
     // Grey reflectance rho: Russian roulette keeps the power and each hit survives with prob. rho,
     // so hits per path are geometric, mean 1/(1-rho), variance rho/(1-rho)^2; the stored power sums
     // to emitted * hits/N.
-    auto scene = closed_box(false);
-    scene->photons.count = 50000;
-    const PhotonTraceResult t = trace(*scene, 9, true);
+    const RunConfig config = closed_box(false, {"photons.count=50000"});
+    const PhotonTraceResult t = trace(config, 9, true);
     Rgb stored = Rgb::Zero();
     for (const auto& p : t.surface_photons) stored += p.power;
-    const double rho = 0.5, n = double(scene->photons.count);
+    const double rho = 0.5, n = 50000.0;
     const double expected = t.energy.emitted[1] / (1.0 - rho);
     const double se = t.energy.emitted[1] * std::sqrt(rho) / (1.0 - rho) / std::sqrt(n);
     EXPECT_NEAR(stored[1], expected, 4.0 * se);
@@ -210,9 +213,8 @@ TEST(SurfacePhotonMap, ClosedBoxStoredPowerIsEmittedOverOneMinusReflectance) {
 }
 
 TEST(SurfacePhotonMap, EnergyBalanceWithSurfacesAndMedia) {
-    auto scene = closed_box(true);
-    scene->photons.count = 40000;
-    const PhotonTraceResult with = trace(*scene, 3, false);
+    const RunConfig config = closed_box(true, {"photons.count=40000"});
+    const PhotonTraceResult with = trace(config, 3, false);
     EXPECT_GT(with.collisions, 0u);
     EXPECT_GT(with.photons.size(), 0u);
     EXPECT_GT(with.surface_photons.size(), 0u);
@@ -220,12 +222,12 @@ TEST(SurfacePhotonMap, EnergyBalanceWithSurfacesAndMedia) {
     for (int c = 0; c < 3; ++c) EXPECT_GT(with.energy.absorbed[c], 0.0);
     // Storing surface photons takes no power and no random numbers: the balance is identical.
     PhotonTraceSettings ts;
-    ts.count = uint64_t(scene->photons.count);
+    ts.count = 40000;
     ts.seed = 3;
     ts.store_direct = false;
     ts.store_surface = false;
     ts.progress = false;
-    const PhotonTraceResult without = trace_photons(*scene, ts);
+    const PhotonTraceResult without = trace_photons(*config.scene, ts);
     EXPECT_TRUE(without.surface_photons.empty());
     EXPECT_EQ(without.photons.size(), with.photons.size());
     for (int c = 0; c < 3; ++c) {
@@ -235,18 +237,17 @@ TEST(SurfacePhotonMap, EnergyBalanceWithSurfacesAndMedia) {
 }
 
 TEST(SurfacePhotonMap, RunBuildsTheSurfaceMapOnlyWithoutFinalGather) {
-    auto scene = flat_floor();
-    scene->photons.count = 20000;
-    scene->render.width = scene->render.height = 8;
+    const std::vector<std::string> small = {"photons.count=20000", "render.width=8", "render.height=8"};
     RunOptions o;
     o.progress = false;
-    const RunResult with = run_scene(*scene, o);
+    const RunResult with = run(flat_floor(small), o);
     const auto& j = with.record.json();
     ASSERT_TRUE(j.contains("photons"));
     EXPECT_GT(j["photons"]["surface_stored"].get<uint64_t>(), 0u);
     EXPECT_EQ(j["photons"]["surface_estimate_cases"]["queries"].get<uint64_t>(), 64u);
-    scene->photons.final_gather = true;   // no media either: no photon pass at all
-    const RunResult without = run_scene(*scene, o);
+    std::vector<std::string> gather = small;
+    gather.push_back("photons.final_gather=true");   // no media either: no photon pass at all
+    const RunResult without = run(flat_floor(gather), o);
     const auto& p = without.record.json()["photons"];
     EXPECT_FALSE(p.contains("emitted"));
     EXPECT_FALSE(p.contains("surface_stored"));

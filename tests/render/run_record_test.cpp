@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "core/progress.h"
-#include "io_test_util.h"
+#include "../support/io_test_util.h"
 
 namespace {
 

@@ -48,22 +48,22 @@ TEST(Study, UniformMeansAgreeWithTheory) {
     const StudyResult r = uniform_run();
     for (int dim : {2, 3})
         for (size_t k : {3, 5, 10, 50})
-            for (Estimator e : kAllEstimators) {
+            for (const Estimator& e : Estimator::all()) {
                 const StudyRow* row = find(r, "uniform", dim, k, e);
                 ASSERT_NE(row, nullptr);
                 ASSERT_TRUE(row->has_theory);
                 const double se = std::max(row->se_mean, std::sqrt(row->th_variance / double(row->trials)));
                 EXPECT_NEAR(row->mean_error, row->th_error, 3 * se)
-                    << dim << "D k=" << k << " " << estimator_name(e);
+                    << dim << "D k=" << k << " " << e.name();
                 EXPECT_EQ(row->trials, 10000u);
             }
     // and the theory itself: classic 1/(k-1), corrected 0, k-2 scale -1/(k-1)
-    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::classic)->th_error, 0.25);
-    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::corrected)->th_error, 0.0);
-    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::mse_optimal)->th_error, -0.25);
+    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::named("classic"))->th_error, 0.25);
+    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::named("corrected"))->th_error, 0.0);
+    EXPECT_DOUBLE_EQ(find(r, "uniform", 3, 5, Estimator::named("mse_optimal"))->th_error, -0.25);
     // classic is significantly biased at every k: the test is decisive
     for (size_t k : {3, 5, 10, 50}) {
-        const StudyRow* c = find(r, "uniform", 3, k, Estimator::classic);
+        const StudyRow* c = find(r, "uniform", 3, k, Estimator::named("classic"));
         EXPECT_GT(c->mean_error / c->se_mean, 5.0) << k;
     }
 }
@@ -73,35 +73,35 @@ TEST(Study, MseOptimalHasLowestMse) {
     const StudyResult r = uniform_run();
     for (int dim : {2, 3})
         for (size_t k : {5, 10, 50}) {
-            const double m = find(r, "uniform", dim, k, Estimator::mse_optimal)->rel_mse;
-            EXPECT_LT(m, find(r, "uniform", dim, k, Estimator::corrected)->rel_mse) << dim << "D k=" << k;
-            EXPECT_LT(m, find(r, "uniform", dim, k, Estimator::classic)->rel_mse) << dim << "D k=" << k;
+            const double m = find(r, "uniform", dim, k, Estimator::named("mse_optimal"))->rel_mse;
+            EXPECT_LT(m, find(r, "uniform", dim, k, Estimator::named("corrected"))->rel_mse) << dim << "D k=" << k;
+            EXPECT_LT(m, find(r, "uniform", dim, k, Estimator::named("classic"))->rel_mse) << dim << "D k=" << k;
         }
 }
 
 TEST(Study, TheoryLimitsAndInfiniteVariance) {
-    const Theory c = uniform_theory(Estimator::classic, 10, 0);
+    const Theory c = uniform_theory(Estimator::named("classic"), 10, 0);
     EXPECT_DOUBLE_EQ(c.error, 1.0 / 9.0);
     EXPECT_NEAR(c.variance, 100.0 / (81.0 * 8.0), 1e-15);
     EXPECT_NEAR(c.mse, 1.0 / 8.0 + 3.0 / (9.0 * 8.0), 1e-15);
-    const Theory k1 = uniform_theory(Estimator::corrected, 10, 0);
+    const Theory k1 = uniform_theory(Estimator::named("corrected"), 10, 0);
     EXPECT_NEAR(k1.variance, 1.0 / 8.0, 1e-15);
-    const Theory k2 = uniform_theory(Estimator::mse_optimal, 10, 0);
+    const Theory k2 = uniform_theory(Estimator::named("mse_optimal"), 10, 0);
     EXPECT_NEAR(k2.mse, 1.0 / 9.0, 1e-15);
     EXPECT_NEAR(k2.error, -1.0 / 9.0, 1e-15);
-    EXPECT_TRUE(std::isinf(uniform_theory(Estimator::corrected, 2, 1000).variance));
-    EXPECT_TRUE(std::isinf(uniform_theory(Estimator::classic, 2, 1000).mse));
+    EXPECT_TRUE(std::isinf(uniform_theory(Estimator::named("corrected"), 2, 1000).variance));
+    EXPECT_TRUE(std::isinf(uniform_theory(Estimator::named("classic"), 2, 1000).mse));
     // finite n: variance = limit * (n-k+1)/n
-    EXPECT_NEAR(uniform_theory(Estimator::corrected, 10, 100).variance, 1.0 / 8.0 * 91.0 / 100.0, 1e-15);
+    EXPECT_NEAR(uniform_theory(Estimator::named("corrected"), 10, 100).variance, 1.0 / 8.0 * 91.0 / 100.0, 1e-15);
     // weighted: c_w / (k-2) in the limit
-    EXPECT_NEAR(uniform_theory(Estimator::corrected, 10, 0, 2.0).variance, 2.0 / 8.0, 1e-15);
+    EXPECT_NEAR(uniform_theory(Estimator::named("corrected"), 10, 0, 2.0).variance, 2.0 / 8.0, 1e-15);
 }
 
 // The quadrature used for the gaussian and boundary scenarios reproduces the closed form.
 TEST(Study, QuadratureMatchesClosedForm) {
     for (int dim : {2, 3})
         for (size_t k : {3, 10, 50, 256})
-            for (Estimator e : kAllEstimators) {
+            for (const Estimator& e : Estimator::all()) {
                 const size_t n = 1000;
                 const Theory q = quadrature_theory(
                     e, k, n, dim, [dim](double r) { return std::pow(std::min(r, 1.0), dim); }, 1.0,
@@ -130,14 +130,14 @@ TEST(Study, BeyondTheSeedScenariosAgreeWithTheory) {
         ASSERT_TRUE(row.has_theory);
         const double se = std::max(row.se_mean, std::sqrt(row.th_variance / double(row.trials)));
         EXPECT_NEAR(row.mean_error, row.th_error, 3.5 * se) << row.scenario << " k=" << row.k << " "
-                                                            << estimator_name(row.estimator);
+                                                            << row.estimator.name();
     }
     // proximity bias of the gaussian is visible at k = 100 (corrected is no longer unbiased)
-    EXPECT_LT(find(r, "gaussian", 3, 100, Estimator::corrected)->th_error, -0.05);
+    EXPECT_LT(find(r, "gaussian", 3, 100, Estimator::named("corrected"))->th_error, -0.05);
     // boundary bias at k = 100: the ball sticks out of the unit ball
-    EXPECT_LT(find(r, "boundary", 3, 100, Estimator::corrected)->th_error, -0.05);
+    EXPECT_LT(find(r, "boundary", 3, 100, Estimator::named("corrected"))->th_error, -0.05);
     // weighted: corrected relative variance ~ c_w/(k-2) (c_w = 2), not 1/(k-2)
-    const StudyRow* w = find(r, "weighted", 3, 20, Estimator::corrected);
+    const StudyRow* w = find(r, "weighted", 3, 20, Estimator::named("corrected"));
     EXPECT_NEAR(w->rel_variance / w->th_variance, 1.0, 0.1);
     EXPECT_GT(w->rel_variance, 1.6 / 18.0);
 }
@@ -155,8 +155,8 @@ TEST(Study, PhotonPassFromTheRealTracer) {
     o.seed = 11;
     const StudyResult r = run_estimator_study(o);
     for (size_t k : o.ks) {
-        const StudyRow* c = find(r, "photon_pass", 3, k, Estimator::classic);
-        const StudyRow* u = find(r, "photon_pass", 3, k, Estimator::corrected);
+        const StudyRow* c = find(r, "photon_pass", 3, k, Estimator::named("classic"));
+        const StudyRow* u = find(r, "photon_pass", 3, k, Estimator::named("corrected"));
         ASSERT_TRUE(c && u);
         EXPECT_NEAR(u->mean_error, 0.0, 3.0 * u->se_mean) << "k = " << k;
         EXPECT_NEAR(c->mean_error, 1.0 / double(k - 1), 3.0 * c->se_mean) << "k = " << k;
@@ -212,7 +212,7 @@ TEST(Study, WritersMatchGoldenFiles) {
     a.scenario = "uniform";
     a.dim = 3;
     a.k = 2;
-    a.estimator = Estimator::corrected;
+    a.estimator = Estimator::named("corrected");
     a.n = 50;
     a.trials = 100;
     a.mean_error = 0.0123;
@@ -228,7 +228,7 @@ TEST(Study, WritersMatchGoldenFiles) {
     a.th_variance_limit = kInfinity;
     StudyRow b = a;
     b.k = 3;
-    b.estimator = Estimator::classic;
+    b.estimator = Estimator::named("classic");
     b.mean_error = 0.4875;
     b.th_error = 0.5;
     b.th_variance = 2.205;

@@ -1,8 +1,10 @@
 #pragma once
-// The steps every random walk in vpm takes, shared by the reference path tracer, the photon-map
-// camera paths and the photon tracer, so that they sample the same scene in the same way.
+// transport/: the steps every random walk in vpm takes, shared by the reference path tracer, the
+// photon-map camera paths (render/) and the photon tracer (photon/), so that they sample the same
+// scene in the same way. This layer sits on scene/ and below photon/ and render/:
+//   walk_steps.h    next vertex (surface or medium collision), spawn ray, diffuse bounce, roulette
+//   direct_light.h  next-event estimation with ratio-tracked transmittance
 #include "core/sampling.h"
-#include "render/direct_light.h"
 #include "scene/scene.h"
 
 namespace vpm {
@@ -14,6 +16,9 @@ struct PathVertex {
     MediumEvent medium;   // set when a collision comes before the surface
     bool escaped() const { return !medium && !on_surface; }
 };
+
+// A ray leaving a surface point, offset along the normal against self-intersection.
+Ray spawn_ray(const Vec3& position, const Vec3& normal, const Vec3& dir);
 
 inline PathVertex next_vertex(const Scene& scene, const Ray& ray, Rng& rng) {
     PathVertex v;

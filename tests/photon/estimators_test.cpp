@@ -13,17 +13,17 @@
 using namespace vpm;
 
 TEST(Estimators, NamesParseValidateWarn) {
-    for (Estimator e : kAllEstimators) EXPECT_EQ(parse_estimator(estimator_name(e)), e);
-    EXPECT_THROW(parse_estimator("k-1"), Error);
-    EXPECT_NO_THROW(validate_estimator_k(Estimator::classic, 1));
-    EXPECT_THROW(validate_estimator_k(Estimator::classic, 0), Error);
-    EXPECT_THROW(validate_estimator_k(Estimator::corrected, 1), Error);
-    EXPECT_NO_THROW(validate_estimator_k(Estimator::corrected, 2));
-    EXPECT_THROW(validate_estimator_k(Estimator::mse_optimal, 2), Error);
-    EXPECT_NO_THROW(validate_estimator_k(Estimator::mse_optimal, 3));
-    EXPECT_FALSE(estimator_warning(Estimator::corrected, 2).empty());
-    EXPECT_TRUE(estimator_warning(Estimator::corrected, 3).empty());
-    EXPECT_TRUE(estimator_warning(Estimator::classic, 2).empty());
+    for (const Estimator& e : Estimator::all()) EXPECT_EQ(Estimator::named(e.name()), e);
+    EXPECT_THROW(Estimator::named("k-1"), Error);
+    EXPECT_NO_THROW(Estimator::named("classic").validate_k(1));
+    EXPECT_THROW(Estimator::named("classic").validate_k(0), Error);
+    EXPECT_THROW(Estimator::named("corrected").validate_k(1), Error);
+    EXPECT_NO_THROW(Estimator::named("corrected").validate_k(2));
+    EXPECT_THROW(Estimator::named("mse_optimal").validate_k(2), Error);
+    EXPECT_NO_THROW(Estimator::named("mse_optimal").validate_k(3));
+    EXPECT_FALSE(Estimator::named("corrected").warning(2).empty());
+    EXPECT_TRUE(Estimator::named("corrected").warning(3).empty());
+    EXPECT_TRUE(Estimator::named("classic").warning(2).empty());
     EXPECT_DOUBLE_EQ(ball_volume(2, 2.0), kPi * 4.0);
     EXPECT_DOUBLE_EQ(ball_volume(3, 2.0), 4.0 / 3.0 * kPi * 8.0);
     EXPECT_THROW(ball_volume(4, 1.0), Error);
@@ -35,20 +35,20 @@ TEST(Estimators, ExactFormulasDropTheFarthest) {
     const double d2[5] = {0.01, 0.04, 0.09, 0.16, 0.25};
     const size_t k = 5;
     const double v = ball_volume(3, 0.5);
-    EXPECT_DOUBLE_EQ(estimate_density(Estimator::classic, w, d2, 5, false, k, kInfinity, 3).value, 31.0 / v);
-    EXPECT_DOUBLE_EQ(estimate_density(Estimator::corrected, w, d2, 5, false, k, kInfinity, 3).value, 15.0 / v);
-    EXPECT_DOUBLE_EQ(estimate_density(Estimator::mse_optimal, w, d2, 5, false, k, kInfinity, 3).value,
+    EXPECT_DOUBLE_EQ(estimate_density(Estimator::named("classic"), w, d2, 5, false, k, kInfinity, 3).value, 31.0 / v);
+    EXPECT_DOUBLE_EQ(estimate_density(Estimator::named("corrected"), w, d2, 5, false, k, kInfinity, 3).value, 15.0 / v);
+    EXPECT_DOUBLE_EQ(estimate_density(Estimator::named("mse_optimal"), w, d2, 5, false, k, kInfinity, 3).value,
                      15.0 * 3.0 / 4.0 / v);
     // 2D uses pi r^2
-    EXPECT_DOUBLE_EQ(estimate_density(Estimator::corrected, w, d2, 5, false, k, kInfinity, 2).value,
+    EXPECT_DOUBLE_EQ(estimate_density(Estimator::named("corrected"), w, d2, 5, false, k, kInfinity, 2).value,
                      15.0 / (kPi * 0.25));
     // k smaller than the list: only the first k count, r = r_k
-    const auto e3 = estimate_density(Estimator::corrected, w, d2, 5, false, 3, kInfinity, 3);
+    const auto e3 = estimate_density(Estimator::named("corrected"), w, d2, 5, false, 3, kInfinity, 3);
     EXPECT_DOUBLE_EQ(e3.value, 3.0 / ball_volume(3, 0.3));
     EXPECT_EQ(e3.kind, EstimateCase::knn);
     // Rgb instantiation
     const Rgb wr[3] = {Rgb(1, 2, 3), Rgb(1, 2, 3), Rgb(5, 5, 5)};
-    const auto er = estimate_density<Rgb>(Estimator::corrected, wr, d2, 3, true, 3, kInfinity, 3);
+    const auto er = estimate_density<Rgb>(Estimator::named("corrected"), wr, d2, 3, true, 3, kInfinity, 3);
     EXPECT_TRUE(er.value.isApprox(Rgb(2, 4, 6) / ball_volume(3, 0.3)));
 }
 
@@ -57,14 +57,14 @@ TEST(Estimators, RuleA_FixedRadius) {
     const double w[3] = {1, 2, 4};
     const double d2[3] = {0.01, 0.04, 0.09};
     EstimatorStats st;
-    for (Estimator e : kAllEstimators) {
+    for (const Estimator& e : Estimator::all()) {
         const auto r = estimate_density(e, w, d2, 3, true, 5, 0.5, 3, &st);
         EXPECT_EQ(r.kind, EstimateCase::fixed_radius);
         EXPECT_DOUBLE_EQ(r.value, 7.0 / ball_volume(3, 0.5));
         EXPECT_DOUBLE_EQ(r.radius, 0.5);
     }
     EXPECT_EQ(st.fixed_radius, 3u);
-    const auto none = estimate_density(Estimator::corrected, w, d2, 0, true, 5, 0.5, 3, &st);
+    const auto none = estimate_density(Estimator::named("corrected"), w, d2, 0, true, 5, 0.5, 3, &st);
     EXPECT_EQ(none.kind, EstimateCase::empty);
     EXPECT_EQ(none.value, 0.0);
     EXPECT_EQ(st.empty, 1u);
@@ -88,7 +88,7 @@ TEST(Estimators, RuleA_CorrectedWithMaxRadiusIsUnbiased) {
         for (size_t i = 0; i < k; ++i)
             if (d2[i] <= R * R) dk[found] = d2[i], w[found] = phi, ++found;
         const double v =
-            estimate_density(Estimator::corrected, w.data(), dk.data(), found, found < k, k, R, 3, &st).value;
+            estimate_density(Estimator::named("corrected"), w.data(), dk.data(), found, found < k, k, R, 3, &st).value;
         sum += v;
         sum2 += v * v;
     }
@@ -104,24 +104,24 @@ TEST(Estimators, RuleB_AllPhotons) {
     const double d2[4] = {0.01, 0.04, 0.09, 0.16};
     EstimatorStats st;
     const double v4 = ball_volume(3, 0.4);
-    auto c = estimate_density(Estimator::classic, w, d2, 4, true, 8, kInfinity, 3, &st);
+    auto c = estimate_density(Estimator::named("classic"), w, d2, 4, true, 8, kInfinity, 3, &st);
     EXPECT_EQ(c.kind, EstimateCase::all_photons);
     EXPECT_EQ(c.k_used, 4u);
     EXPECT_DOUBLE_EQ(c.value, 15.0 / v4);
-    EXPECT_DOUBLE_EQ(estimate_density(Estimator::corrected, w, d2, 4, true, 8, kInfinity, 3).value, 7.0 / v4);
-    EXPECT_DOUBLE_EQ(estimate_density(Estimator::mse_optimal, w, d2, 4, true, 8, kInfinity, 3).value,
+    EXPECT_DOUBLE_EQ(estimate_density(Estimator::named("corrected"), w, d2, 4, true, 8, kInfinity, 3).value, 7.0 / v4);
+    EXPECT_DOUBLE_EQ(estimate_density(Estimator::named("mse_optimal"), w, d2, 4, true, 8, kInfinity, 3).value,
                      7.0 * 2.0 / 3.0 / v4);
-    auto one = estimate_density(Estimator::corrected, w, d2, 1, true, 8, kInfinity, 3, &st);
+    auto one = estimate_density(Estimator::named("corrected"), w, d2, 1, true, 8, kInfinity, 3, &st);
     EXPECT_EQ(one.kind, EstimateCase::insufficient);
     EXPECT_EQ(one.value, 0.0);
-    auto two = estimate_density(Estimator::mse_optimal, w, d2, 2, true, 8, kInfinity, 3, &st);
+    auto two = estimate_density(Estimator::named("mse_optimal"), w, d2, 2, true, 8, kInfinity, 3, &st);
     EXPECT_EQ(two.kind, EstimateCase::insufficient);
-    EXPECT_DOUBLE_EQ(estimate_density(Estimator::classic, w, d2, 1, true, 8, kInfinity, 3).value,
+    EXPECT_DOUBLE_EQ(estimate_density(Estimator::named("classic"), w, d2, 1, true, 8, kInfinity, 3).value,
                      1.0 / ball_volume(3, 0.1));
     EXPECT_EQ(st.all_photons, 1u);
     EXPECT_EQ(st.insufficient, 2u);
     // an incomplete list with fewer than k is a caller error
-    EXPECT_THROW(estimate_density(Estimator::classic, w, d2, 4, false, 8, kInfinity, 3), Error);
+    EXPECT_THROW(estimate_density(Estimator::named("classic"), w, d2, 4, false, 8, kInfinity, 3), Error);
 }
 
 // Rule (c): r_k = 0 -> extend to the first strictly farther photon; never Inf/NaN.
@@ -130,32 +130,32 @@ TEST(Estimators, RuleC_CoincidentPhotons) {
     const double d2[6] = {0, 0, 0, 0, 0.25, 1.0};
     EstimatorStats st;
     const double v = ball_volume(3, 0.5);
-    auto c = estimate_density(Estimator::classic, w, d2, 6, true, 2, kInfinity, 3, &st);
+    auto c = estimate_density(Estimator::named("classic"), w, d2, 6, true, 2, kInfinity, 3, &st);
     EXPECT_EQ(c.kind, EstimateCase::extended);
     EXPECT_EQ(c.k_used, 5u);
     EXPECT_DOUBLE_EQ(c.radius, 0.5);
     EXPECT_DOUBLE_EQ(c.value, 6.0 / v);
-    auto k1 = estimate_density(Estimator::corrected, w, d2, 6, true, 3, kInfinity, 3, &st);
+    auto k1 = estimate_density(Estimator::named("corrected"), w, d2, 6, true, 3, kInfinity, 3, &st);
     EXPECT_DOUBLE_EQ(k1.value, 4.0 / v);   // all coincident kept, the farther one dropped
     EXPECT_EQ(st.extended, 2u);
     // nothing farther in the list but more exist: ask for more
-    auto more = estimate_density(Estimator::corrected, w, d2, 4, false, 3, kInfinity, 3, &st);
+    auto more = estimate_density(Estimator::named("corrected"), w, d2, 4, false, 3, kInfinity, 3, &st);
     EXPECT_EQ(more.kind, EstimateCase::need_more);
     // nothing farther at all: degenerate 0 (no max radius) or fixed radius (with one)
-    auto deg = estimate_density(Estimator::corrected, w, d2, 4, true, 3, kInfinity, 3, &st);
+    auto deg = estimate_density(Estimator::named("corrected"), w, d2, 4, true, 3, kInfinity, 3, &st);
     EXPECT_EQ(deg.kind, EstimateCase::degenerate);
     EXPECT_EQ(deg.value, 0.0);
     EXPECT_EQ(st.degenerate, 1u);
-    auto fx = estimate_density(Estimator::corrected, w, d2, 4, true, 3, 0.1, 3, &st);
+    auto fx = estimate_density(Estimator::named("corrected"), w, d2, 4, true, 3, 0.1, 3, &st);
     EXPECT_EQ(fx.kind, EstimateCase::fixed_radius);
     EXPECT_DOUBLE_EQ(fx.value, 4.0 / ball_volume(3, 0.1));
     // V(r_k) underflows to 0 although r_k > 0: treated like r_k = 0
     const double tiny[3] = {1e-240, 1e-240, 1e-2};
-    auto u = estimate_density(Estimator::classic, w, tiny, 3, true, 2, kInfinity, 3, &st);
+    auto u = estimate_density(Estimator::named("classic"), w, tiny, 3, true, 2, kInfinity, 3, &st);
     EXPECT_EQ(u.kind, EstimateCase::extended);
     EXPECT_TRUE(std::isfinite(u.value));
     // max radius 0
-    auto z = estimate_density(Estimator::classic, w, d2, 4, true, 8, 0.0, 3, &st);
+    auto z = estimate_density(Estimator::named("classic"), w, d2, 4, true, 8, 0.0, 3, &st);
     EXPECT_TRUE(std::isfinite(z.value));
 }
 
@@ -170,7 +170,7 @@ TEST(Estimators, RuleC_ThroughPhotonMap) {
     const PhotonMap map(in);
     GatherBuffers buf;
     EstimatorStats st;
-    const auto r = estimate_in_scattering(map, site, Vec3::UnitZ(), 0.0, Estimator::corrected, 8, kInfinity, buf, &st);
+    const auto r = estimate_in_scattering(map, site, Vec3::UnitZ(), 0.0, Estimator::named("corrected"), 8, kInfinity, buf, &st);
     EXPECT_EQ(r.kind, EstimateCase::extended);
     EXPECT_EQ(r.k_used, 51u);
     EXPECT_TRUE(all_finite(r.value));
@@ -191,14 +191,14 @@ TEST(Estimators, InScatteringMatchesManualSum) {
     NeighbourList nl;
     const Vec3 x(0.5, 0.4, 0.6), wo = Vec3(1, 2, 3).normalized();
     const double g = 0.6;
-    for (Estimator e : kAllEstimators) {
+    for (const Estimator& e : Estimator::all()) {
         const auto r = estimate_in_scattering(map, x, wo, g, e, 20, kInfinity, buf);
         map.knn(x, 20, kInfinity, nl);
         Rgb s = Rgb::Zero();
-        const size_t m = e == Estimator::classic ? 20 : 19;
+        const size_t m = e == Estimator::named("classic") ? 20 : 19;
         for (size_t i = 0; i < m; ++i) s += hg_eval(nl[i].direction.dot(wo), g) * nl[i].power;
-        if (e == Estimator::mse_optimal) s *= 18.0 / 19.0;
-        EXPECT_TRUE(r.value.isApprox(s / ball_volume(3, std::sqrt(nl[19].d2)), 1e-12)) << estimator_name(e);
+        if (e == Estimator::named("mse_optimal")) s *= 18.0 / 19.0;
+        EXPECT_TRUE(r.value.isApprox(s / ball_volume(3, std::sqrt(nl[19].d2)), 1e-12)) << e.name();
     }
 }
 
@@ -230,13 +230,15 @@ std::vector<std::vector<McResult>> monte_carlo(int dim, const std::vector<size_t
         std::sort(d2.begin(), d2.begin() + kmax);
         for (size_t ki = 0; ki < ks.size(); ++ki)
             for (size_t ei = 0; ei < 3; ++ei) {
-                const Estimator e = kAllEstimators[ei];
+                const Estimator e = Estimator::all()[ei];
                 const size_t k = ks[ki];
                 double v;
                 if (variant == 1)   // wrong: radius r_{k-1}
-                    v = estimate_corrected(w.data(), k, ball_volume(dim, std::sqrt(d2[k - 2])));
+                    v = estimate_corrected<double>({w.data(), d2.data(), k, std::sqrt(d2[k - 2]),
+                                                    ball_volume(dim, std::sqrt(d2[k - 2])), dim});
                 else if (variant == 2)   // wrong: pi r^2 in 3D
-                    v = estimate_classic(w.data(), k, ball_volume(2, std::sqrt(d2[k - 1])));
+                    v = estimate_classic<double>({w.data(), d2.data(), k, std::sqrt(d2[k - 1]),
+                                                  ball_volume(2, std::sqrt(d2[k - 1])), dim});
                 else
                     v = estimate_density(e, w.data(), d2.data(), kmax, false, k, kInfinity, dim).value;
                 out[ki][ei].mean += v;
@@ -252,8 +254,8 @@ double exact_se(Estimator e, size_t k, size_t n, size_t T) {
     const double kk = double(k);
     const double corrected_var = (double(n) - kk + 1.0) / (double(n) * (kk - 2.0));
     double var = corrected_var;
-    if (e == Estimator::classic) var = kk * kk / ((kk - 1) * (kk - 1)) * corrected_var;
-    if (e == Estimator::mse_optimal) var = (kk - 2) * (kk - 2) / ((kk - 1) * (kk - 1)) * corrected_var;
+    if (e == Estimator::named("classic")) var = kk * kk / ((kk - 1) * (kk - 1)) * corrected_var;
+    if (e == Estimator::named("mse_optimal")) var = (kk - 2) * (kk - 2) / ((kk - 1) * (kk - 1)) * corrected_var;
     return std::sqrt(var / double(T));
 }
 
@@ -266,9 +268,9 @@ TEST(EstimatorsMonteCarlo, Ball3D) {
     const auto mc = monte_carlo(3, ks, kN, kT, 2013);
     for (size_t ki = 0; ki < ks.size(); ++ki) {
         const double k = double(ks[ki]);
-        EXPECT_NEAR(mc[ki][0].mean, k / (k - 1), 3 * exact_se(Estimator::classic, ks[ki], kN, kT)) << "k=" << k;
-        EXPECT_NEAR(mc[ki][1].mean, 1.0, 3 * exact_se(Estimator::corrected, ks[ki], kN, kT)) << "k=" << k;
-        EXPECT_NEAR(mc[ki][2].mean, (k - 2) / (k - 1), 3 * exact_se(Estimator::mse_optimal, ks[ki], kN, kT));
+        EXPECT_NEAR(mc[ki][0].mean, k / (k - 1), 3 * exact_se(Estimator::named("classic"), ks[ki], kN, kT)) << "k=" << k;
+        EXPECT_NEAR(mc[ki][1].mean, 1.0, 3 * exact_se(Estimator::named("corrected"), ks[ki], kN, kT)) << "k=" << k;
+        EXPECT_NEAR(mc[ki][2].mean, (k - 2) / (k - 1), 3 * exact_se(Estimator::named("mse_optimal"), ks[ki], kN, kT));
     }
 }
 
@@ -277,9 +279,9 @@ TEST(EstimatorsMonteCarlo, Disc2D) {
     const auto mc = monte_carlo(2, ks, kN, kT, 2014);
     for (size_t ki = 0; ki < ks.size(); ++ki) {
         const double k = double(ks[ki]);
-        EXPECT_NEAR(mc[ki][0].mean, k / (k - 1), 3 * exact_se(Estimator::classic, ks[ki], kN, kT)) << "k=" << k;
-        EXPECT_NEAR(mc[ki][1].mean, 1.0, 3 * exact_se(Estimator::corrected, ks[ki], kN, kT)) << "k=" << k;
-        EXPECT_NEAR(mc[ki][2].mean, (k - 2) / (k - 1), 3 * exact_se(Estimator::mse_optimal, ks[ki], kN, kT));
+        EXPECT_NEAR(mc[ki][0].mean, k / (k - 1), 3 * exact_se(Estimator::named("classic"), ks[ki], kN, kT)) << "k=" << k;
+        EXPECT_NEAR(mc[ki][1].mean, 1.0, 3 * exact_se(Estimator::named("corrected"), ks[ki], kN, kT)) << "k=" << k;
+        EXPECT_NEAR(mc[ki][2].mean, (k - 2) / (k - 1), 3 * exact_se(Estimator::named("mse_optimal"), ks[ki], kN, kT));
     }
 }
 
@@ -291,11 +293,11 @@ TEST(EstimatorsMonteCarlo, WrongVariantsAreRejected) {
     const auto wrong_radius = monte_carlo(3, ks, kN, kT, 2013, 1);
     const auto wrong_volume = monte_carlo(3, ks, kN, kT / 10, 2015, 2);
     for (size_t ki = 0; ki < ks.size(); ++ki) {
-        const double se = exact_se(Estimator::corrected, ks[ki], kN, kT);
+        const double se = exact_se(Estimator::named("corrected"), ks[ki], kN, kT);
         const double z = std::abs(wrong_radius[ki][0].mean - 1.0) / se;
         EXPECT_GT(z, 8.0) << "corrected with r_{k-1} not rejected at k=" << ks[ki] << " (z=" << z << ")";
         const double k = double(ks[ki]);
-        const double se_c = exact_se(Estimator::classic, ks[ki], kN, kT / 10);
+        const double se_c = exact_se(Estimator::named("classic"), ks[ki], kN, kT / 10);
         const double z2 = std::abs(wrong_volume[ki][0].mean - k / (k - 1)) / se_c;
         EXPECT_GT(z2, 8.0) << "pi r^2 in 3D not rejected at k=" << ks[ki] << " (z=" << z2 << ")";
     }

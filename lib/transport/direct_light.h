@@ -15,7 +15,4 @@ Rgb direct_light_in_medium(const Scene& scene, const Vec3& x, const Vec3& ray_di
 // Reflected direct radiance of a Lambertian hit towards the viewer: reflectance/pi * Li cos * T.
 Rgb direct_light_on_surface(const Scene& scene, const SurfaceHit& hit, Rng& rng);
 
-// A ray leaving a surface point, offset along the normal against self-intersection.
-Ray spawn_ray(const Vec3& position, const Vec3& normal, const Vec3& dir);
-
 }  // namespace vpm

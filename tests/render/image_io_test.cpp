@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "core/error.h"
-#include "io_test_util.h"
+#include "../support/io_test_util.h"
 
 namespace {
 

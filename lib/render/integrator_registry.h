@@ -1,0 +1,32 @@
+#pragma once
+// Integrators by name: render.integrator picks one. Every entry's settings are read from each
+// config (so every key is validated and the resolved config is complete whichever integrator
+// runs); only the chosen one is built.
+//
+//   name          file                       reads
+//   "path"        path_tracer.h              [render] max_depth, rr_depth
+//   "photon_map"  photon_map_integrator.h    [photons], [render] max_depth, rr_depth
+//
+// Adding an integrator: one file pair with its Integrator, its IntegratorSettings and a reader,
+// and one line in the table in integrator_registry.cpp.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/integrator.h"
+#include "scene/params.h"
+
+namespace vpm {
+
+struct IntegratorType {
+    const char* name;
+    const char* summary;
+    // Reads the integrator's keys: `render` is the [render] table, `root` the whole config
+    // (for tables of its own, which it finishes itself).
+    std::unique_ptr<IntegratorSettings> (*read)(Params& render, Params& root);
+};
+
+const std::vector<IntegratorType>& integrator_types();
+std::vector<std::string> integrator_names();
+
+}  // namespace vpm

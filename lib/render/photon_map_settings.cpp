@@ -1,0 +1,36 @@
+#include "render/photon_map_settings.h"
+
+#include <iostream>
+
+#include "scene/params.h"
+
+namespace vpm {
+
+PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
+    PhotonMapSettings s;
+    s.walk = WalkSettings::read(render);
+    s.count = p.integer("count", s.count, Range::closed(1, int64_t(1) << 40));
+    std::vector<std::pair<std::string, Estimator>> estimators;
+    for (const Estimator& e : Estimator::all()) estimators.emplace_back(e.name(), e);
+    s.estimator = p.choice("estimator", s.estimator, estimators);
+    s.k = int(p.integer("k", s.k, Range::closed(1, 1 << 20)));
+    if (size_t(s.k) < s.estimator.min_k())
+        p.fail("k", std::string("the ") + s.estimator.name() + " estimator needs k >= " +
+                        std::to_string(s.estimator.min_k()) +
+                        (std::string(s.estimator.name()) == "corrected" ? " (it drops the k-th photon)" : ""));
+    if (const std::string w = s.estimator.warning(size_t(s.k)); !w.empty())
+        std::cerr << "warning: " << p.where("k") << ": " << w << "\n";
+    s.direct = p.choice("direct", s.direct, {{"nee", DirectLighting::nee}, {"photon_map", DirectLighting::photon_map}});
+    s.max_radius = p.real("max_radius", s.max_radius, Range::at_least(0.0));
+    s.max_bounces = int(p.integer("max_bounces", s.max_bounces, Range::closed(1, 1 << 30)));
+    s.memory_budget_fraction = p.real("memory_budget_fraction", s.memory_budget_fraction, {0.0, 1.0, true, false});
+    s.final_gather = p.boolean("final_gather", s.final_gather);
+    s.extinction = p.choice("extinction", s.extinction,
+                            {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball}});
+    s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
+    s.allocation = p.choice("allocation", s.allocation,
+                            {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
+    return s;
+}
+
+}  // namespace vpm

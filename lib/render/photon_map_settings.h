@@ -1,0 +1,56 @@
+#pragma once
+// The photon-map integrator's settings: its [photons] table and the walk keys of [render].
+//
+//   | key                    | default     | meaning                                                  |
+//   |------------------------|-------------|----------------------------------------------------------|
+//   | count                  | 100000      | photons emitted                                          |
+//   | k                      | 32          | nearest neighbours per estimate (>= the estimator's min) |
+//   | estimator              | "corrected" | a name from the estimator registry (photon/estimators.h) |
+//   | direct                 | "nee"       | "nee": single scattering by NEE, the map holds the rest;  |
+//   |                        |             | "photon_map": everything from the map (the bias study)   |
+//   | max_radius             | 0           | kNN search radius; 0: unbounded                          |
+//   | max_bounces            | 1000        | collisions + bounces per photon path (truncation)        |
+//   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
+//   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
+//   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x    |
+//   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
+//   |                        |             | fewer than k photons within: the camera path continues   |
+//   |                        |             | (photon/bounded_radius.h); 0: no bound                   |
+//   | allocation             | "importance"| photons per light: "importance" (pilot: power landing    |
+//   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
+#include <cstdint>
+
+#include "core/math.h"
+#include "photon/estimators.h"
+#include "transport/walk_settings.h"
+
+namespace vpm {
+
+class Params;
+
+enum class DirectLighting { nee, photon_map };
+enum class ExtinctionNormalisation { ball, point };
+enum class PhotonAllocationRule { importance, power };
+
+struct PhotonMapSettings {
+    int64_t count = 100000;
+    int k = 32;
+    Estimator estimator = Estimator::named("corrected");
+    DirectLighting direct = DirectLighting::nee;
+    double max_radius = 0.0;
+    int max_bounces = 1000;
+    double memory_budget_fraction = 0.5;
+    bool final_gather = false;
+    ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
+    double max_radius_mfp = 2.0;
+    PhotonAllocationRule allocation = PhotonAllocationRule::importance;
+    WalkSettings walk;
+
+    // The kNN search radius: kInfinity when unbounded.
+    double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
+    // Reads [photons] and the walk keys of [render]; throws ConfigError (k below the estimator's
+    // minimum names both keys) and warns on stderr about corrected with k = 2.
+    static PhotonMapSettings read(Params& render, Params& photons);
+};
+
+}  // namespace vpm

@@ -1,0 +1,82 @@
+#include "render/photon_pass.h"
+
+#include <ostream>
+
+#include "core/progress.h"
+#include "photon/photon_allocation.h"
+#include "photon/photon_budget.h"
+#include "render/photon_lights_report.h"
+
+namespace vpm {
+
+PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
+                           bool surface, RunStats& stats) {
+    std::ostream* log = context.log;
+    PhotonTraceSettings ts;
+    ts.count = uint64_t(ps.count);
+    ts.seed = context.seed;
+    ts.stream_offset = context.stream_offset;
+    ts.store_direct = ps.direct == DirectLighting::photon_map;
+    ts.max_bounces = ps.max_bounces;
+    ts.progress = context.progress;
+    ts.store_surface = surface;
+    // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
+    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), log);
+    // Photons per light: by a pilot's importance where the camera looks, or by power.
+    const bool importance = ps.allocation == PhotonAllocationRule::importance;
+    const LightAllocation allocation = importance ? importance_allocation(scene, ts) : power_allocation(scene);
+    ts.light_weights = allocation.weights;
+    PhotonTraceResult traced = trace_photons(scene, ts);
+    stats.phase("trace", traced.seconds);
+    PhotonPassStats& p = stats.photons.emplace();
+    report_photon_lights(scene, importance ? "importance" : "power", allocation, traced, p, log);
+    const size_t stored = traced.photons.size();
+    p.emitted = traced.paths;
+    p.stored = stored;
+    p.collisions = traced.collisions;
+    p.truncated_paths = traced.truncated_paths;
+    p.paths_per_second = traced.seconds > 0 ? double(traced.paths) / traced.seconds : 0.0;
+    p.energy = traced.energy;
+    if (log)
+        *log << "trace: " << traced.paths << " photon paths, " << traced.collisions << " collisions, " << stored
+             << " stored in " << traced.seconds << " s; energy imbalance " << traced.energy.relative_imbalance()
+             << ", truncated paths " << traced.truncated_paths << "\n";
+    // Warn before building a map larger than the budget (records + index, measured per photon).
+    p.projected_map_bytes = double(stored + traced.surface_photons.size()) * double(bytes_per_photon() + 4);
+    p.memory_budget_bytes = ps.memory_budget_fraction * double(physical_memory_bytes());
+    p.over_memory_budget = p.projected_map_bytes > p.memory_budget_bytes;
+    if (p.over_memory_budget && log)
+        *log << "warning: the photon map will take about " << p.projected_map_bytes / 1e9 << " GB, over the budget of "
+             << p.memory_budget_bytes / 1e9 << " GB (photons.memory_budget_fraction)\n";
+
+    PhotonMaps maps;
+    if (surface) {
+        const Timer surface_timer;
+        const size_t n_surface = traced.surface_photons.size();
+        maps.surface = PhotonMap(traced.surface_photons);
+        std::vector<PhotonInput>().swap(traced.surface_photons);
+        stats.phase("build_surface", surface_timer.seconds());
+        p.surface_map = true;
+        p.surface_hits = traced.surface_hits;
+        p.surface_stored = n_surface;
+        p.surface_map_bytes = maps.surface.memory_bytes();
+        if (log)
+            *log << "build: surface photon map, " << traced.surface_hits << " surface hits, " << n_surface
+                 << " stored, kd-tree in " << surface_timer.seconds() << " s, " << maps.surface.memory_bytes() / 1e6
+                 << " MB\n";
+    }
+
+    const Timer build_timer;
+    maps.volume = PhotonMap(traced.photons);
+    std::vector<PhotonInput>().swap(traced.photons);
+    stats.phase("build", build_timer.seconds());
+    p.bytes_per_photon = bytes_per_photon();
+    p.map_bytes = maps.volume.memory_bytes();
+    p.map_bytes_per_photon = stored ? double(p.map_bytes) / double(stored) : 0.0;
+    if (log)
+        *log << "build: kd-tree over " << stored << " photons in " << build_timer.seconds() << " s, "
+             << p.map_bytes / 1e6 << " MB (" << p.map_bytes_per_photon << " bytes/photon)\n";
+    return maps;
+}
+
+}  // namespace vpm

@@ -1,0 +1,75 @@
+#pragma once
+// The typed statistics of one run. Integrators and the run fill them; analysis code (sweeps,
+// the stress matrix, benchmarks) reads them as they are; write_run_stats serialises them into
+// the run's JSON record, once, under the keys the README documents.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "photon/estimators.h"
+#include "photon/photon_tracer.h"
+#include "render/render_loop.h"
+
+namespace vpm {
+
+class RunRecord;
+
+// Wall time of a phase and the process's peak resident memory when it ended.
+struct PhaseStats {
+    std::string name;
+    double seconds = 0.0;
+    uint64_t peak_rss_bytes = 0;
+};
+
+// Where one light's photons went (photon/photon_allocation.h, render/photon_lights_report.h).
+struct LightPhotonReport {
+    std::string light;            // describe()
+    double weight = 0.0;          // share of the photons
+    double power_share = 0.0;
+    double importance = 0.0;      // pilot's share of stored power where the camera looks
+    LightPhotonStats counts;      // emitted, landed, stored
+    bool wasted = false;          // landed / emitted < kWastedLightFraction
+};
+
+// The photon pass and its kd-trees.
+struct PhotonPassStats {
+    uint64_t emitted = 0;             // photon paths
+    uint64_t stored = 0;              // volume photons
+    uint64_t collisions = 0;          // real medium collisions, stored or not
+    uint64_t truncated_paths = 0;
+    double paths_per_second = 0.0;
+    EnergyBalance energy;
+    double projected_map_bytes = 0.0;   // projected before building (records + index)
+    double memory_budget_bytes = 0.0;
+    bool over_memory_budget = false;
+    uint64_t bytes_per_photon = 0;
+    uint64_t map_bytes = 0;
+    double map_bytes_per_photon = 0.0;
+    bool surface_map = false;         // the fields below are set only with a surface map
+    uint64_t surface_hits = 0;
+    uint64_t surface_stored = 0;
+    uint64_t surface_map_bytes = 0;
+    std::string allocation;            // "importance" | "power"
+    double stored_per_emitted = 0.0;   // (volume + surface records) / emitted
+    std::vector<LightPhotonReport> lights;
+};
+
+struct RunStats {
+    std::vector<PhaseStats> phases;
+    RenderStats render;
+    std::optional<PhotonPassStats> photons;            // integrators with a photon pass
+    std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
+    std::optional<EstimatorStats> surface_estimates;   // surface photon map queries (when any)
+    std::optional<uint64_t> continued_paths;           // photon map: camera paths continued (bounded radius)
+
+    // Records a phase, with the peak resident memory now.
+    void phase(const std::string& name, double seconds);
+    // Seconds of a phase; 0 when the run had no such phase.
+    double seconds(const std::string& name) const;
+};
+
+// Writes every statistic into `record` (phases.*, render.*, photons.*).
+void write_run_stats(const RunStats& stats, RunRecord& record);
+
+}  // namespace vpm
