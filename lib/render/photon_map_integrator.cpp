@@ -117,10 +117,15 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             if (sigma_t > 0.0 && !map_->empty()) {
                 auto& local = threads_->local.local();
                 const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
-                const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, size_t(settings_.k), radius,
-                                                               local.buffers, &local.stats);
-                if (radius < max_radius_) {   // the mean-free-path bound (photon/bounded_radius.h)
-                    const BoundedQuery q = bounded_query(s, size_t(settings_.k));
+                const bool bounded = radius < max_radius_;   // the mean-free-path bound (photon/bounded_radius.h)
+                // k above the stored count + 1: no ball can hold k - 1 photons, so no query is needed.
+                const bool too_few = bounded && size_t(settings_.k) >= map_->size() + 2;
+                Estimate<Rgb> s;
+                if (!too_few)
+                    s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, size_t(settings_.k), radius,
+                                               local.buffers, &local.stats);
+                if (bounded) {
+                    const BoundedQuery q = too_few ? BoundedQuery::continue_path : bounded_query(s, size_t(settings_.k));
                     if (q == BoundedQuery::zero) break;
                     if (q == BoundedQuery::continue_path) {   // too few photons: scatter and go on
                         ++local.continued;
