@@ -49,9 +49,10 @@ PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
 void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     if (!owns_maps_) return;
-    std::ostream* log = context.log;
+    std::ostream* log = context.pass == 0 ? context.log : nullptr;
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
     if (scene_.has_media() || surface) {
+        owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
         owned_ = run_photon_pass(scene_, settings_, context, surface, stats);
         surface_map_ = surface ? &owned_.surface : nullptr;
     } else if (log) {

@@ -28,7 +28,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     ts.light_weights = allocation.weights;
     PhotonTraceResult traced = trace_photons(scene, ts);
     stats.phase("trace", traced.seconds);
-    PhotonPassStats& p = stats.photons.emplace();
+    PhotonPassStats p;
     report_photon_lights(scene, importance ? "importance" : "power", allocation, traced, p, log);
     const size_t stored = traced.photons.size();
     p.emitted = traced.paths;
@@ -73,6 +73,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     p.bytes_per_photon = bytes_per_photon();
     p.map_bytes = maps.volume.memory_bytes();
     p.map_bytes_per_photon = stored ? double(p.map_bytes) / double(stored) : 0.0;
+    stats.add_photon_pass(p);
     if (log)
         *log << "build: kd-tree over " << stored << " photons in " << build_timer.seconds() << " s, "
              << p.map_bytes / 1e6 << " MB (" << p.map_bytes_per_photon << " bytes/photon)\n";
