@@ -15,9 +15,23 @@
 //   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x    |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
 //   |                        |             | fewer than k photons within: the camera path continues   |
-//   |                        |             | (photon/bounded_radius.h); 0: no bound                   |
+//   |                        |             | (photon/bounded_radius.h; gather = "collision"); 0: off  |
 //   | allocation             | "importance"| photons per light: "importance" (pilot: power landing    |
 //   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
+//   | gather                 | "collision" | camera side: "collision": one estimate where the camera  |
+//   |                        |             | ray collides; "march": gather_queries stratified points  |
+//   |                        |             | along every segment in the media, each weighted by its   |
+//   |                        |             | ratio-tracked transmittance (every ray gathers, also in  |
+//   |                        |             | thin media)                                              |
+//   | gather_queries         | 4           | points per segment for "march"                           |
+//   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
+//   |                        |             | counting from render.first_pass) uses                    |
+//   |                        |             | k_i = max(k_floor, round(k i^(alpha-1))), the kNN form of |
+//   |                        |             | Knaus & Zwicker's r_i^3 ~ i^(alpha-1): with a fixed       |
+//   |                        |             | photon count per pass r^3 ~ k, so the ball shrinks and    |
+//   |                        |             | bias and variance of the pass mean both vanish            |
+//   | alpha                  | 2/3         | in (0, 1): the shrink rate                                |
+//   | k_floor                | 4           | smallest k of the schedule (>= the estimator's min + 1)   |
 #include <cstdint>
 
 #include "core/math.h"
@@ -31,6 +45,8 @@ class Params;
 enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point };
 enum class PhotonAllocationRule { importance, power };
+enum class GatherMode { collision, march };
+enum class KSchedule { fixed, shrink };
 
 struct PhotonMapSettings {
     int64_t count = 100000;
@@ -44,8 +60,15 @@ struct PhotonMapSettings {
     ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
     double max_radius_mfp = 2.0;
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
+    GatherMode gather = GatherMode::collision;
+    int gather_queries = 4;
+    KSchedule schedule = KSchedule::fixed;
+    double alpha = 2.0 / 3.0;
+    int k_floor = 4;
     WalkSettings walk;
 
+    // k of pass `pass_index` (0-based, counting from render.first_pass) under the schedule.
+    int k_for_pass(int pass_index) const;
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
     // Reads [photons] and the walk keys of [render]; throws ConfigError (k below the estimator's
