@@ -102,7 +102,9 @@ TEST(Lights, EmissionOfLightsAtInfinityCoversWhatCanBeLitAndNothingElse) {
             ASSERT_FALSE(b.contains(e.ray.origin));
             double t0, t1;
             ASSERT_TRUE(b.intersect(e.ray, kInfinity, t0, t1)) << "a photon that misses what can be lit";
-            if (directional) ASSERT_NEAR(e.power[0], light->power()[0], 1e-9 * light->power()[0]);
+            if (directional) {
+                ASSERT_NEAR(e.power[0], light->power()[0], 1e-9 * light->power()[0]);
+            }
             power.add(e.power[0]);
         }
         EXPECT_NEAR(power.mean(), expected, 3.0 * power.se() + 1e-9 * expected);
