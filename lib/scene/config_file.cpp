@@ -160,8 +160,10 @@ toml::array json_array_to_toml(const nlohmann::json& j, const std::string& name,
 toml::table json_object_to_toml(const nlohmann::json& j, const std::string& name, int depth) {
     check_json_depth(depth, name);
     toml::table t;
-    for (const auto& [k, v] : j.items())
-        json_value_to_toml(v, name, depth, [&](auto&& x) { t.insert_or_assign(k, std::move(x)); });
+    for (const auto& item : j.items()) {   // not a structured binding: C++17 lambdas cannot capture one
+        const std::string& key = item.key();
+        json_value_to_toml(item.value(), name, depth, [&](auto&& x) { t.insert_or_assign(key, std::move(x)); });
+    }
     return t;
 }
 
