@@ -154,17 +154,17 @@ std::vector<size_t> default_k_list() {
     return {2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40, 50, 64, 80, 100, 128, 160, 200, 256};
 }
 
-Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w) {
+Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w, int dim) {
     e.validate_k(k);
     if (!e.entry().uniform_theory) throw Error(std::string("study: estimator ") + e.name() + " has no uniform theory");
-    return e.entry().uniform_theory(k, n, c_w);
+    return e.uniform_theory(k, n, c_w, dim);
 }
 
 Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
                          const std::function<double(double)>& mass_fraction, double r_max,
                          double phi_over_truth) {
     e.validate_k(k);
-    if (!e.entry().unit_weight_count)
+    if (!e.entry().unit_weight_count || !e.kernel().is_constant())
         throw Error(std::string("study: estimator ") + e.name() + " has no quadrature theory (not a constant kernel)");
     const double kk = double(k), nn = double(n);
     const double mu = kk / (nn + 1.0);

@@ -92,7 +92,8 @@ struct StudyResult {
 // c_w = E[w^2]/E[w]^2 (1 for unit weights). Returns (relative error, variance, MSE); +inf
 // variance/MSE at k = 2 for classic and corrected. n = 0 gives the n -> infinity limit.
 using Theory = EstimatorTheory;
-Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w = 1.0);
+// With a kernel (Estimator::with_kernel) the theory depends on the dimension (2 or 3).
+Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w = 1.0, int dim = 3);
 
 // Quadrature theory for unit weights: n points with mass fraction F(r) within distance r of the
 // query (F increasing, F(r_max) = 1), phi_over_truth = photon power / true density.

@@ -160,7 +160,7 @@ SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs
         for (const auto& [k, v] : *axes->as_table()) {
             SweepAxis ax;
             ax.name = std::string(k.str());
-            ax.key = ax.name == "k" ? "photons.k" : ax.name == "estimator" ? "photons.estimator" : ax.name;
+            ax.key = ax.name == "k" ? "photons.k" : ax.name == "estimator" ? "photons.estimator" : ax.name == "kernel" ? "photons.kernel" : ax.name;
             ax.line = line_of(v);
             const toml::array* a = v.as_array();
             if (!a || a->empty()) fail(name, &v, "axes." + ax.name, "expected a non-empty list of values");
@@ -198,7 +198,7 @@ Built build_config(const SweepSpec& spec, const std::vector<std::string>& overri
     b.resolved = std::move(config.resolved);
     b.seed = config.render.seed;
     b.integrator = config.integrator->name;
-    b.estimator = photon_map_settings(config).estimator.name();
+    b.estimator = photon_map_settings(config).estimator.label();   // "corrected", "corrected/cone(slope=1)"
     b.spp = config.render.spp;
     return b;
 }
