@@ -1,0 +1,94 @@
+// RunConfig and the integrator registry: render.integrator picks one entry, every entry's keys
+// are read and validated whichever runs, and settings arrive as typed values.
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "render/integrator_registry.h"
+#include "render/photon_map_integrator.h"
+#include "render/run_config.h"
+
+using namespace vpm;
+
+namespace {
+
+const char* kScene = R"(
+[render]
+width = 4
+height = 4
+[[lights]]
+type = "point"
+position = [0, 3, 0]
+intensity = 1
+[[media]]
+type = "homogeneous"
+shape = "sphere"
+radius = 1
+)";
+
+RunConfig build(const std::vector<std::string>& overrides = {}) {
+    return RunConfig::build(parse_config(kScene, "run.toml", ".", overrides));
+}
+
+std::string error_of(const std::vector<std::string>& overrides) {
+    try {
+        build(overrides);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(RunConfig, EveryRegisteredIntegratorCanBeChosenAndCreated) {
+    for (const IntegratorType& t : integrator_types()) {
+        const RunConfig c = build({"render.integrator=" + std::string(t.name)});
+        EXPECT_EQ(c.integrator, &t);
+        ASSERT_EQ(c.settings.size(), integrator_types().size());
+        EXPECT_EQ(c.create_integrator()->name(), t.name);
+    }
+}
+
+TEST(RunConfig, UnknownIntegratorListsTheRegisteredNames) {
+    const std::string msg = error_of({"render.integrator=\"bdpt\""});
+    EXPECT_NE(msg.find("render.integrator"), std::string::npos) << msg;
+    for (const std::string& n : integrator_names()) EXPECT_NE(msg.find(n), std::string::npos) << msg;
+}
+
+TEST(RunConfig, PhotonKeysAreValidatedEvenForThePathTracer) {
+    // A config keeps its [photons] table when switched to the path tracer; a bad value there is
+    // still an error, and the resolved config carries the photon defaults.
+    EXPECT_NE(error_of({"render.integrator=\"path\"", "photons.estimator=\"k-1\""}).find("photons.estimator"),
+              std::string::npos);
+    const RunConfig c = build({"render.integrator=\"path\""});
+    EXPECT_NE(c.resolved_toml().find("estimator = 'corrected'"), std::string::npos) << c.resolved_toml();
+}
+
+TEST(RunConfig, PhotonSettingsAreTyped) {
+    const RunConfig c = build({"photons.estimator=\"classic\"", "photons.direct=\"photon_map\"", "photons.extinction=\"point\"",
+                               "photons.k=7", "render.max_depth=3", "render.rr_depth=2"});
+    const PhotonMapSettings& s = photon_map_settings(c);
+    EXPECT_EQ(s.estimator, Estimator::named("classic"));
+    EXPECT_EQ(s.direct, DirectLighting::photon_map);
+    EXPECT_EQ(s.extinction, ExtinctionNormalisation::point);
+    EXPECT_EQ(s.k, 7);
+    EXPECT_EQ(s.walk.max_depth, 3);
+    EXPECT_EQ(s.walk.rr_depth, 2);
+    EXPECT_EQ(s.search_radius(), kInfinity);
+}
+
+TEST(RunConfig, KBelowTheEstimatorsMinimumNamesTheEstimator) {
+    const std::string msg = error_of({"photons.estimator=\"mse_optimal\"", "photons.k=2"});
+    EXPECT_NE(msg.find("photons.k: the mse_optimal estimator needs k >= 3"), std::string::npos) << msg;
+}
+
+TEST(RunConfig, PhotonMapIntegratorRunsItsOwnPhotonPass) {
+    // prepare() traces the photons and records the pass in the typed statistics.
+    const RunConfig c = build({"render.integrator=\"photon_map\""});
+    auto integrator = c.create_integrator();
+    RunStats stats;
+    integrator->prepare(PassContext{1, 0, false, nullptr}, stats);
+    ASSERT_TRUE(stats.photons.has_value());   // the sphere is a medium: the pass ran
+    EXPECT_EQ(stats.photons->emitted, 100000u);
+    EXPECT_GT(stats.seconds("trace"), 0.0);
+}
