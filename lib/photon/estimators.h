@@ -37,8 +37,9 @@
 //
 // Rules for incomplete or degenerate neighbourhoods (estimate_density below; each is tested):
 //  (a) fewer than k photons within a finite max_radius R: fixed-radius estimate
-//      sum of all found w_i / V(R), nothing dropped (with a kernel: w_i omega(r_i / R), which
-//      keeps the argument below: given the count in B(R) the photons are uniform in it). R does not depend on the photons, so
+//      sum of all found w_i / V(R), nothing dropped (with a kernel: w_i omega(r_i / R); the
+//      argument below still holds, since given the count in B(R) the photons are uniform in it).
+//      R does not depend on the photons, so
 //      E[sum_{x_i in B(R)} w_i] = integral of the density over B(R): unbiased for the ball mean.
 //      Moreover the combination "corrected when r_k <= R, else fixed radius R" is exactly
 //      unbiased for a Poisson process of intensity rho: with N = count in B(R), mu = rho V(R),

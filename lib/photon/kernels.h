@@ -16,15 +16,15 @@
 // kernel takes the old code path). Profiles are written in u = t^2 (no square root except the
 // cone's).
 //
-//   | kernel          | K(t)                                              | n_2             | n_3             |
-//   |-----------------|---------------------------------------------------|-----------------|-----------------|
-//   | constant        | 1                                                 | 1               | 1               |
-//   | cone            | 1 - s t, slope s in (0, 1] (Jensen's k = 1/s)     | 1 - 2s/3        | 1 - 3s/4        |
-//   | epanechnikov    | 1 - t^2                                           | 1/2             | 2/5             |
-//   | silverman       | (1 - t^2)^2 (biweight)                            | 1/3             | 8/35            |
-//   | gaussian_jensen | a[1 - (1 - e^{-b t^2/2}) / (1 - e^{-b})],         | 1 (Jensen:      | 1 (the same     |
-//   |                 | a = 0.918, b = 1.953 (Jensen / Pavicic)           | divides by pi r^2) | convention)  |
-//   | gaussian        | the same profile                                  | M_2 (exact)     | M_3 (exact)     |
+//   | kernel          | K(t)                                          | n_2          | n_3          |
+//   |-----------------|-----------------------------------------------|--------------|--------------|
+//   | constant        | 1                                             | 1            | 1            |
+//   | cone            | 1 - s t, slope s in (0, 1] (Jensen's k = 1/s) | 1 - 2s/3     | 1 - 3s/4     |
+//   | epanechnikov    | 1 - t^2                                       | 1/2          | 2/5          |
+//   | silverman       | (1 - t^2)^2 (biweight)                        | 1/3          | 8/35         |
+//   | gaussian_jensen | a [1 - (1 - e^{-b t^2/2}) / (1 - e^{-b})],    | 1 (Jensen's: | 1 (the same  |
+//   |                 | a = 0.918, b = 1.953 (Jensen, Pavicic)        | / pi r^2)    | convention)  |
+//   | gaussian        | the same profile                              | M_2 (exact)  | M_3 (exact)  |
 //
 // Gaussian means (exact): M_2 = a[1 - (1 - (2/b)(1 - e^{-b/2})) / (1 - e^{-b})] = 0.53115 (so
 // Jensen's normalisation underestimates by 46.9% in 2D), M_3 = a[1 - (1 - 3J) / (1 - e^{-b})]

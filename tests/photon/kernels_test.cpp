@@ -165,6 +165,27 @@ TEST(Kernels, HandComputedSums) {
     }
 }
 
+// Rule (c) with kernels: k coincident photons extend the ball to the first farther photon (which
+// is then the k-th: weight K(1), dropped by corrected); every kernel stays finite and positive.
+TEST(Kernels, CoincidentPhotonsStayFinite) {
+    const size_t k = 4;
+    const double w[6] = {1, 1, 1, 1, 1, 1};
+    const double d2[6] = {0, 0, 0, 0, 0, 0.25};
+    for (const Kernel& kern : kernels())
+        for (const Estimator& e : {classic(), corrected(), mse_optimal()})
+            for (int dim : {2, 3}) {
+                EstimatorStats st;
+                const Estimate<double> est =
+                    estimate_density<double>(e.with_kernel(kern), w, d2, 6, true, k, kInfinity, dim, &st);
+                EXPECT_EQ(est.kind, EstimateCase::extended);
+                EXPECT_TRUE(std::isfinite(est.value) && est.value > 0.0) << e.with_kernel(kern).label();
+                // corrected: 5 coincident photons at t = 0, weight K(0)/n_d each
+                if (e == corrected()) {
+                    EXPECT_NEAR(est.value, 5.0 * kern.weight(0.0, dim) / ball_volume(dim, 0.5), 1e-12);
+                }
+            }
+}
+
 namespace {
 
 // n points uniform in the unit disc / ball (query at the centre, truth 1), unit or Exp(1) weights;

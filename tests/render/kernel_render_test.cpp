@@ -43,7 +43,9 @@ void check(const std::vector<Estimator>& v, const std::vector<Sample>& s, const 
                     v[i].label().c_str(), s[i].mean(), s[i].se(), ratio[i].mean(), ratio[i].se(), th);
         EXPECT_NEAR(s[i].mean(), th, 3.0 * s[i].se()) << what << " " << v[i].label();
         EXPECT_NEAR(ratio[i].mean(), th, 3.0 * ratio[i].se() + model * std::abs(th - 1.0)) << what << " " << v[i].label();
-        if (std::abs(th - 1.0) > 0.05) EXPECT_GT(std::abs(ratio[i].mean() - 1.0), 8.0 * ratio[i].se()) << v[i].label();
+        if (std::abs(th - 1.0) > 0.05) {
+            EXPECT_GT(std::abs(ratio[i].mean() - 1.0), 8.0 * ratio[i].se()) << v[i].label();
+        }
     }
 }
 
