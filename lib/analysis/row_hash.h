@@ -3,8 +3,9 @@
 // default filled in, so two spellings of the same config agree) plus its seed and repeat stream;
 // a finished row with the same hash is never run again (resume), and merge drops duplicates by it.
 // A reference image is cached under the hash of the resolved config minus everything that only
-// concerns the estimator or the output (render.integrator/spp/seed/output/threads/max_depth/
-// rr_depth/exposure and the [photons] table), so every run of the same scene shares it.
+// concerns the estimator, the budget or the output (render.integrator/spp/seed/output/threads/
+// max_depth/rr_depth/exposure/passes/time_limit/first_pass and the [photons] table), so every run
+// of the same scene shares it.
 #include <cstdint>
 #include <string>
 

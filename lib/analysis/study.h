@@ -1,4 +1,8 @@
 #pragma once
+// analysis/: what researchers measure with vpm, on top of render/: this study, sweeps (sweep_plan.h,
+// sweep.h) with their error metrics and tables, and the stress matrix (stress.h). Analyses consume
+// typed results (RunStats), never a run's JSON read back.
+//
 // The estimator study (issue 4): Monte Carlo of the classic, corrected (k-1) and MSE-optimal
 // (k-2) kNN density estimators against exact order-statistics theory.
 //

@@ -160,7 +160,8 @@ SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs
         for (const auto& [k, v] : *axes->as_table()) {
             SweepAxis ax;
             ax.name = std::string(k.str());
-            ax.key = ax.name == "k" ? "photons.k" : ax.name == "estimator" ? "photons.estimator" : ax.name == "kernel" ? "photons.kernel" : ax.name;
+            ax.key = ax.name == "k" ? "photons.k" : ax.name == "estimator" ? "photons.estimator"
+                     : ax.name == "kernel" ? "photons.kernel" : ax.name == "time_limit" ? "render.time_limit" : ax.name;
             ax.line = line_of(v);
             const toml::array* a = v.as_array();
             if (!a || a->empty()) fail(name, &v, "axes." + ax.name, "expected a non-empty list of values");
@@ -313,9 +314,12 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
             run.point = hash_hex(run_config_text(p.built.resolved) + "\nseed=" + std::to_string(run.seed));
             run.scene = scene_hash(p.built.resolved);
             if (!plan.references.count(run.scene)) {
+                // The reference is the scene's, whatever budget the runs have.
                 std::vector<std::string> ro;
                 for (const auto& o : p.overrides)
-                    if (o.rfind("photons.", 0) != 0) ro.push_back(o);
+                    if (o.rfind("photons.", 0) != 0 && o.rfind("render.time_limit=", 0) != 0 &&
+                        o.rfind("render.passes=", 0) != 0 && o.rfind("render.first_pass=", 0) != 0)
+                        ro.push_back(o);
                 ro.push_back("render.integrator=\"path\"");
                 ro.push_back("render.spp=" + std::to_string(std::max(spec.reference_spp, 1)));
                 ro.push_back("render.max_depth=-1");

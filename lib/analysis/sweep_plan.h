@@ -13,6 +13,8 @@
 //   [axes]                                 # each a list; the plan is their Cartesian product
 //   estimator = ["classic", "corrected"]   # short for photons.estimator
 //   k = [8, 16, 32]                        # short for photons.k
+//   time_limit = [1, 4, 16]                # short for render.time_limit: equal-time runs of
+//                                          # both methods (path runs keep render.time_limit)
 //   "photons.count" = [10000, 100000]      # any scene key by its dotted path
 //   "media.0.g" = [0.0, 0.5]
 //

@@ -1,4 +1,7 @@
 #pragma once
+// photon/: photon records (photon.h), the photon map (photon_map.h, nanoflann), the photon
+// tracer (photon_tracer.h, on the walk steps of transport/) and, here, the estimators.
+//
 // The kNN density estimators and the rules around them. An estimator is one function below and
 // one line in the registry in estimators.cpp; everything that lists estimators (the config's
 // photons.estimator, sweep axes, the study's columns) reads that registry.

@@ -26,7 +26,8 @@ struct RunStats;
 // What a run hands to an integrator's passes.
 struct PassContext {
     uint64_t seed = 1;
-    uint64_t stream_offset = 0;    // independent repeats with the same seed
+    uint64_t stream_offset = 0;    // independent repeats and passes with the same seed
+    int pass = 0;                  // 0-based index of the pass (render.passes, render.time_limit)
     bool progress = true;          // progress bars on stderr
     std::ostream* log = nullptr;   // one line per phase; null: silent
 };

@@ -41,6 +41,12 @@ double total_sigma_t(const Scene& scene, const Vec3& x) {
     return sigma_t;
 }
 
+Bounds3 media_bounds(const Scene& scene) {
+    Bounds3 b;
+    for (const auto& m : scene.media) b.extend(m->bounds());
+    return b;
+}
+
 double ball_mean_sigma_t(const Scene& scene, const Vec3& x, double radius) {
     double sum = 0.0;
     for (const Vec3& p : unit_ball_points()) sum += total_sigma_t(scene, x + radius * p);
@@ -59,20 +65,21 @@ struct PhotonMapIntegrator::ThreadState {
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
     : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
-      max_radius_(settings.search_radius()), threads_(std::make_unique<ThreadState>()) {}
+      max_radius_(settings.search_radius()), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>()) {}
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
                                          const PhotonMap& volume_map, const PhotonMap* surface_map)
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
-      max_radius_(settings.search_radius()), threads_(std::make_unique<ThreadState>()) {}
+      max_radius_(settings.search_radius()), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>()) {}
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
 void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     if (!owns_maps_) return;
-    std::ostream* log = context.log;
+    std::ostream* log = context.pass == 0 ? context.log : nullptr;
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
     if (scene_.has_media() || surface) {
+        owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
         owned_ = run_photon_pass(scene_, settings_, context, surface, stats);
         surface_map_ = surface ? &owned_.surface : nullptr;
     } else if (log) {
@@ -116,9 +123,17 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
         const SurfaceHit& hit = v.hit;
         if (v.escaped()) {
             if (depth == 0) radiance += throughput * scene_.escaped_radiance(ray.dir);
+            if (settings_.gather == GatherMode::march && !(max_depth >= 0 && depth + 1 > max_depth))
+                radiance += throughput * march_in_scattering(ray, kInfinity, rng);
             break;
         }
         if (max_depth >= 0 && depth + 1 > max_depth) break;
+        if (settings_.gather == GatherMode::march) {
+            // The medium's in-scattering along this segment comes from the march; the collision
+            // sampled above only decides whether the path reaches the surface behind (probability T).
+            radiance += throughput * march_in_scattering(ray, v.on_surface ? hit.t : kInfinity, rng);
+            if (event) break;
+        }
         if (event) {
             const Vec3 x = ray.at(event.t);
             const Medium& m = *event.medium;
@@ -153,6 +168,49 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
         if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
     }
     return radiance;
+}
+
+Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+    double t0, t1;
+    if (!media_bounds_.intersect(ray, t_end, t0, t1) || !(t1 > t0) || !std::isfinite(t1 - t0)) return Rgb::Zero();
+    const int n = settings_.gather_queries;
+    const double dt = (t1 - t0) / n;
+    const bool nee = settings_.direct == DirectLighting::nee;
+    Rgb sum = Rgb::Zero();
+    double transmittance = 1.0, t_prev = 0.0;
+    for (int j = 0; j < n; ++j) {
+        const double t = t0 + (j + rng.uniform()) * dt;   // stratified, jittered
+        // T(0, t) as a product of independent ratio-tracking estimates over consecutive pieces.
+        for (const auto& m : scene_.media) transmittance *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
+        t_prev = t;
+        if (transmittance == 0.0) break;
+        const Vec3 x = ray.at(t);
+        double sigma_t = 0.0, dominant = 0.0, g = 0.0;
+        Rgb sigma_s = Rgb::Zero();
+        for (const auto& m : scene_.media) {
+            const double st = m->sigma_t(x);
+            sigma_t += st;
+            sigma_s += m->albedo() * st;
+            if (st > dominant) {
+                dominant = st;
+                g = m->g();
+            }
+        }
+        if (!(sigma_t > 0.0) || (sigma_s == 0.0).all()) continue;
+        Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
+        if (nee) in += direct_light_in_medium(scene_, x, ray.dir, g, rng);
+        if (!map_->empty()) {
+            auto& local = threads_->local.local();
+            const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, g, settings_.estimator, size_t(settings_.k),
+                                                           max_radius_, local.buffers, &local.stats);
+            const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0
+                                    ? ball_mean_sigma_t(scene_, x, s.radius)
+                                    : 0.0;
+            in += s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
+        }
+        sum += (transmittance * dt) * sigma_s * in;
+    }
+    return sum;
 }
 
 namespace {

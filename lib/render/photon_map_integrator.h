@@ -74,7 +74,12 @@ private:
     const PhotonMap* map_;
     const PhotonMap* surface_map_;
     double max_radius_;
+    Bounds3 media_bounds_;
     std::unique_ptr<ThreadState> threads_;
+
+    // gather = "march": the in-scattered radiance along `ray` over the media inside (0, t_end),
+    // from gather_queries stratified points, each weighted by a ratio-tracked transmittance.
+    Rgb march_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
 };
 
 // The registry's reader: [photons] and the walk keys of [render].

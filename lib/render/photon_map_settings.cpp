@@ -39,6 +39,8 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.final_gather = p.boolean("final_gather", s.final_gather);
     s.extinction = p.choice("extinction", s.extinction,
                             {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball}});
+    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}});
+    s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
     return s;
 }
 

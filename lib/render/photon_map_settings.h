@@ -16,6 +16,12 @@
 //   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
 //   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x    |
+//   | gather                 | "collision" | camera side: "collision": one estimate where the camera  |
+//   |                        |             | ray collides; "march": gather_queries stratified points  |
+//   |                        |             | along every segment in the media, each weighted by its   |
+//   |                        |             | ratio-tracked transmittance (every ray gathers, also in  |
+//   |                        |             | thin media)                                              |
+//   | gather_queries         | 4           | points per segment for "march"                           |
 #include <cstdint>
 
 #include "core/math.h"
@@ -28,6 +34,7 @@ class Params;
 
 enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point };
+enum class GatherMode { collision, march };
 
 struct PhotonMapSettings {
     int64_t count = 100000;
@@ -39,6 +46,8 @@ struct PhotonMapSettings {
     double memory_budget_fraction = 0.5;
     bool final_gather = false;
     ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
+    GatherMode gather = GatherMode::collision;
+    int gather_queries = 4;
     WalkSettings walk;
 
     // The kNN search radius: kInfinity when unbounded.

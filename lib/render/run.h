@@ -4,6 +4,7 @@
 // log and the fully resolved config. Shared by `vpm render`, sweeps, the stress matrix and
 // benchmarks so that they all measure the same thing.
 #include <filesystem>
+#include <functional>
 #include <ostream>
 
 #include "render/image.h"
@@ -18,6 +19,9 @@ struct RunOptions {
     bool progress = true;            // progress bars on stderr (only drawn on a terminal)
     std::ostream* log = nullptr;     // one line per phase and subsystem; null: silent
     uint64_t stream_offset = 0;      // independent repeats with the same seed
+    // Called after every pass with the mean image so far and that pass's statistics (e.g. to
+    // write the error against a reference as the passes go); may be empty.
+    std::function<void(const Image& mean_so_far, const PassStats& pass)> on_pass;
 };
 
 struct RunResult {

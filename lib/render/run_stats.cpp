@@ -1,5 +1,7 @@
 #include "render/run_stats.h"
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "core/progress.h"
@@ -17,8 +19,48 @@ void write_estimates(const std::string& prefix, const EstimatorStats& st, RunRec
 
 }  // namespace
 
+void PhotonPassStats::merge(const PhotonPassStats& o) {
+    emitted += o.emitted;
+    stored += o.stored;
+    collisions += o.collisions;
+    truncated_paths += o.truncated_paths;
+    energy.emitted += o.energy.emitted;
+    energy.absorbed += o.energy.absorbed;
+    energy.escaped += o.energy.escaped;
+    energy.truncated += o.energy.truncated;
+    projected_map_bytes = std::max(projected_map_bytes, o.projected_map_bytes);
+    memory_budget_bytes = o.memory_budget_bytes;
+    over_memory_budget = over_memory_budget || o.over_memory_budget;
+    bytes_per_photon = o.bytes_per_photon;
+    map_bytes = std::max(map_bytes, o.map_bytes);
+    surface_map = surface_map || o.surface_map;
+    surface_hits += o.surface_hits;
+    surface_stored += o.surface_stored;
+    surface_map_bytes = std::max(surface_map_bytes, o.surface_map_bytes);
+}
+
 void RunStats::phase(const std::string& name, double seconds) {
+    for (PhaseStats& p : phases)
+        if (p.name == name) {
+            p.seconds += seconds;
+            p.peak_rss_bytes = peak_rss_bytes();
+            return;
+        }
     phases.push_back({name, seconds, peak_rss_bytes()});
+}
+
+void RunStats::add_photon_pass(const PhotonPassStats& p) {
+    if (!photons) {
+        photons = p;
+        return;
+    }
+    // Rates and per-photon bytes are recomputed from the sums.
+    const double seconds_before = photons->paths_per_second > 0 ? double(photons->emitted) / photons->paths_per_second : 0.0;
+    const double seconds_now = p.paths_per_second > 0 ? double(p.emitted) / p.paths_per_second : 0.0;
+    photons->merge(p);
+    const double seconds = seconds_before + seconds_now;
+    photons->paths_per_second = seconds > 0 ? double(photons->emitted) / seconds : 0.0;
+    photons->map_bytes_per_photon = p.map_bytes_per_photon;
 }
 
 double RunStats::seconds(const std::string& name) const {
@@ -31,6 +73,21 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     for (const PhaseStats& p : stats.phases) {
         record.set("phases." + p.name + ".seconds", p.seconds);
         record.set("phases." + p.name + ".peak_rss_bytes", p.peak_rss_bytes);
+    }
+    if (!stats.passes.empty()) {
+        nlohmann::json seconds = nlohmann::json::array(), elapsed = nlohmann::json::array(),
+                       means = nlohmann::json::array();
+        for (const PassStats& p : stats.passes) {
+            seconds.push_back(p.seconds);
+            elapsed.push_back(p.elapsed);
+            means.push_back(p.image_mean);
+        }
+        record.set("passes.count", uint64_t(stats.passes.size()));
+        record.set("passes.first", stats.first_pass);
+        record.set("passes.spp_per_pass", stats.passes.front().spp);
+        record.set("passes.seconds", seconds);
+        record.set("passes.elapsed", elapsed);
+        record.set("passes.image_mean", means);
     }
     record.set("render.samples", stats.render.samples);
     record.set("render.samples_per_second", stats.render.samples_per_second());

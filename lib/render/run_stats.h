@@ -40,17 +40,32 @@ struct PhotonPassStats {
     uint64_t surface_hits = 0;
     uint64_t surface_stored = 0;
     uint64_t surface_map_bytes = 0;
+
+    // Adds another pass's counts and energy; bytes are the largest of one map (one at a time).
+    void merge(const PhotonPassStats& o);
+};
+
+// One pass of a run: its photon pass (if any) and its share of the camera samples.
+struct PassStats {
+    double seconds = 0.0;      // wall time of the pass, all phases
+    double elapsed = 0.0;      // since the run started, at the end of the pass
+    int spp = 0;
+    double image_mean = 0.0;   // mean over pixels and channels of this pass's image alone
 };
 
 struct RunStats {
     std::vector<PhaseStats> phases;
+    std::vector<PassStats> passes;
+    int first_pass = 0;   // render.first_pass: passes are first_pass .. first_pass + passes.size() - 1
     RenderStats render;
     std::optional<PhotonPassStats> photons;            // integrators with a photon pass
     std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
     std::optional<EstimatorStats> surface_estimates;   // surface photon map queries (when any)
 
-    // Records a phase, with the peak resident memory now.
+    // Adds `seconds` to a phase (phases repeat once per pass), with the peak resident memory now.
     void phase(const std::string& name, double seconds);
+    // Counts and energy of a photon pass, summed over passes.
+    void add_photon_pass(const PhotonPassStats& p);
     // Seconds of a phase; 0 when the run had no such phase.
     double seconds(const std::string& name) const;
 };

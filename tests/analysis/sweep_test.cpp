@@ -269,5 +269,27 @@ TEST_F(SweepTest, RowHashFollowsTheResolvedConfigNotItsSpelling) {
     EXPECT_EQ(hash_hex(""), "cbf29ce484222325");                          // FNV-1a offset basis
 }
 
+TEST_F(SweepTest, TimeBudgetAxisAppliesToBothMethodsButNotToTheReference) {
+    const SweepPlan plan = plan_sweep(spec(R"(scene = "scene.toml"
+[reference]
+spp = 8
+path_spp = [1]
+[axes]
+time_limit = [0.5, 2]
+)"));
+    ASSERT_EQ(plan.runs.size(), 4u);   // per budget: one photon-map run, one path run
+    int path_runs = 0;
+    for (const auto& r : plan.runs) {
+        bool has_budget = false;
+        for (const auto& o : r.overrides) has_budget |= o.rfind("render.time_limit=", 0) == 0;
+        EXPECT_TRUE(has_budget) << r.method;
+        path_runs += r.method == "path";
+    }
+    EXPECT_EQ(path_runs, 2);
+    ASSERT_EQ(plan.references.size(), 1u);   // budgets do not change the scene
+    for (const auto& o : plan.references.begin()->second) EXPECT_EQ(o.rfind("render.time_limit=", 0), std::string::npos) << o;
+}
+
+
 }  // namespace
 }  // namespace vpm

@@ -87,7 +87,9 @@ TEST(RunConfig, PhotonMapIntegratorRunsItsOwnPhotonPass) {
     const RunConfig c = build({"render.integrator=\"photon_map\""});
     auto integrator = c.create_integrator();
     RunStats stats;
-    integrator->prepare(PassContext{1, 0, false, nullptr}, stats);
+    PassContext context;
+    context.progress = false;
+    integrator->prepare(context, stats);
     ASSERT_TRUE(stats.photons.has_value());   // the sphere is a medium: the pass ran
     EXPECT_EQ(stats.photons->emitted, 100000u);
     EXPECT_GT(stats.seconds("trace"), 0.0);

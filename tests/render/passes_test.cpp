@@ -1,0 +1,140 @@
+// render.passes and render.time_limit: independent passes (a fresh photon map each) averaged
+// into one image. In the uniform furnace every pass is an independent estimate, so the mean over
+// passes must stay within standard errors of 0.5 (corrected) and 0.5 k/(k-1) (classic): passes
+// average away the corrected estimate's variance but not the classic estimate's bias.
+#include <gtest/gtest.h>
+
+#include <tbb/task_arena.h>
+
+#include "core/error.h"
+#include "render/run.h"
+#include "../support/render_statistics.h"
+
+using namespace vpm;
+
+namespace {
+
+RunResult run_furnace(std::vector<std::string> sets) {
+    for (const char* s : {"render.width=16", "render.height=16", "photons.count=40000", "photons.k=8"}) sets.push_back(s);
+    RunOptions o;
+    o.progress = false;
+    return run(RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml", sets), o);
+}
+
+double mean_of(const Image& image) {
+    double m = 0;
+    for (float v : image.rgb) m += v;
+    return m / double(image.rgb.size());
+}
+
+}  // namespace
+
+TEST(Passes, FurnaceMeanOverPassesCorrectedUnbiasedClassicHighByKOverKMinusOne) {
+    const int passes = 12;
+    const std::vector<std::string> sets = {"render.spp=12", "render.passes=12"};
+    auto with = [&](const char* estimator) {
+        std::vector<std::string> s = sets;
+        s.push_back(std::string("photons.estimator=\"") + estimator + "\"");
+        return run_furnace(s);
+    };
+    const RunResult classic = with("classic"), corrected = with("corrected");
+    ASSERT_EQ(corrected.stats.passes.size(), size_t(passes));
+    test::Sample c, u, excess;
+    for (int p = 0; p < passes; ++p) {
+        EXPECT_EQ(corrected.stats.passes[size_t(p)].spp, 1);
+        c.add(classic.stats.passes[size_t(p)].image_mean);
+        u.add(corrected.stats.passes[size_t(p)].image_mean);
+        // Same seed: the same photon maps and camera rays, so the ratio is paired.
+        excess.add(classic.stats.passes[size_t(p)].image_mean / corrected.stats.passes[size_t(p)].image_mean - 1.0);
+    }
+    // The image is the mean of the pass images.
+    EXPECT_NEAR(mean_of(corrected.image), u.mean(), 1e-6 * u.mean());
+    EXPECT_EQ(corrected.stats.render.samples, uint64_t(16 * 16 * 12));
+    const double k = 8.0;
+    EXPECT_NEAR(u.mean(), 0.5, 3.0 * u.se());
+    EXPECT_NEAR(c.mean(), 0.5 * k / (k - 1), 3.0 * c.se());
+    // Photons of random walks are slightly clustered (see photon_map_render_test.cpp): 3 SE plus a
+    // stated 5% model tolerance on the excess, which must still be decisively above zero.
+    EXPECT_NEAR(excess.mean(), 1.0 / (k - 1), 3.0 * excess.se() + 0.05 / (k - 1));
+    EXPECT_GT(excess.mean(), 8.0 * excess.se());
+    // Each pass emitted its own photons.
+    ASSERT_TRUE(corrected.stats.photons.has_value());
+    EXPECT_EQ(corrected.stats.photons->emitted, uint64_t(40000 * passes));
+    EXPECT_LT(corrected.stats.photons->energy.relative_imbalance(), 1e-9);
+}
+
+TEST(Passes, DeterministicOnAnyThreadCountAndPassesDiffer) {
+    const std::vector<std::string> sets = {"render.spp=3", "render.passes=3", "photons.count=5000"};
+    RunResult one, two;
+    tbb::task_arena(1).execute([&] { one = run_furnace(sets); });
+    tbb::task_arena(2).execute([&] { two = run_furnace(sets); });
+    EXPECT_EQ(one.image.rgb, two.image.rgb);
+    ASSERT_EQ(one.stats.passes.size(), 3u);
+    // Independent streams: the passes are not copies of each other.
+    EXPECT_NE(one.stats.passes[0].image_mean, one.stats.passes[1].image_mean);
+    EXPECT_NE(one.stats.passes[1].image_mean, one.stats.passes[2].image_mean);
+}
+
+TEST(Passes, OnePassIsTheClassicSingleRun) {
+    // passes = 1 keeps the streams of a run without passes: a repeat offset moves the whole run.
+    const RunResult a = run_furnace({"render.spp=2", "photons.count=5000"});
+    const RunResult b = run_furnace({"render.spp=2", "photons.count=5000", "render.passes=1"});
+    EXPECT_EQ(a.image.rgb, b.image.rgb);
+    ASSERT_EQ(a.stats.passes.size(), 1u);
+    EXPECT_EQ(a.stats.passes[0].spp, 2);
+}
+
+TEST(Passes, SppMustBeAMultipleOfPasses) {
+    try {
+        RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml", {"render.spp=5", "render.passes=2"});
+        FAIL() << "no error";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("render.passes"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("multiple"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Passes, TimeLimitRunsMorePassesForBothIntegrators) {
+    // A 4x4, 1-spp pass takes well under a millisecond; a 1 s budget holds many of them, and the
+    // minimum (render.passes) always runs. The count itself depends on the machine: only its
+    // lower bounds are asserted.
+    for (const char* integrator : {"path", "photon_map"}) {
+        RunOptions o;
+        o.progress = false;
+        const RunResult r = run(RunConfig::load(VPM_SOURCE_DIR "/configs/homogeneous.toml",
+                                                {"render.width=4", "render.height=4", "render.spp=1", "photons.count=200",
+                                                 std::string("render.integrator=") + integrator, "render.time_limit=1"}),
+                                o);
+        EXPECT_GT(r.stats.passes.size(), 1u) << integrator;
+        EXPECT_EQ(r.stats.render.samples, 16u * r.stats.passes.size()) << integrator;
+        const RunResult tiny = run(RunConfig::load(VPM_SOURCE_DIR "/configs/homogeneous.toml",
+                                                   {"render.width=4", "render.height=4", "render.spp=2", "render.passes=2",
+                                                    std::string("render.integrator=") + integrator,
+                                                    "render.time_limit=1e-9", "photons.count=200"}),
+                                   o);
+        EXPECT_EQ(tiny.stats.passes.size(), 2u) << integrator;
+    }
+}
+
+TEST(Passes, FurnaceMarchGatherCorrectedUnbiased) {
+    // gather = "march" estimates the in-scattering at 4 stratified points of every camera ray,
+    // each weighted by a ratio-tracked transmittance; the escaped environment is weighted by the
+    // free-flight indicator. In the furnace the sum stays 0.5 for the corrected estimator.
+    const int passes = 12;
+    const RunResult r = run_furnace({"render.spp=12", "render.passes=12", "photons.gather=\"march\"",
+                                     "photons.estimator=\"corrected\""});
+    const RunResult c = run_furnace({"render.spp=12", "render.passes=12", "photons.gather=\"march\"",
+                                     "photons.estimator=\"classic\""});
+    test::Sample u, excess;
+    for (int p = 0; p < passes; ++p) {
+        u.add(r.stats.passes[size_t(p)].image_mean);
+        excess.add(c.stats.passes[size_t(p)].image_mean / r.stats.passes[size_t(p)].image_mean - 1.0);
+    }
+    EXPECT_NEAR(u.mean(), 0.5, 3.0 * u.se());
+    EXPECT_GT(excess.mean(), 8.0 * excess.se());   // the classic bias is still there
+    // Every ray gathers, up to 4 queries per camera sample (fewer once ratio tracking's roulette
+    // ends the transmittance); the collision estimator makes at most one.
+    ASSERT_TRUE(r.stats.volume_estimates.has_value());
+    EXPECT_LE(r.stats.volume_estimates->queries, uint64_t(16 * 16 * 12 * 4));
+    EXPECT_GT(r.stats.volume_estimates->queries, uint64_t(16 * 16 * 12 * 2));
+}

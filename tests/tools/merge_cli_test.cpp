@@ -1,0 +1,81 @@
+// `vpm merge`: pass sets rendered apart (render.first_pass) combine into the image of one run with
+// all the passes; mismatched inputs are refused with one clear error and no output.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "render/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+int run_vpm(const std::string& args, const fs::path& dir, std::string* err = nullptr) {
+    const fs::path e = dir / "stderr.txt";
+    const int rc = WEXITSTATUS(std::system((std::string(VPM_BINARY) + " " + args + " 2> " + e.string() + " > /dev/null").c_str()));
+    if (err) {
+        std::ifstream in(e);
+        std::stringstream s;
+        s << in.rdbuf();
+        *err = s.str();
+    }
+    return rc;
+}
+
+struct MergeCli : ::testing::Test {
+    fs::path dir = fs::temp_directory_path() / "vpm_merge_cli";
+    std::string render(const std::string& name, const std::string& sets) {
+        const std::string out = (dir / name).string();
+        EXPECT_EQ(run_vpm("render " + std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml -q --set render.width=12 "
+                          "--set render.height=10 --set render.integrator=photon_map --set photons.count=4000 " + sets +
+                          " -o " + out, dir),
+                  0);
+        return out;
+    }
+    void SetUp() override {
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    void TearDown() override { fs::remove_all(dir); }
+};
+
+}  // namespace
+
+TEST_F(MergeCli, SplitPassesMergeIntoTheSingleRun) {
+    const std::string full = render("full.exr", "--set render.spp=6 --set render.passes=6");
+    const std::string a = render("a.exr", "--set render.spp=2 --set render.passes=2");
+    const std::string b = render("b.exr", "--set render.spp=4 --set render.passes=4 --set render.first_pass=2");
+    ASSERT_EQ(run_vpm("merge " + b + " " + a + " -q -o " + (dir / "m.exr").string(), dir), 0);
+    const vpm::Image m = vpm::read_exr(dir / "m.exr"), f = vpm::read_exr(full);
+    ASSERT_EQ(m.rgb.size(), f.rgb.size());
+    double worst = 0.0, peak = 0.0;
+    for (size_t i = 0; i < m.rgb.size(); ++i) {
+        worst = std::max(worst, std::abs(double(m.rgb[i]) - double(f.rgb[i])));
+        peak = std::max(peak, std::abs(double(f.rgb[i])));
+    }
+    EXPECT_GT(peak, 0.0);
+    EXPECT_LE(worst, 1e-6 * peak);   // float rounding of the stored pass means, nothing more
+    EXPECT_TRUE(fs::exists(dir / "m.json"));
+    EXPECT_TRUE(fs::exists(dir / "m.png"));
+}
+
+TEST_F(MergeCli, RefusesOverlapOtherSettingsAndMissingSidecars) {
+    const std::string a = render("a.exr", "--set render.spp=2 --set render.passes=2");
+    const std::string c = render("c.exr", "--set render.spp=2 --set render.passes=2 --set render.first_pass=2 --set photons.k=9");
+    const std::string d = render("d.exr", "--set render.spp=4 --set render.passes=2 --set render.first_pass=2");
+    std::string err;
+    EXPECT_EQ(run_vpm("merge " + a + " " + a + " -o " + (dir / "x.exr").string(), dir, &err), 1);
+    EXPECT_NE(err.find("overlap"), std::string::npos) << err;
+    EXPECT_EQ(run_vpm("merge " + a + " " + c + " -o " + (dir / "x.exr").string(), dir, &err), 1);
+    EXPECT_NE(err.find("different scene or setting"), std::string::npos) << err;
+    EXPECT_EQ(run_vpm("merge " + a + " " + d + " -o " + (dir / "x.exr").string(), dir, &err), 1);
+    EXPECT_NE(err.find("samples per pass"), std::string::npos) << err;
+    fs::remove(dir / "c.json");
+    EXPECT_EQ(run_vpm("merge " + a + " " + c + " -o " + (dir / "x.exr").string(), dir, &err), 1);
+    EXPECT_NE(err.find("c.json"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir / "x.exr"));
+}
