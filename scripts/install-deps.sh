@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libbenchmark-dev libnanoflann-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libpng-dev
   python3-matplotlib ccache
+  slurm-wlm munge
 )
 
 missing=()

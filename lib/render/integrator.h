@@ -27,7 +27,8 @@ struct RunStats;
 struct PassContext {
     uint64_t seed = 1;
     uint64_t stream_offset = 0;    // independent repeats and passes with the same seed
-    int pass = 0;                  // 0-based index of the pass (render.passes, render.time_limit)
+    int pass = 0;                  // the pass's index, counting from render.first_pass
+    bool first_of_run = true;      // this run's first pass (logs say what was built once)
     bool progress = true;          // progress bars on stderr
     std::ostream* log = nullptr;   // one line per phase; null: silent
 };

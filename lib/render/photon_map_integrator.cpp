@@ -65,18 +65,19 @@ struct PhotonMapIntegrator::ThreadState {
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
     : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
-      max_radius_(settings.search_radius()), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>()) {}
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>()) {}
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
                                          const PhotonMap& volume_map, const PhotonMap* surface_map)
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
-      max_radius_(settings.search_radius()), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>()) {}
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>()) {}
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
 void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
+    k_ = size_t(settings_.k_for_pass(context.pass));
     if (!owns_maps_) return;
-    std::ostream* log = context.pass == 0 ? context.log : nullptr;
+    std::ostream* log = context.first_of_run ? context.log : nullptr;
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
     if (scene_.has_media() || surface) {
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
@@ -143,7 +144,7 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             const double sigma_t = total_sigma_t(scene_, x);
             if (sigma_t > 0.0 && !map_->empty()) {
                 auto& local = threads_->local.local();
-                const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, size_t(settings_.k), max_radius_,
+                const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, max_radius_,
                                                                local.buffers, &local.stats);
                 // The ball can miss every quadrature point's smoke only if it is tiny; then use the point.
                 const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? ball_mean_sigma_t(scene_, x, s.radius) : 0.0;
@@ -157,7 +158,7 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             if (!surface_map_->empty()) {
                 auto& local = threads_->local.local();
                 const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
-                                                                    settings_.estimator, size_t(settings_.k), max_radius_, local.buffers, &local.surface_stats);
+                                                                    settings_.estimator, k_, max_radius_, local.buffers, &local.surface_stats);
                 radiance += throughput * hit.reflectance * (e.value / kPi);
             }
             break;
@@ -201,7 +202,7 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, Rng& 
         if (nee) in += direct_light_in_medium(scene_, x, ray.dir, g, rng);
         if (!map_->empty()) {
             auto& local = threads_->local.local();
-            const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, g, settings_.estimator, size_t(settings_.k),
+            const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, g, settings_.estimator, k_,
                                                            max_radius_, local.buffers, &local.stats);
             const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0
                                     ? ball_mean_sigma_t(scene_, x, s.radius)

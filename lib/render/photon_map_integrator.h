@@ -74,6 +74,7 @@ private:
     const PhotonMap* map_;
     const PhotonMap* surface_map_;
     double max_radius_;
+    size_t k_;   // this pass's k (photons.schedule)
     Bounds3 media_bounds_;
     std::unique_ptr<ThreadState> threads_;
 

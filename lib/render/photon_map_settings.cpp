@@ -1,5 +1,7 @@
 #include "render/photon_map_settings.h"
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 
 #include "scene/params.h"
@@ -41,7 +43,19 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
                             {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball}});
     s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}});
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
+    s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});
+    s.alpha = p.real("alpha", s.alpha, Range::open(0.0, 1.0));
+    s.k_floor = int(p.integer("k_floor", s.k_floor, Range::closed(1, 1 << 20)));
+    if (size_t(s.k_floor) < s.estimator.min_k() + 1)
+        p.fail("k_floor", std::string("the ") + s.estimator.name() + " estimator needs k_floor >= " +
+                              std::to_string(s.estimator.min_k() + 1) + " (its variance is infinite below)");
     return s;
+}
+
+int PhotonMapSettings::k_for_pass(int pass_index) const {
+    if (schedule == KSchedule::fixed) return k;
+    const double shrunk = std::round(double(k) * std::pow(double(pass_index) + 1.0, alpha - 1.0));
+    return std::max(std::min(k_floor, k), int(shrunk));
 }
 
 }  // namespace vpm

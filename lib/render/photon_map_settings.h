@@ -22,6 +22,14 @@
 //   |                        |             | ratio-tracked transmittance (every ray gathers, also in  |
 //   |                        |             | thin media)                                              |
 //   | gather_queries         | 4           | points per segment for "march"                           |
+//   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
+//   |                        |             | counting from render.first_pass) uses                    |
+//   |                        |             | k_i = max(k_floor, round(k i^(alpha-1))), the kNN form of |
+//   |                        |             | Knaus & Zwicker's r_i^3 ~ i^(alpha-1): with a fixed       |
+//   |                        |             | photon count per pass r^3 ~ k, so the ball shrinks and    |
+//   |                        |             | bias and variance of the pass mean both vanish            |
+//   | alpha                  | 2/3         | in (0, 1): the shrink rate                                |
+//   | k_floor                | 4           | smallest k of the schedule (>= the estimator's min + 1)   |
 #include <cstdint>
 
 #include "core/math.h"
@@ -35,6 +43,7 @@ class Params;
 enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point };
 enum class GatherMode { collision, march };
+enum class KSchedule { fixed, shrink };
 
 struct PhotonMapSettings {
     int64_t count = 100000;
@@ -48,8 +57,13 @@ struct PhotonMapSettings {
     ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
     GatherMode gather = GatherMode::collision;
     int gather_queries = 4;
+    KSchedule schedule = KSchedule::fixed;
+    double alpha = 2.0 / 3.0;
+    int k_floor = 4;
     WalkSettings walk;
 
+    // k of pass `pass_index` (0-based, counting from render.first_pass) under the schedule.
+    int k_for_pass(int pass_index) const;
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
     // Reads [photons] and the walk keys of [render]; throws ConfigError (k below the estimator's

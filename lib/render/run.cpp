@@ -45,7 +45,8 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         PassContext context;
         context.seed = rs.seed;
         context.stream_offset = stream;
-        context.pass = pass;   // the log says what was built on this run's first pass
+        context.pass = index;
+        context.first_of_run = pass == 0;
         context.progress = options.progress;
         context.log = options.log;
         integrator->prepare(context, result.stats);

@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
+#include "render/photon_map_settings.h"
 #include "render/run.h"
 #include "../support/render_statistics.h"
 
@@ -137,4 +138,26 @@ TEST(Passes, FurnaceMarchGatherCorrectedUnbiased) {
     ASSERT_TRUE(r.stats.volume_estimates.has_value());
     EXPECT_LE(r.stats.volume_estimates->queries, uint64_t(16 * 16 * 12 * 4));
     EXPECT_GT(r.stats.volume_estimates->queries, uint64_t(16 * 16 * 12 * 2));
+}
+
+TEST(Passes, ShrinkScheduleFollowsKnausZwickerAndStaysUnbiased) {
+    PhotonMapSettings s;
+    s.k = 32;
+    EXPECT_EQ(s.k_for_pass(0), 32);
+    EXPECT_EQ(s.k_for_pass(7), 32);   // fixed schedule
+    s.schedule = KSchedule::shrink;
+    s.alpha = 2.0 / 3.0;
+    EXPECT_EQ(s.k_for_pass(0), 32);
+    EXPECT_EQ(s.k_for_pass(7), 16);    // 32 * 8^(-1/3)
+    EXPECT_EQ(s.k_for_pass(63), 8);    // 32 * 64^(-1/3)
+    EXPECT_EQ(s.k_for_pass(1 << 20), 4);   // the floor
+    // Every pass is unbiased for the corrected estimator, whatever its k: the furnace mean holds.
+    const int passes = 12;
+    const RunResult r = run_furnace({"render.spp=12", "render.passes=12", "photons.schedule=\"shrink\"",
+                                     "photons.estimator=\"corrected\""});
+    test::Sample u;
+    for (int p = 0; p < passes; ++p) u.add(r.stats.passes[size_t(p)].image_mean);
+    EXPECT_NEAR(u.mean(), 0.5, 3.0 * u.se());
+    // k_floor below the estimator's minimum + 1 is refused.
+    EXPECT_THROW(RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml", {"photons.k_floor=2"}), ConfigError);
 }
