@@ -10,7 +10,8 @@ packages=(
   libgtest-dev libbenchmark-dev libnanoflann-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libpng-dev
   python3-matplotlib ccache
-  slurm-wlm munge
+  slurm-wlm munge   # the Slurm split-render test (scripts/slurm/)
+  python3-openvdb   # only to regenerate tests/data/vdb/puff.vdb (make_puff.py)
 )
 
 missing=()

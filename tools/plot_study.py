@@ -122,7 +122,8 @@ def main():
                     ax.set_yscale("log")
                     ax.set_ylabel("relative MSE")
                 ax.set_xlabel("k")
-                ax.set_title(f"{sc}, {dim}D (n = {sub[0]['n']}, {sub[0]['trials']} trials)")
+                first = next((r for r in sub if int(r["dim"]) == dim), sub[0])   # n and trials of this panel
+                ax.set_title(f"{sc}, {dim}D (n = {first['n']}, {first['trials']} trials)")
                 ax.grid(True, which="both", alpha=0.3)
                 ax.legend(fontsize=7)
             fig.tight_layout()

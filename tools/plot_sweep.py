@@ -12,6 +12,7 @@ writes OUT_DIR/error_vs_time.png  relative RMSE against mean run time, log-log: 
 One panel per scene (combination of the non-photon axes, e.g. media.0.g), at most 9.
 """
 import csv
+import json
 import math
 import os
 import sys
@@ -39,14 +40,23 @@ def photon_axis(a):
     return a in ("k", "estimator", "kernel") or a.startswith("photons.")
 
 
-def panels(rows, axes):
+def scene_name(out):
+    """The base scene's file name from sweep.json, for the panel title of a sweep with no scene axis."""
+    try:
+        with open(os.path.join(out, "sweep.json")) as f:
+            return os.path.basename(json.load(f).get("scene", "")) or "all runs"
+    except (OSError, ValueError):
+        return "all runs"
+
+
+def panels(rows, axes, name="all runs"):
     scene_axes = [a for a in axes if not photon_axis(a)]
     groups = {}
     for r in rows:
         key = tuple(r[a] for a in scene_axes)
         groups.setdefault(key, []).append(r)
     items = list(groups.items())[:MAX_PANELS]
-    titles = [", ".join(f"{a}={v}" for a, v in zip(scene_axes, key)) or "scene" for key, _ in items]
+    titles = [", ".join(f"{a}={v}" for a, v in zip(scene_axes, key)) or name for key, _ in items]
     return [g for _, g in items], titles, len(groups)
 
 
@@ -129,11 +139,16 @@ def style(key, lines):
     return STYLES[rests.index(key[1:]) % len(STYLES)]
 
 
-def k_axis(ax, ylabel, title):
-    """Log k axis with plain tick labels, grid and legend, shared by the plots against k."""
+def k_axis(ax, ylabel, title, ks):
+    """Log k axis with a plain tick label at every k swept (a log axis alone labels only the
+    decades: one "10" for k = 4..64), grid and legend, shared by the plots against k."""
     ax.set_xscale("log")
     ax.set_xlabel("k")
-    ax.xaxis.set_major_formatter(ScalarFormatter())
+    if ks:
+        ax.set_xticks(ks)
+        ax.set_xticklabels([f"{k:g}" for k in ks])
+    else:
+        ax.xaxis.set_major_formatter(ScalarFormatter())
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_ylabel(ylabel)
     ax.set_title(title, fontsize=9)
@@ -149,7 +164,7 @@ def error_vs_k(groups, titles, axes, out):
             ax.plot([num(r["k"]) for r in rr], [num(r["rel_rmse"]) for r in rr], marker="o", ms=3,
                     ls=style(key, lines), color=colour(key[0]), label=" ".join(key))
         ax.set_yscale("log")
-        k_axis(ax, "relative RMSE", title)
+        k_axis(ax, "relative RMSE", title, sorted({num(r["k"]) for rr in lines.values() for r in rr}))
     fig.suptitle("Error against k")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "error_vs_k.png"), dpi=120)
@@ -176,7 +191,7 @@ def bias_vs_k(groups, titles, axes, out):
                 ax.plot(ks, [f / (k - 1) for k in ks], "--", color="tab:red",
                         label=f"classic prediction f/(k-1), fitted f={f:.3f}")
             ax.axhline(0, color="tab:blue", lw=0.8, ls="--", label="corrected prediction 0")
-        k_axis(ax, "relative bias (mean over repeats)", title)
+        k_axis(ax, "relative bias (mean over repeats)", title, sorted({num(r["k"]) for rr in lines.values() for r in rr}))
     fig.suptitle("Bias against k (error bars: standard error over repeats)")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "bias_vs_k.png"), dpi=120)
@@ -195,7 +210,7 @@ def main():
     if not rows:
         print("plot_sweep: points.csv has no rows", file=sys.stderr)
         return 1
-    groups, titles, n = panels(rows, axes)
+    groups, titles, n = panels(rows, axes, scene_name(out))
     if n > MAX_PANELS:
         print(f"plot_sweep: {n} scenes, plotting the first {MAX_PANELS}", file=sys.stderr)
     error_vs_time(groups, titles, out)

@@ -60,13 +60,13 @@ uint64_t nonfinite_count(const Image& img) {
     return n;
 }
 
-// One voxel of density 1e6 at the centre of a 64^3 block of density 1e-6.
-void write_dense_voxel_vdb(const std::filesystem::path& path) {
+// One voxel of density `peak` at the centre of a 64^3 block of density `background`.
+void write_dense_voxel_vdb(const std::filesystem::path& path, float background = 1e-6f, float peak = 1e6f) {
     DensityGrid grid(Vec3i(0, 0, 0), Vec3i(63, 63, 63));
     for (int z = 0; z < 8; ++z)
         for (int y = 0; y < 8; ++y)
-            for (int x = 0; x < 8; ++x) grid.set_block_constant(Vec3i(x, y, z), 1e-6f);
-    grid.set_voxel(Vec3i(32, 32, 32), 1e6f);
+            for (int x = 0; x < 8; ++x) grid.set_block_constant(Vec3i(x, y, z), background);
+    grid.set_voxel(Vec3i(32, 32, 32), peak);
     grid.finalize();
     write_vdb_density(path.string(), "density", grid);
 }
@@ -184,8 +184,29 @@ std::vector<CellSpec> specs(bool quick) {
     // One extremely dense voxel in near-vacuum (OpenVDB grid written by the tool).
     {
         CellSpec s{"dense voxel", "1e6 in 1e-6", "dense_voxel.toml", {}, Ref::path};
-        s.note = "64^3 grid; per-block majorants keep the tracking cost local";
+        s.note = "64^3 grid; local majorants and the closed-form optical depth keep the tracking cost bounded";
         v.push_back(s);
+    }
+    // Grid media at stiff densities (issue 12), each with both integrators: the default plume at
+    // sigma_t_scale 4e2 .. 1e8, the dense voxel 1e9 in 1e-3, box.vdb at 1e15, the plume's medium
+    // alone scaled by 1e6. @OUT@ is run_stress's output folder (where the VDB is written).
+    {
+        auto grid = [&](const std::string& label, const std::string& scene, const std::vector<std::string>& sets,
+                        const std::string& note) {
+            for (const bool path : {false, true}) {
+                std::vector<std::string> s = sets;
+                if (path) s.push_back("render.integrator=\"path\"");
+                CellSpec c{"dense grid", label + (path ? ", path tracer" : ", photon map"), scene, s};
+                c.note = note;
+                v.push_back(c);
+            }
+        };
+        for (const char* s : {"4e2", "1e4", "1e6", "1e8"})
+            grid(std::string("plume ") + s, "plume.toml", {std::string("media.0.sigma_t_scale=") + s}, "");
+        grid("1e9 in 1e-3", "dense_voxel.toml", {"media.0.file=\"@OUT@/dense_voxel_1e9.vdb\""},
+             "64^3 grid of 1e-3 with one voxel of 1e9");
+        grid("box.vdb 1e15", "plume.toml", {"media.0.file=\"../../media/box.vdb\"", "media.0.sigma_t_scale=1e15"}, "");
+        grid("plume scaled 1e6", "plume.toml", {"media.0.transform.scale=1e6"}, "camera inside the scaled plume");
     }
     // Rays grazing the medium bounds: the camera in the plane of the box's top face / the grid's face.
     sphere("grazing", "sphere tangent", {"camera.position=[0.0, 1.0, 4.0]", "camera.look_at=[0.0, 1.0, 0.0]"},
@@ -216,6 +237,7 @@ StressReport run_stress(const StressOptions& o) {
     std::filesystem::create_directories(o.out);
     const std::filesystem::path vdb = std::filesystem::absolute(o.out) / "dense_voxel.vdb";
     write_dense_voxel_vdb(vdb);
+    write_dense_voxel_vdb(std::filesystem::absolute(o.out) / "dense_voxel_1e9.vdb", 1e-3f, 1e9f);
     std::map<std::string, Image> images;
 
     for (const CellSpec& spec : specs(o.quick)) {
@@ -232,8 +254,12 @@ StressReport run_stress(const StressOptions& o) {
         } else {
             std::vector<std::string> sets;
             if (o.quick) sets = {"render.width=8", "render.height=8", "render.spp=1", "photons.count=2000"};
-            sets.insert(sets.end(), spec.sets.begin(), spec.sets.end());
             if (spec.scene == "dense_voxel.toml") sets.push_back("media.0.file=\"" + vdb.generic_string() + "\"");
+            for (std::string s : spec.sets) {   // the cell's own keys come last and win
+                if (const auto at = s.find("@OUT@"); at != std::string::npos)
+                    s.replace(at, 5, std::filesystem::absolute(o.out).generic_string());
+                sets.push_back(s);
+            }
             const std::string file = (o.configs / spec.scene).string();
             const RunConfig config = RunConfig::load(file, sets);
             RunOptions ro;
@@ -310,7 +336,8 @@ std::string StressReport::to_markdown(const std::string& command, const std::str
       << "). Do not edit by hand.\n\n"
          "One axis at a time around the base scenes in `configs/stress/` (furnace.toml: white furnace, "
          "analytic radiance 0.5; sphere.toml: homogeneous sphere over an Embree floor, reference = unbiased "
-         "path tracer at 16x the spp; dense_voxel.toml: one voxel of density 1e6 in a 64^3 grid of 1e-6), "
+         "path tracer at 16x the spp; dense_voxel.toml: one voxel of density 1e6 in a 64^3 grid of 1e-6; plume.toml: the default plume "
+         "scene with the photon map, for the dense-grid cells), "
          "plus special cells. Columns: non-finite pixels / non-finite samples left out by the render loop "
          "(both must be 0); energy = |emitted - absorbed - escaped - truncated| / emitted of the photon pass "
          "(must be <= 1e-6); truncated = photon paths cut by photons.max_bounces and the fraction of the "

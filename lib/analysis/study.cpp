@@ -2,6 +2,7 @@
 #include "analysis/study.h"
 
 #include <tbb/combinable.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -428,7 +429,9 @@ size_t run_photon_map(const StudyOptions& opt, const SampleGrid& grid, tbb::comb
                          samples);
         }
     });
-    return trials;
+    // Exactly the estimates asked for: the last map's grid of queries may hold more.
+    samples.resize(std::min(trials, want) * grid.stride());
+    return std::min(trials, want);
 }
 
 // The theory column of one row, where the estimator's registry entry and the scenario give one.
@@ -489,7 +492,8 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     auto say = [&](const std::string& s) {
         if (log) log(s);
     };
-    res.threads = tbb::this_task_arena::max_concurrency();
+    // The limit --threads set (tbb::global_control), not the machine's core count.
+    res.threads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     for (size_t k : opt.ks)
         for (const Estimator& e : Estimator::all())
             if (const std::string w = e.warning(k); !w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
@@ -516,6 +520,11 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
                 n = opt.photon_map_size;
                 trials = run_photon_map(opt, grid, stats, samples, say);
             }
+            if (real_map)   // they take a share of --trials: say so
+                res.notes.push_back(std::string(scenario_name(sc)) + ": " + std::to_string(trials) + " estimates per k (" +
+                                    (opt.photon_map_queries ? std::string("StudyOptions::photon_map_queries")
+                                     : sc == StudyScenario::photon_map ? "--trials / 4" : "--trials / 10") +
+                                    ", at least 2: each estimate needs its own region of a photon map)");
             for (size_t ki = 0; ki < grid.nk; ++ki)
                 for (size_t ei = 0; ei < grid.ne; ++ei) {
                     StudyRow row;

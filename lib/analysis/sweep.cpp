@@ -22,6 +22,7 @@
 #include "core/progress.h"
 #include "render/image_io.h"
 #include "render/run.h"
+#include "render/run_outputs.h"
 #include "render/run_record.h"
 #include "scene/params.h"
 
@@ -399,6 +400,8 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
     if (nonfinite_total)
         md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
            << "metrics. See the nonfinite_pixels column.**\n\n";
+    // Spread needs two repeats: with one, say so ("–") instead of printing nan.
+    auto or_dash = [](double v, int digits = 3) { return std::isfinite(v) ? sig(v, digits) : std::string("–"); };
     md << "## Configurations\n\n| method |";
     for (size_t a : shown) md << " " << axes[a] << " |";
     md << " spp | R | time s | rel RMSE | rel bias ± SE | rel std | rel bias² | rel var | NaN/Inf |\n|---|";
@@ -409,8 +412,8 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
         md << "| " << p->method << " |";
         for (size_t a : shown) md << " " << (p->values[a].empty() ? "–" : p->values[a]) << " |";
         md << " " << p->spp << " | " << e.repeats << " | " << sig(p->total) << " | " << sig(e.rel_rmse) << " | "
-           << sig(e.rel_bias) << " ± " << sig(e.rel_bias_se, 2) << " | " << sig(e.rel_std) << " | " << sig(e.rel_bias2)
-           << " | " << sig(e.rel_variance) << " | " << e.nonfinite_pixels << " |\n";
+           << sig(e.rel_bias) << " ± " << or_dash(e.rel_bias_se, 2) << " | " << or_dash(e.rel_std) << " | " << sig(e.rel_bias2)
+           << " | " << or_dash(e.rel_variance) << " | " << e.nonfinite_pixels << " |\n";
     }
 
     std::vector<double> budgets = budgets_in;

@@ -10,6 +10,7 @@
 
 #include "analysis/row_hash.h"
 #include "core/error.h"
+#include "scene/config_file.h"
 #include "scene/params.h"
 #include "render/photon_map_integrator.h"
 #include "render/run_config.h"
@@ -90,20 +91,11 @@ std::vector<double> number_list(const std::string& file, const toml::table& root
 }  // namespace
 
 SweepSpec load_sweep(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path + ": cannot open the sweep file");
-    std::stringstream text;
-    text << in.rdbuf();
-    return parse_sweep(text.str(), path, fs::absolute(fs::path(path)).parent_path());
+    return parse_sweep(read_config_text(path, "sweep file"), path, fs::absolute(fs::path(path)).parent_path());
 }
 
 SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs::path& base_dir) {
-    toml::table root;
-    try {
-        root = toml::parse(text, name);
-    } catch (const toml::parse_error& e) {
-        throw ConfigError(name + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
-    }
+    const toml::table root = parse_toml_checked(text, name);
     SweepSpec s;
     s.file = name;
     static const std::set<std::string> allowed = {"scene", "set", "repeats", "time_budgets", "reference", "axes"};
@@ -116,6 +108,7 @@ SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs
     s.scene = fs::path(*scene->value<std::string>());
     if (s.scene.is_relative()) s.scene = base_dir / s.scene;
     if (!fs::exists(s.scene)) fail(name, scene, "scene", s.scene.string() + " does not exist");
+    if (fs::is_directory(s.scene)) fail(name, scene, "scene", s.scene.string() + " is a folder, not a config file");
 
     if (const toml::node* set = root.get("set")) {
         const toml::array* a = set->as_array();
@@ -166,9 +159,17 @@ SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs
             const toml::array* a = v.as_array();
             if (!a || a->empty()) fail(name, &v, "axes." + ax.name, "expected a non-empty list of values");
             for (const auto& x : *a) {
-                ax.values.push_back(override_text(x));
+                const std::string text = override_text(x);
+                if (std::find(ax.values.begin(), ax.values.end(), text) != ax.values.end())
+                    fail(name, &x, "axes." + ax.name, "the value " + value_label(x) +
+                                                          " is listed twice (every run would be rendered twice)");
+                ax.values.push_back(text);
                 ax.labels.push_back(value_label(x));
             }
+            for (const auto& other : s.axes)
+                if (other.key == ax.key)
+                    fail(name, &v, "axes." + ax.name, "sweeps " + ax.key + ", as axes." + other.name +
+                                                          " does already (k = photons.k, estimator = photons.estimator); keep one");
             if (ax.key == "render.integrator" || ax.key == "render.seed" || ax.key == "render.output")
                 fail(name, &v, "axes." + ax.name, "cannot be swept (the sweep sets it); use repeats for seeds");
             s.axes.push_back(std::move(ax));
@@ -244,6 +245,7 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
         std::string method;
         int spp;
         Built built;
+        std::string text;   // run_config_text(built.resolved)
     };
     std::vector<Point> points;
     std::set<std::string> path_seen;
@@ -278,6 +280,19 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
         }
         p.method = p.built.estimator;
         p.spp = p.built.spp;
+        // Values that differ as text but not as a scene (0 and 0.0 for a float key) would
+        // render the same configuration twice under two labels.
+        p.text = run_config_text(p.built.resolved);
+        for (const auto& q : points)
+            if (q.method != "path" && q.text == p.text) {
+                std::string a, b;
+                for (size_t i = 0; i < spec.axes.size(); ++i) {
+                    a += (i ? ", " : "") + spec.axes[i].name + " = " + q.values[i];
+                    b += (i ? ", " : "") + spec.axes[i].name + " = " + p.values[i];
+                }
+                throw ConfigError(spec.file + ": axes combinations " + a + " and " + b +
+                                  " give the same scene; remove the duplicate value");
+            }
         points.push_back(p);
         for (int spp : spec.path_spp) {
             Point q;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace vpm {
@@ -13,6 +14,17 @@ namespace {
 constexpr int64_t kQuietMs = 1000;      // nothing is drawn during the first second
 constexpr int64_t kRedrawMs = 100;      // at most ~10 redraws a second
 constexpr int kBarWidth = 30;
+constexpr int64_t kLogLineMs = 5000;    // a log line every 5 s when stderr is not a terminal
+
+// VPM_PROGRESS_SECONDS, or the default.
+int64_t log_interval_ms() {
+    const char* env = std::getenv("VPM_PROGRESS_SECONDS");
+    if (!env || !*env) return kLogLineMs;
+    char* end = nullptr;
+    const double s = std::strtod(env, &end);
+    if (*end != '\0' || !(s >= 0.0) || s > 1e6) return kLogLineMs;
+    return int64_t(s * 1000.0);
+}
 
 std::string format_seconds(double s) {
     char buf[32];
@@ -31,8 +43,17 @@ std::string format_seconds(double s) {
 Progress::Progress(std::string label, uint64_t total, bool enabled)
     : label_(std::move(label)),
       total_(total),
-      enabled_(enabled && total > 0 && ::isatty(2) == 1),
-      start_(std::chrono::steady_clock::now()) {}
+      enabled_(enabled && total > 0),
+      terminal_(::isatty(2) == 1),
+      start_(std::chrono::steady_clock::now()) {
+    if (terminal_) {
+        first_ms_ = kQuietMs;
+        every_ms_ = kRedrawMs;
+    } else if (enabled_) {
+        first_ms_ = every_ms_ = log_interval_ms();
+    }
+    last_draw_ms_ = -every_ms_ - 1;
+}
 
 Progress::~Progress() { done(); }
 
@@ -42,9 +63,9 @@ void Progress::advance(uint64_t amount) {
     const int64_t now_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
                                std::chrono::steady_clock::now() - start_)
                                .count();
-    if (now_ms < kQuietMs) return;
+    if (now_ms < first_ms_) return;
     int64_t last = last_draw_ms_.load(std::memory_order_relaxed);
-    if (now_ms - last < kRedrawMs) return;
+    if (now_ms - last < every_ms_) return;
     // Only one thread wins the right to draw this frame; the others return at once.
     if (!last_draw_ms_.compare_exchange_strong(last, now_ms, std::memory_order_relaxed)) return;
     std::unique_lock<std::mutex> lock(draw_mutex_, std::try_to_lock);
@@ -61,6 +82,26 @@ void Progress::done() {
 
 // Called with draw_mutex_ held.
 void Progress::draw(bool final) {
+    if (terminal_) draw_bar(final);
+    else draw_line(final);
+    drew_ = true;
+}
+
+void Progress::draw_line(bool final) {
+    const uint64_t count = std::min(count_.load(std::memory_order_relaxed), total_);
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    char head[96];
+    std::snprintf(head, sizeof(head), ": %d%% (%llu/%llu), ", int(100.0 * double(count) / double(total_)),
+                  (unsigned long long)count, (unsigned long long)total_);
+    std::string line = label_ + head + format_seconds(elapsed);
+    if (!final) line += ", ETA " + (count > 0 ? format_seconds(elapsed * double(total_ - count) / double(count)) : "?");
+    line += "\n";
+    std::fwrite(line.data(), 1, line.size(), stderr);   // one write: lines from threads never mix
+    std::fflush(stderr);
+}
+
+void Progress::draw_bar(bool final) {
     const uint64_t count = std::min(count_.load(std::memory_order_relaxed), total_);
     const double fraction = total_ > 0 ? double(count) / double(total_) : 1.0;
     const double elapsed =
@@ -84,7 +125,6 @@ void Progress::draw(bool final) {
     if (final) line += "\n";
     std::fwrite(line.data(), 1, line.size(), stderr);
     std::fflush(stderr);
-    drew_ = true;
 }
 
 uint64_t peak_rss_bytes() {

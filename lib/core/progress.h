@@ -1,7 +1,10 @@
 #pragma once
-// A progress bar on stderr for long runs: "label [=====>    ] 45% 12.3 s, ETA 15.1 s".
-// Silent when disabled, when stderr is not a terminal, or for runs shorter than a second.
-// Thread-safe: workers call advance() from any thread.
+// Progress of long runs on stderr. On a terminal, a bar redrawn in place:
+// "label [=====>    ] 45% 12.3 s, ETA 15.1 s" (nothing for runs shorter than a second). When
+// stderr is a file or a pipe (a log), one line every 5 seconds instead,
+// "label: 45% (450/1000), 12.3 s, ETA 15.1 s", and a last "label: 100%" line; the interval comes
+// from the environment variable VPM_PROGRESS_SECONDS when set (0: a line at every advance).
+// Silent when disabled. Thread-safe: workers call advance() from any thread.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -19,9 +22,13 @@ public:
 
 private:
     void draw(bool final);
+    void draw_bar(bool final);
+    void draw_line(bool final);
     std::string label_;
     uint64_t total_;
     bool enabled_;
+    bool terminal_ = false;        // a bar on a terminal, else log lines
+    int64_t first_ms_ = 0, every_ms_ = 0;
     std::atomic<uint64_t> count_{0};
     std::chrono::steady_clock::time_point start_;
     std::atomic<int64_t> last_draw_ms_{-1000000};

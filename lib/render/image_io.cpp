@@ -1,7 +1,7 @@
 // Image files: OpenEXR (lossless float), PNG previews (libpng simplified API), atomic text.
-// Every writer goes through AtomicTarget: write a unique temporary file in the destination
-// folder, then rename it over the destination; on any failure the temporary is removed and the
-// destination is left exactly as it was.
+// Every writer stages a StagedFile (render/staged_file.h): the data goes to a unique temporary
+// beside the destination, which is renamed over it only on commit; on any failure the temporary
+// is removed and the destination is left exactly as it was.
 #include "render/image_io.h"
 
 #include <png.h>
@@ -23,68 +23,16 @@
 #include <system_error>
 
 #include "core/error.h"
+#include "render/staged_file.h"
 
 namespace fs = std::filesystem;
 
 namespace vpm {
 namespace {
 
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
-
 [[noreturn]] void fail(const fs::path& path, const std::string& reason) {
     throw FileError(path.string() + ": " + reason);
 }
-
-// A temporary file beside `path`, renamed over it by commit(); removed on destruction otherwise.
-class AtomicTarget {
-public:
-    explicit AtomicTarget(const fs::path& path) : path_(path) {
-        if (path.empty()) throw FileError("(empty path): cannot write: no file name given");
-        if (!path.has_filename()) fail(path, "cannot write: the path names a folder, not a file");
-        const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-        std::error_code ec;
-        const fs::file_status st = fs::status(parent, ec);
-        if (!fs::exists(st)) fail(path, "cannot write: folder " + quoted(parent) + " does not exist");
-        if (!fs::is_directory(st)) fail(path, "cannot write: " + quoted(parent) + " is not a folder");
-        if (fs::is_directory(path, ec)) fail(path, "cannot write: a folder of that name exists");
-
-        static std::atomic<unsigned long> counter{0};
-        temp_ = path;
-        temp_ += ".tmp-" + std::to_string(long(::getpid())) + "-" + std::to_string(counter++);
-    }
-    AtomicTarget(const AtomicTarget&) = delete;
-    AtomicTarget& operator=(const AtomicTarget&) = delete;
-    ~AtomicTarget() {
-        if (!committed_) {
-            std::error_code ec;
-            fs::remove(temp_, ec);
-        }
-    }
-
-    const fs::path& temp() const { return temp_; }
-    const fs::path& path() const { return path_; }
-
-    // Removes the temporary and throws FileError naming the destination.
-    [[noreturn]] void abort(const std::string& reason) {
-        std::error_code ec;
-        fs::remove(temp_, ec);
-        committed_ = true;   // nothing left to clean up
-        fail(path_, reason);
-    }
-
-    void commit() {
-        if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
-            const int err = errno;
-            abort(std::string("cannot write: rename from temporary file failed: ") + std::strerror(err));
-        }
-        committed_ = true;
-    }
-
-private:
-    fs::path path_;
-    fs::path temp_;
-    bool committed_ = false;
-};
 
 void check_image(const fs::path& path, const Image& image) {
     if (image.width <= 0 || image.height <= 0)
@@ -106,9 +54,9 @@ unsigned char srgb_encode(double v) {
 
 }  // namespace
 
-void write_exr(const fs::path& path, const Image& image) {
+StagedFile stage_exr(const fs::path& path, const Image& image) {
     check_image(path, image);
-    AtomicTarget target(path);
+    StagedFile target(path);
     try {
         Imf::Header header(image.width, image.height);
         header.compression() = Imf::ZIP_COMPRESSION;
@@ -130,8 +78,10 @@ void write_exr(const fs::path& path, const Image& image) {
     } catch (const std::exception& e) {
         target.abort(std::string("cannot write OpenEXR file: ") + e.what());
     }
-    target.commit();
+    return target;
 }
+
+void write_exr(const fs::path& path, const Image& image) { stage_exr(path, image).commit(); }
 
 Image read_exr(const fs::path& path) {
     std::error_code ec;
@@ -177,10 +127,10 @@ Image read_exr(const fs::path& path) {
     }
 }
 
-void write_png_preview(const fs::path& path, const Image& image, double exposure) {
+StagedFile stage_png_preview(const fs::path& path, const Image& image, double exposure) {
     check_image(path, image);
     if (!std::isfinite(exposure)) fail(path, "PNG preview exposure must be finite");
-    AtomicTarget target(path);
+    StagedFile target(path);
 
     const double scale = std::exp2(exposure);
     std::vector<unsigned char> pixels(image.rgb.size());
@@ -209,11 +159,15 @@ void write_png_preview(const fs::path& path, const Image& image, double exposure
         target.abort("cannot write PNG file: " + message);
     }
     png_image_free(&png);
-    target.commit();
+    return target;
 }
 
-void write_text_atomic(const fs::path& path, const std::string& text) {
-    AtomicTarget target(path);
+void write_png_preview(const fs::path& path, const Image& image, double exposure) {
+    stage_png_preview(path, image, exposure).commit();
+}
+
+StagedFile stage_text(const fs::path& path, const std::string& text) {
+    StagedFile target(path);
     const int fd = ::open(target.temp().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0) {
         const int err = errno;
@@ -236,7 +190,9 @@ void write_text_atomic(const fs::path& path, const std::string& text) {
         const int err = errno;
         target.abort(std::string("cannot write: ") + std::strerror(err));
     }
-    target.commit();
+    return target;
 }
+
+void write_text_atomic(const fs::path& path, const std::string& text) { stage_text(path, text).commit(); }
 
 }  // namespace vpm

@@ -32,7 +32,4 @@ struct RunResult {
 
 RunResult run(const RunConfig& config, const RunOptions& options);
 
-// Writes OUT (EXR), its PNG preview and its JSON sidecar, each atomically. Creates OUT's folder.
-void write_run_outputs(const std::filesystem::path& output, RunResult& result, double exposure);
-
 }  // namespace vpm

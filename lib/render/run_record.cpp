@@ -1,6 +1,7 @@
 #include "core/build_info.h"
 #include "render/run_record.h"
 
+#include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <unistd.h>
 
@@ -50,7 +51,9 @@ RunRecord RunRecord::with_environment(int argc, const char* const* argv, int thr
     if (::gethostname(host, sizeof(host) - 1) != 0) host[0] = '\0';
     r.set("hostname", host[0] ? std::string(host) : std::string("unknown"));
 
-    r.set("threads", threads > 0 ? threads : tbb::info::default_concurrency());
+    // The limit in force (--threads sets a tbb::global_control), not the machine's core count.
+    r.set("threads", threads > 0 ? threads
+                                 : int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
     r.set("physical_memory_bytes", physical_memory_bytes());
 
     const std::time_t now = std::time(nullptr);

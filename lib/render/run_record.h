@@ -23,7 +23,7 @@ public:
     RunRecord& operator=(RunRecord&&) noexcept;
 
     // A record with the standard fields: "git_revision" (git_revision()), "vpm_version",
-    // "hostname", "threads" (tbb::info::default_concurrency() unless `threads` > 0),
+    // "hostname", "threads" (the tbb::global_control thread limit in force unless `threads` > 0),
     // "physical_memory_bytes", "date_utc" (ISO-8601, e.g. "2026-11-22T01:17:20Z") and, when
     // argv is given, "command_line" (array of strings).
     static RunRecord with_environment(int argc = 0, const char* const* argv = nullptr, int threads = 0);

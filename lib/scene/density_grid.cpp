@@ -12,8 +12,8 @@ int floor_div8(int v) { return v >> 3; }   // arithmetic shift: floor for negati
 
 DensityGrid::DensityGrid(const Vec3i& voxel_lo, const Vec3i& voxel_hi) : voxel_lo_(voxel_lo), voxel_hi_(voxel_hi) {
     if ((voxel_hi.array() < voxel_lo.array()).any()) return;   // empty
-    // The block array is flat (12 bytes per block with its majorant): cap it at 2^26 blocks
-    // (768 MB), e.g. a 4096 x 4096 x 2048 voxel bounding box.
+    // The block array is flat (16 bytes per block with its majorant and sub-block index): cap it
+    // at 2^26 blocks (1 GB), e.g. a 4096 x 4096 x 2048 voxel bounding box.
     constexpr size_t kMaxBlocks = size_t(1) << 26;
     size_t total = 1;
     for (int a = 0; a < 3; ++a) {
@@ -27,6 +27,7 @@ DensityGrid::DensityGrid(const Vec3i& voxel_lo, const Vec3i& voxel_hi) : voxel_l
     }
     blocks_.assign(total, Block{});
     majorant_.assign(total, 0.0f);
+    sub_.assign(total, kNoSub);
     index_bounds_.lo = voxel_lo.cast<double>() - Vec3::Ones();
     index_bounds_.hi = voxel_hi.cast<double>() + Vec3::Ones();
 }
@@ -132,18 +133,21 @@ void DensityGrid::finalize() {
             for (int bz = 0; bz < nblocks_.z(); ++bz) {
                 const size_t i = block_index(bx, by, bz);
                 // Cheap case: the block and its 26 neighbours are constant -> max of those.
-                bool all_const = true;
+                bool all_const = true, uniform = true;
                 float m = own[i];
                 for (int dx = -1; dx <= 1 && all_const; ++dx)
                     for (int dy = -1; dy <= 1 && all_const; ++dy)
                         for (int dz = -1; dz <= 1; ++dz) {
                             const int nx = bx + dx, ny = by + dy, nz = bz + dz;
                             if (nx < 0 || ny < 0 || nz < 0 || nx >= nblocks_.x() || ny >= nblocks_.y() ||
-                                nz >= nblocks_.z())
+                                nz >= nblocks_.z()) {
+                                uniform = uniform && own[i] == 0.0f;
                                 continue;   // background 0 outside; majorants are >= 0 anyway
+                            }
                             const Block& nb = blocks_[block_index(nx, ny, nz)];
                             if (nb.dense >= 0) { all_const = false; break; }
                             m = std::max(m, nb.value);
+                            uniform = uniform && nb.value == own[i];
                         }
                 if (!all_const) {
                     // Exact max over voxels 8B-1 .. 8B+8 in each axis.
@@ -158,7 +162,43 @@ void DensityGrid::finalize() {
                 // Trilinear weights are convex, so the max voxel bounds every interpolated value;
                 // clamp below at 0 (negative densities are rejected by the loader anyway).
                 majorant_[i] = std::max(m, 0.0f);
+                if (all_const && uniform && majorant_[i] > 0.0f) sub_[i] = kUniform;
+                if (all_const || !(majorant_[i] > 0.0f)) continue;
+                // Sub-block level: max of the 27 voxels each 2^3-cell sub-block's trilinear stencil
+                // reads (the point is clamped into the closed sub-block, see density_in).
+                const int x0 = (block_lo_.x() + bx) * kDim, y0 = (block_lo_.y() + by) * kDim,
+                          z0 = (block_lo_.z() + bz) * kDim;
+                float vox[kDim + 1][kDim + 1][kDim + 1];
+                for (int x = 0; x <= kDim; ++x)
+                    for (int y = 0; y <= kDim; ++y)
+                        for (int z = 0; z <= kDim; ++z) vox[x][y][z] = voxel(x0 + x, y0 + y, z0 + z);
+                if (sub_majorant_.size() / 64 >= static_cast<size_t>(INT32_MAX))
+                    throw std::length_error("DensityGrid: too many refined blocks");
+                sub_[i] = static_cast<int32_t>(sub_majorant_.size() / 64);
+                for (int sx = 0; sx < 4; ++sx)
+                    for (int sy = 0; sy < 4; ++sy)
+                        for (int sz = 0; sz < 4; ++sz) {
+                            float sm = 0.0f;
+                            for (int x = 2 * sx; x <= 2 * sx + 2; ++x)
+                                for (int y = 2 * sy; y <= 2 * sy + 2; ++y)
+                                    for (int z = 2 * sz; z <= 2 * sz + 2; ++z) sm = std::max(sm, vox[x][y][z]);
+                            sub_majorant_.push_back(sm);
+                        }
             }
+    sub_majorant_.shrink_to_fit();
+    active_bounds_ = Bounds3{};
+    for (int bx = 0; bx < nblocks_.x(); ++bx)
+        for (int by = 0; by < nblocks_.y(); ++by)
+            for (int bz = 0; bz < nblocks_.z(); ++bz)
+                if (majorant_[block_index(bx, by, bz)] > 0.0f) {
+                    const Vec3 lo = ((block_lo_ + Vec3i(bx, by, bz)) * kDim).cast<double>();
+                    active_bounds_.extend(lo);
+                    active_bounds_.extend(lo + Vec3::Constant(kDim));
+                }
+    if (!active_bounds_.empty()) {
+        active_bounds_.lo = active_bounds_.lo.cwiseMax(index_bounds_.lo);
+        active_bounds_.hi = active_bounds_.hi.cwiseMin(index_bounds_.hi);
+    }
 }
 
 double DensityGrid::density(const Vec3& p) const {

@@ -13,24 +13,22 @@
 // sigma_t(x) = sigma_t_scale * density(world_to_index(x)), with index_to_world = config
 // transform * the file's index-to-world. Tracking runs in index space: the ray origin and its
 // (unnormalised) direction are mapped by the affine world-to-index map, so the parameter t stays
-// in world units and majorants need no rescaling. Free flights use delta tracking, transmittance
-// ratio tracking (with Russian roulette once the weight is small), both against the per-block
-// majorant grid walked with a 3D DDA; both are unbiased.
+// in world units and majorants need no rescaling. Tracking is majorant_tracking.h over the grid's
+// two-level majorant walk (8^3 blocks, 2^3-voxel sub-blocks): delta / ratio tracking where the
+// majorant is light, and where it would cost many null collisions the exact optical depth of
+// the trilinear field, voxel cell by voxel cell (free flights by inversion, transmittance
+// exp(-tau)); uniform blocks use their constant. All of it is unbiased, and the work per
+// free flight stays bounded as sigma_t_scale grows.
 #include <memory>
 #include <string>
 
 #include "scene/density_grid.h"
+#include "scene/majorant_tracking.h"
 #include "scene/medium.h"
 
 namespace vpm {
 
 class Params;
-
-// Work done by one tracking call (for tests and benchmarks).
-struct TrackingStats {
-    int64_t blocks = 0;       // majorant blocks visited by the DDA
-    int64_t lookups = 0;      // density lookups (tentative collisions)
-};
 
 class GridMedium : public Medium {
 public:

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "core/error.h"
 
@@ -15,6 +17,12 @@ namespace vpm {
 namespace {
 
 std::string read_all(const std::string& path) {
+    // An ifstream opens a folder without complaint and reads nothing ("no faces"): say what it is.
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (std::filesystem::is_directory(st)) throw FileError(path + ": cannot read mesh: it is a folder, not a file");
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+        throw FileError(path + ": cannot read mesh: not a regular file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw FileError(path + ": cannot open mesh file");
     std::ostringstream s;

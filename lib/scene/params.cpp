@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "scene/config_file.h"
 
 namespace vpm {
 
@@ -45,8 +46,31 @@ bool is_index(const std::string& s) {
     return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
 }
 
+// "-1", "3": meant as an array index (even if not a valid one).
+bool looks_like_index(const std::string& s) {
+    return is_index(s) || (s.size() > 1 && s[0] == '-' && is_index(s.substr(1)));
+}
+
+std::string join_parts(const std::vector<std::string>& parts, size_t n) {
+    std::string s;
+    for (size_t j = 0; j < n; ++j) s += (j ? "." : "") + parts[j];
+    return s;
+}
+
+// Throws unless `p` is an index into an array of `n` entries, naming the valid range.
+void check_index(const std::string& where, const std::string& p, const std::string& array, size_t n) {
+    const std::string range = n ? " (0 to " + std::to_string(n - 1) + ")" : std::string();
+    if (!is_index(p))
+        throw ConfigError(where + ": '" + p + "' is not an index of '" + array + "', which has " + std::to_string(n) +
+                          " entries" + range);
+    if (p.size() > 18 || std::stoull(p) >= n)
+        throw ConfigError(where + ": index " + p + " is past the end of '" + array + "', which has " +
+                          std::to_string(n) + " entries" + range);
+}
+
 // Parses the right-hand side of --set as a TOML value; a bare word that is not TOML is a string.
-toml::table parse_override_value(const std::string& value) {
+toml::table parse_override_value(const std::string& value, const std::string& where) {
+    check_toml_shape("v = " + value, where);
     try {
         return toml::parse("v = " + value);
     } catch (const toml::parse_error&) {
@@ -61,35 +85,52 @@ void apply_override(ConfigDocument& doc, const std::string& assignment) {
     if (eq == std::string::npos || eq == 0)
         throw ConfigError("--set " + assignment + ": expected KEY=VALUE, e.g. media.0.sigma_t_scale=10");
     const std::string key = assignment.substr(0, eq);
+    const std::string where = "--set " + assignment;
     const auto parts = split(key, '.');
+    if (parts.size() > size_t(kMaxConfigNesting))
+        throw ConfigError(where + ": the key has " + std::to_string(parts.size()) + " parts; the limit is " +
+                          std::to_string(kMaxConfigNesting));
+    for (const auto& p : parts)
+        if (p.empty()) throw ConfigError(where + ": empty part in the key (two dots, or a dot at an end)");
+    // What stands in the way, named by where it came from: an earlier --set, or the config file.
+    auto origin = [&](const std::string& path) {
+        return doc.overridden.count(path) ? std::string("set by --set " + path) : "in " + doc.file;
+    };
     toml::node* cur = &doc.root;
     for (size_t i = 0; i + 1 < parts.size(); ++i) {
         const std::string& p = parts[i];
+        const std::string here = join_parts(parts, i + 1);
         toml::node* next = nullptr;
         if (auto* t = cur->as_table()) {
             next = t->get(p);
-            if (!next) next = &t->insert(p, toml::table{}).first->second;
-        } else if (auto* a = cur->as_array(); a && is_index(p)) {
-            const size_t idx = std::stoul(p);
-            if (idx >= a->size())
-                throw ConfigError("--set " + assignment + ": index " + p + " is past the end of '" +
-                                  [&] { std::string s; for (size_t j = 0; j < i; ++j) s += (j ? "." : "") + parts[j]; return s; }() +
-                                  "', which has " + std::to_string(a->size()) + " entries");
-            next = a->get(idx);
+            if (!next) {
+                // A missing table is created (--set camera.fov=30 without [camera]); a missing array is not.
+                if (looks_like_index(parts[i + 1]))
+                    throw ConfigError(where + ": '" + here + "' has no entries (there is no [[" + here +
+                                      "]]); --set changes existing array entries, it cannot add them");
+                next = &t->insert(p, toml::table{}).first->second;
+                doc.overridden.insert(here);
+            }
+        } else if (auto* a = cur->as_array()) {
+            const std::string parent = join_parts(parts, i);
+            check_index(where, p, parent, a->size());
+            next = a->get(std::stoul(p));
         }
         if (!next || (!next->is_table() && !next->is_array()))
-            throw ConfigError("--set " + assignment + ": '" + p + "' is not a table or array in " + doc.file);
+            throw ConfigError(where + ": '" + here + "' is a single value (" + origin(here) +
+                              "), not a table or array, so it has no '" + parts[i + 1] + "'");
         cur = next;
     }
-    toml::table parsed = parse_override_value(assignment.substr(eq + 1));
+    toml::table parsed = parse_override_value(assignment.substr(eq + 1), where);
     toml::node* value = parsed.get("v");
     const std::string& last = parts.back();
     if (auto* t = cur->as_table()) {
         t->insert_or_assign(last, std::move(*value));
-    } else if (auto* a = cur->as_array(); a && is_index(last) && std::stoul(last) < a->size()) {
+    } else if (auto* a = cur->as_array(); a && is_index(last) && std::stoull(last.substr(0, 18)) < a->size()) {
         a->replace(a->cbegin() + static_cast<std::ptrdiff_t>(std::stoul(last)), std::move(*value));
     } else {
-        throw ConfigError("--set " + assignment + ": cannot set '" + last + "' here");
+        check_index(where, last, join_parts(parts, parts.size() - 1), cur->as_array() ? cur->as_array()->size() : 0);
+        throw ConfigError(where + ": cannot set '" + last + "' here");
     }
     doc.overridden.insert(key);
 }
@@ -115,19 +156,17 @@ void apply_base(ConfigDocument& doc, int depth) {
     if (depth > 8) throw ConfigError(where + "more than 8 nested base configs (a cycle?)");
     fs::path path(*name);
     if (path.is_relative()) path = doc.base_dir / path;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw ConfigError(where + "cannot open " + path.string());
-    std::stringstream text;
-    text << in.rdbuf();
+    if (!fs::exists(path)) throw ConfigError(where + "cannot open " + path.string() + ": no such file");
+    std::string text;
+    try {
+        text = read_config_text(path.string(), "base config");
+    } catch (const FileError& e) {
+        throw ConfigError(where + e.what());
+    }
     ConfigDocument parent;
     parent.file = path.lexically_normal().string();
     parent.base_dir = path.parent_path();
-    try {
-        parent.root = toml::parse(text.str(), parent.file);
-    } catch (const toml::parse_error& e) {
-        throw ConfigError(parent.file + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " +
-                          std::string(e.description()));
-    }
+    parent.root = parse_toml_checked(text, parent.file);
     apply_base(parent, depth + 1);
     doc.root.erase("base");
     merge_into(parent.root, doc.root);
@@ -142,24 +181,17 @@ std::shared_ptr<ConfigDocument> parse_config(const std::string& text, const std:
     auto doc = std::make_shared<ConfigDocument>();
     doc->file = name;
     doc->base_dir = base_dir;
-    try {
-        doc->root = toml::parse(text, name);
-    } catch (const toml::parse_error& e) {
-        throw ConfigError(name + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " +
-                          std::string(e.description()));
-    }
+    // A run's JSON sidecar loads as the config it records; anything else is TOML.
+    doc->root = looks_like_json(text) ? config_from_json(text, name) : parse_toml_checked(text, name);
     apply_base(*doc, 0);
     for (const auto& o : overrides) apply_override(*doc, o);
     return doc;
 }
 
 std::shared_ptr<ConfigDocument> load_config(const std::string& path, const std::vector<std::string>& overrides) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path + ": cannot open config file");
-    std::stringstream text;
-    text << in.rdbuf();
+    const std::string text = read_config_text(path, "config file");
     const fs::path base = fs::absolute(fs::path(path)).parent_path();
-    return parse_config(text.str(), path, base, overrides);
+    return parse_config(text, path, base, overrides);
 }
 
 bool Range::contains(double v) const {
@@ -371,6 +403,7 @@ fs::path Params::path(const std::string& key, bool must_exist) {
     if (p.is_relative()) p = dir / p;
     p = p.lexically_normal();
     if (must_exist && !fs::exists(p)) fail(key, "file not found: " + p.string());
+    if (must_exist && fs::is_directory(p)) fail(key, p.string() + " is a folder, not a file");
     resolved_->insert_or_assign(key, p.string());
     return p;
 }

@@ -117,6 +117,7 @@ public:
         center_ = 0.5 * (bounds_.lo + bounds_.hi);
         const double half = 0.5 * (bounds_.hi - bounds_.lo).maxCoeff();
         eps_ = 1e-6 * std::max(half, 1e-9);
+        far_ = 1e6 * std::max(half, 1e-9);
 
         device_ = rtcNewDevice(nullptr);
         if (!device_)
@@ -156,6 +157,14 @@ public:
 
     bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const override {
         if (!scene_ || !(tmax > eps_)) return false;
+        if (is_far(ray)) {
+            Ray near;
+            double shift;
+            if (!move_near(ray, tmax, near, shift)) return false;
+            if (!intersect(near, tmax - shift, hit)) return false;
+            hit.t += shift;   // hit.position is near's, accurate
+            return true;
+        }
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         RTCRayHit rh;
@@ -202,6 +211,11 @@ public:
     // (a grazing self-hit must not shadow). Unoccluded rays, the common case, cost one query.
     bool occluded(const Ray& ray, double tmax) const override {
         if (!scene_ || !(tmax > eps_)) return false;
+        if (is_far(ray)) {
+            Ray near;
+            double shift;
+            return move_near(ray, tmax, near, shift) && occluded(near, tmax - shift);
+        }
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         RTCRay r;
@@ -239,6 +253,25 @@ public:
     }
 
 private:
+    // Rays that start far from the surfaces (more than 1e6 x their half extent: photons emitted
+    // around a medium of 1e32 units, paths inside it) would reach Embree with float origins
+    // beyond its valid range (|org| <= ~1.8e18, asserted by the library) or with no precision
+    // left. They are first advanced in double to just outside the surfaces' bounds (backed off by
+    // the bounds' size, so no surface is within epsilon of the new origin) and traced from there.
+    // The new origin is rounded like any point at that distance (relative 1e-16), nothing more.
+    // Each step shrinks the distance by ~1e15, so at most a few steps are taken.
+    bool is_far(const Ray& ray) const { return !((ray.origin - center_).cwiseAbs().maxCoeff() <= far_); }
+    bool move_near(const Ray& ray, double tmax, Ray& near, double& shift) const {
+        double t0, t1;
+        if (!bounds_.intersect(ray, tmax, t0, t1)) return false;
+        // Also back off by several units of rounding of t0 (the new origin is computed from it),
+        // so that it lies before the bounds; if it is still far, intersect() repeats the step.
+        const double back = 2.0 * (bounds_.hi - bounds_.lo).norm() + 4.0 * eps_ + 16.0 * DBL_EPSILON * t0;
+        shift = std::max(0.0, t0 - back);
+        near = Ray{ray.at(shift), ray.dir};
+        return tmax - shift > eps_;
+    }
+
     void setup(const Ray& ray, double tmax, RTCRay& r) const {
         r.org_x = static_cast<float>(ray.origin.x() - center_.x());
         r.org_y = static_cast<float>(ray.origin.y() - center_.y());
@@ -278,6 +311,7 @@ private:
     size_t triangles_ = 0;
     Vec3 center_ = Vec3::Zero();
     double eps_ = 0.0;
+    double far_ = 0.0;   // see is_far
     ErrorLog log_;
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;

@@ -65,6 +65,22 @@ TEST(Surfaces, QuadHitDistanceAndNormalFacingTheRay) {
     EXPECT_FALSE(s->intersect(ray({0, 0, 6}, {0, 0, 1}), kInfinity, h));      // pointing away
 }
 
+TEST(Surfaces, RaysFromFarAwayStillHit) {
+    // Origins 1e30 away (photons around a medium of 1e32 units, issue 12) are beyond Embree's
+    // float range; they are advanced to the surfaces' bounds in double first.
+    auto s = build("[[shapes]]\ntype = 'quad'\ncenter = [0, 0, 1]\nu = [2, 0, 0]\nv = [0, 1, 0]\n");
+    SurfaceHit h;
+    for (const double far : {1e7, 1e20, 1e30}) {
+        ASSERT_TRUE(s->intersect(ray({1.5, 0.25, 1 + far}, {0, 0, -1}), kInfinity, h)) << far;
+        EXPECT_NEAR(h.t, far, 1e-12 * far);
+        EXPECT_TRUE(h.position.isApprox(Vec3(1.5, 0.25, 1), 1e-9)) << h.position.transpose();
+        EXPECT_TRUE(s->occluded(ray({1.5, 0.25, 1 + far}, {0, 0, -1}), 2 * far));
+        EXPECT_FALSE(s->occluded(ray({1.5, 0.25, 1 + far}, {0, 0, -1}), 0.5 * far));
+        EXPECT_FALSE(s->intersect(ray({3.0, 0.25, 1 + far}, {0, 0, -1}), kInfinity, h));   // beside the quad
+        EXPECT_FALSE(s->intersect(ray({1.5, 0.25, 1 + far}, {0, 0, 1}), kInfinity, h));    // pointing away
+    }
+}
+
 TEST(Surfaces, TransformScaleRotateTranslateInThatOrder) {
     // Unit quad in xy, scaled x2 in x, rotated +90 deg about x (y -> z), moved by (0, 5, 0).
     auto s = build("[[shapes]]\ntype = 'quad'\ncenter = [0, 0, 0]\nu = [1, 0, 0]\nv = [0, 1, 0]\n"

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <limits>
 #include <unistd.h>
 
@@ -68,9 +67,13 @@ TEST(VdbIo, SharedSmokeSampleLoads) {
     // /work/wt/<name> finds it two levels up instead.
     std::string path = VPM_SHARED_DIR "/samples/smoke.vdb";
     if (!fs::exists(path)) path = VPM_SOURCE_DIR "/../../shared/samples/smoke.vdb";
+    // Not part of the repository (unknown license, tests/data/vdb/README.md): a plain clone skips
+    // this test; VdbThirdParty.PuffWrittenByPyopenvdbLoads covers a VDB written by another tool.
+    if (!fs::exists(path))
+        GTEST_SKIP() << "../shared/samples/smoke.vdb is absent (it is not redistributed with the repository; "
+                        "see tests/data/vdb/README.md)";
     const auto grids = list_vdb_grids(path);
     ASSERT_FALSE(grids.empty());
-    for (const auto& g : grids) std::cout << "[smoke.vdb] grid '" << g.name << "' (" << g.type << ")\n";
     const DensityGrid g = load_vdb_density(path, "");
     bool found = false;
     for (const auto& info : grids) found = found || (info.name == g.name() && (info.type == "float" || info.type == "double"));
@@ -80,11 +83,10 @@ TEST(VdbIo, SharedSmokeSampleLoads) {
     EXPECT_EQ(g2.active_voxel_count(), g.active_voxel_count());
 
     const Eigen::Matrix3d L = g.index_to_world().linear();
-    std::cout << "[smoke.vdb] loaded '" << g.name() << "': index bbox [" << g.voxel_lo().transpose() << "] - ["
-              << g.voxel_hi().transpose() << "], active voxels " << g.active_voxel_count() << ", voxel size "
-              << L.col(0).norm() << " x " << L.col(1).norm() << " x " << L.col(2).norm() << ", translation ["
-              << g.index_to_world().translation().transpose() << "], max density " << g.max_density()
-              << ", dense blocks " << g.dense_block_count() << " of " << g.block_total() << "\n";
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_GT(L.col(a).norm(), 0.0) << "axis " << a;
+        EXPECT_TRUE(std::isfinite(L.col(a).norm())) << "axis " << a;
+    }
     EXPECT_GT(g.active_voxel_count(), 0);
     EXPECT_TRUE(std::isfinite(g.max_density()));
     EXPECT_GT(g.max_density(), 0.0f);
@@ -105,8 +107,10 @@ TEST(VdbIo, SharedSmokeSampleLoads) {
                 }
             }
     EXPECT_EQ(bad, 0);
-    std::cout << "[smoke.vdb] " << nonzero << " voxels > 0, total density " << mass << ", centroid (index) ["
-              << (centroid / std::max(mass, 1e-30)).transpose() << "]\n";
+    // The density-weighted centroid lies inside the index box.
+    const Vec3 c = centroid / std::max(mass, 1e-30);
+    EXPECT_TRUE((c.array() >= g.voxel_lo().cast<double>().array()).all() && (c.array() <= g.voxel_hi().cast<double>().array()).all())
+        << c.transpose();
     EXPECT_GT(nonzero, 0);
 }
 

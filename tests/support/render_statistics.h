@@ -1,28 +1,16 @@
 #pragma once
-// Helpers shared by the statistical renderer tests: a running mean with its standard error, and
-// the mean green value of a rendered image (asserting that no sample was non-finite).
+// Helpers shared by the statistical renderer tests: the mean green value of a rendered image
+// (asserting that no sample was non-finite); the running mean is in sample_statistics.h.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "render/render_loop.h"
+#include "sample_statistics.h"
 #include "render/run_config.h"
 
 namespace vpm::test {
-
-// Mean of n independent values and the standard error of that mean.
-struct Sample {
-    double sum = 0, sum2 = 0;
-    int n = 0;
-    void add(double v) {
-        sum += v;
-        sum2 += v * v;
-        ++n;
-    }
-    double mean() const { return sum / n; }
-    double se() const { return std::sqrt(std::max(0.0, sum2 / n - mean() * mean()) / (n - 1)); }
-};
 
 // Mean of the green channel over an image rendered with the config's size and camera.
 inline double image_mean(const RunConfig& config, const Integrator& integrator, uint64_t seed, int spp) {

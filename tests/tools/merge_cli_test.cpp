@@ -2,6 +2,8 @@
 // all the passes; mismatched inputs are refused with one clear error and no output.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -27,7 +29,10 @@ int run_vpm(const std::string& args, const fs::path& dir, std::string* err = nul
 }
 
 struct MergeCli : ::testing::Test {
-    fs::path dir = fs::temp_directory_path() / "vpm_merge_cli";
+    // One folder per test and process: ctest -j runs the tests of this fixture at the same time.
+    fs::path dir = fs::temp_directory_path() /
+                   ("vpm_merge_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                    std::to_string(::getpid()));
     std::string render(const std::string& name, const std::string& sets) {
         const std::string out = (dir / name).string();
         EXPECT_EQ(run_vpm("render " + std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml -q --set render.width=12 "

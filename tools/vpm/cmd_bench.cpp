@@ -22,10 +22,12 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "arguments.h"
 #include "command.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "render/image_io.h"
+#include "render/staged_file.h"
 #include "render/run.h"
 
 namespace {
@@ -80,23 +82,22 @@ int run_equal_time(int argc, char** argv) {
     bool fresh = false;
     app.add_option("configs", configs, "Scene configs (TOML)")->required();
     app.add_option("--reference-spp", reference_spp, "Samples per pixel of the path-traced reference")
-        ->check(CLI::Range(1, 1 << 20));
-    app.add_option("--pm-spp", pm_spp, "Samples per pixel of the photon-map render")->check(CLI::Range(1, 1 << 20));
-    app.add_option("--photons", photons, "Photons emitted for the photon map")->check(CLI::Range(int64_t(1000), int64_t(1) << 32));
-    app.add_option("--size", size, "Image size WxH (overrides render.width/height)");
-    app.add_option("--threads", threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
-    app.add_option("--out", out_dir, "Folder for the cached references and the results");
+        ->capture_default_str()->check(CLI::Range(1, 1 << 20));
+    app.add_option("--pm-spp", pm_spp, "Samples per pixel of the photon-map render")->capture_default_str()->check(CLI::Range(1, 1 << 20));
+    app.add_option("--photons", photons, "Photons emitted for the photon map")->capture_default_str()->check(CLI::Range(int64_t(1000), int64_t(1) << 32));
+    app.add_option("--size", size, "Image size WxH (overrides render.width/height)")->capture_default_str();
+    app.add_option("--threads", threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
+    app.add_option("--out", out_dir, "Folder for the cached references and the results")->capture_default_str();
     app.add_flag("--fresh", fresh, "Re-render the references even when cached");
-    CLI11_PARSE(app, argc, argv);
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
 
     int w = 0, h = 0;
     char x = 0;
     std::istringstream ss(size);
     if (!(ss >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || !ss.eof()) {
-        std::cerr << "vpm bench equal-time: --size: expected WxH with positive integers, e.g. 128x128, got '" << size
-                  << "'\n";
-        return 2;
+        throw vpm::cli::UsageError("--size: expected WxH with positive integers, e.g. 128x128, got '" + size + "'");
     }
+    vpm::prepare_output_folder(out_dir);   // before the work
     const int n_threads = threads > 0 ? threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
     const std::vector<std::string> common = {"render.width=" + std::to_string(w), "render.height=" + std::to_string(h)};
@@ -179,11 +180,12 @@ int run_equal_time(int argc, char** argv) {
 }
 
 int run_bench(int argc, char** argv) {
-    if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    if (argc < 2) throw vpm::cli::UsageError("no mode given (allowed: equal-time; see vpm bench --help)");
+    if (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
         std::printf("usage: vpm bench MODE [options]\n\nmodes:\n  equal-time   photon map vs path tracer error at "
                     "equal wall time (vpm bench equal-time --help)\n\nSpeed benchmarks are the bench_* programs "
                     "(BENCHMARKS.md).\n");
-        return argc < 2 ? 2 : 0;
+        return 0;
     }
     const std::string mode = argv[1];
     std::string name = "vpm bench " + mode;
@@ -191,8 +193,7 @@ int run_bench(int argc, char** argv) {
     args.push_back(name.data());
     for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
     if (mode == "equal-time") return run_equal_time(int(args.size()), args.data());
-    std::cerr << "vpm bench: unknown mode '" << mode << "' (allowed: equal-time)\n";
-    return 2;
+    throw vpm::cli::UsageError("unknown mode '" + mode + "' (allowed: equal-time)");
 }
 
 }  // namespace

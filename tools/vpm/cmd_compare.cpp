@@ -2,13 +2,16 @@
 // Prints RMSE, relative RMSE (RMSE / mean of the reference) and relative bias of IMAGE against
 // REFERENCE over all pixels and channels (lib/analysis/error_metrics.h).
 #include <cstdio>
+#include <utility>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
 
 #include "analysis/error_metrics.h"
+#include "arguments.h"
 #include "command.h"
 #include "render/image_io.h"
+#include "render/run_outputs.h"
 
 namespace {
 
@@ -19,8 +22,14 @@ int run_compare(int argc, char** argv) {
     app.add_option("image", image, "Image to judge (EXR)")->required()->check(CLI::ExistingFile);
     app.add_option("reference", reference, "Reference image (EXR), same size")->required()->check(CLI::ExistingFile);
     app.add_flag("--json", json, "One JSON object instead of text");
-    CLI11_PARSE(app, argc, argv);
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     const vpm::Image a = vpm::read_exr(image), r = vpm::read_exr(reference);
+    // NaN/Inf pixels would be left out of the sums, and an image that is half Inf could score
+    // "rmse 0": refuse to measure it instead, naming the file and how many pixels are bad.
+    for (const auto& [name, img] : {std::pair<const std::string&, const vpm::Image&>{image, a}, {reference, r}})
+        if (const size_t bad = vpm::count_nonfinite_pixels(img))
+            throw vpm::Error(name + ": " + std::to_string(bad) + " of " + std::to_string(size_t(img.width) * size_t(img.height)) +
+                             " pixels are NaN or Inf; the error against the reference is undefined");
     const vpm::ImageError e = vpm::compare_images(a, r);
     const vpm::RunError y = vpm::run_error(a, r);
     if (json)
@@ -33,7 +42,7 @@ int run_compare(int argc, char** argv) {
         std::printf("%s vs %s: rmse %.6g, relative rmse %.4f, relative bias %+.4f (mean %.6g, reference %.6g); "
                     "luminance (as vpm sweep): relative rmse %.4f, relative bias %+.4f%s\n",
                     image.c_str(), reference.c_str(), e.rmse, e.relative_rmse, e.relative_bias, e.mean,
-                    e.reference_mean, y.rel_rmse, y.rel_mean_error, e.nonfinite ? ", non-finite values left out" : "");
+                    e.reference_mean, y.rel_rmse, y.rel_mean_error, "");
     return 0;
 }
 

@@ -1,6 +1,7 @@
 // `vpm make-media [--out DIR]`: writes plume.vdb, box.vdb, blob.vdb and sphere.vdb, each with one
 // float grid "density" in [0, 1]. Fully deterministic (own hash-based value noise, no RNG state).
 #include "cmd_make_media.h"
+#include "arguments.h"
 #include "command.h"
 
 #include <cmath>
@@ -16,6 +17,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "scene/density_grid.h"
+#include "render/staged_file.h"
 #include "scene/vdb_io.h"
 
 namespace vpm {
@@ -112,16 +114,12 @@ void write_one(const std::filesystem::path& dir, const std::string& file, const 
 }  // namespace
 
 int run_make_media(int argc, char** argv) {
-    CLI::App app{"Write the procedural media (plume, box, blob, sphere) as OpenVDB files"};
+    CLI::App app{"Write the procedural media (plume, box, blob, sphere) as OpenVDB files", "vpm make-media"};
     std::string out = "media";
     app.add_option("--out", out, "Output folder (created if missing)")->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e);
-    }
-    try {
-        std::filesystem::create_directories(out);
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    {
+        prepare_output_folder(out);
         // Plume: 64 x 96 x 64 voxels of 1/64, 1.5 tall, base at y = 0 (voxel row 0 is empty).
         {
             const Vec3i dims(64, 96, 64);
@@ -151,9 +149,6 @@ int run_make_media(int argc, char** argv) {
             write_one(out, "sphere.vdb", sample_grid(dims, centred(dims, h, -23.5 * h), 0.0,
                                                      [](const Vec3& p) { return p.norm() <= 0.6 ? 1.0 : 0.0; }));
         }
-    } catch (const std::exception& e) {
-        std::cerr << "vpm make-media: " << e.what() << "\n";
-        return 1;
     }
     return 0;
 }

@@ -4,8 +4,10 @@
 #include <CLI/CLI.hpp>
 
 #include "analysis/merge_runs.h"
+#include "arguments.h"
 #include "command.h"
 #include "render/run.h"
+#include "render/run_outputs.h"
 
 namespace {
 
@@ -20,7 +22,8 @@ int run_merge(int argc, char** argv) {
     app.add_option("inputs", inputs, "EXR images, each with its JSON sidecar")->required()->check(CLI::ExistingFile);
     app.add_option("-o,--output", output, "Merged EXR (+ .png preview, .json sidecar)")->required();
     app.add_flag("-q,--quiet", quiet, "No log on stderr");
-    CLI11_PARSE(app, argc, argv);
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    vpm::check_run_outputs(output);   // before reading the inputs
 
     std::vector<std::filesystem::path> paths(inputs.begin(), inputs.end());
     vpm::MergedRun merged = vpm::merge_runs(paths);

@@ -7,14 +7,26 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "arguments.h"
 #include "command.h"
 #include "core/progress.h"
 #include "analysis/error_metrics.h"
 #include "core/error.h"
 #include "render/image_io.h"
 #include "render/run.h"
+#include "render/run_outputs.h"
 
 namespace {
+
+// A TOML basic string: quotes and backslashes in a path must not end the string early.
+std::string toml_string(const std::string& s) {
+    std::string q = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') q += '\\';
+        q += c;
+    }
+    return q + "\"";
+}
 
 int run_render(int argc, char** argv) {
     CLI::App app("Render a scene config to an OpenEXR image, a PNG preview and a JSON sidecar.", "vpm render");
@@ -23,8 +35,9 @@ int run_render(int argc, char** argv) {
     int threads = -1;
     bool quiet = false;
     app.add_option("config", config, "Scene config (TOML)")->required();
-    app.add_option("-o,--output", output, "Output EXR (default: render.output from the config)");
-    app.add_option("--set", sets, "Override a config key by dotted path, e.g. media.0.sigma_t_scale=10 (repeatable)");
+    app.add_option("-o,--output", output, "Output EXR, name ending in .exr; OUT.png and OUT.json go beside it (default: render.output from the config, else out/render.exr)");
+    app.add_option("--set", sets, "Override a config key by dotted path, e.g. media.0.sigma_t_scale=10 (repeatable)")
+        ->allow_extra_args(false);   // one value per --set, so `--set k=v CONFIG` leaves CONFIG alone
     app.add_option("--threads", threads, "Worker threads (0: all cores; default: render.threads)")->check(CLI::Range(0, 4096));
     app.add_flag("-q,--quiet", quiet, "No progress bar or log on stderr");
     std::string reference;
@@ -32,17 +45,25 @@ int run_render(int argc, char** argv) {
                    "Reference EXR: after every pass, write the error of the mean so far against it to OUT.passes.csv "
                    "(pass, spp, elapsed seconds, relative RMSE, relative mean error)")
         ->check(CLI::ExistingFile);
-    CLI11_PARSE(app, argc, argv);
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
 
     // Command-line settings go through the same validation as the file and end up in the
     // resolved config, so the sidecar says exactly what ran.
-    if (!output.empty()) sets.push_back("render.output=\"" + output + "\"");
-    if (threads >= 0) sets.push_back("render.threads=" + std::to_string(threads));
+    // They go first, so that an error in a user's --set is reported against that --set.
+    std::vector<std::string> cli_sets;
+    if (!output.empty()) cli_sets.push_back("render.output=" + toml_string(output));
+    if (threads >= 0) cli_sets.push_back("render.threads=" + std::to_string(threads));
+    sets.insert(sets.begin(), cli_sets.begin(), cli_sets.end());
 
     const vpm::Timer load_timer;
     const vpm::RunConfig run_config = vpm::RunConfig::load(config, sets);
     const vpm::RenderSettings& render = run_config.render;
     const double load_seconds = load_timer.seconds();
+    // Before the work: a run that cannot write its outputs fails now, not after the render.
+    std::filesystem::path passes_path = render.output;
+    passes_path.replace_extension(".passes.csv");
+    if (!reference.empty()) vpm::check_run_outputs(render.output, {passes_path});
+    else vpm::check_run_outputs(render.output);
     const int n_threads = render.threads > 0 ? render.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
 
@@ -81,15 +102,18 @@ int run_render(int argc, char** argv) {
     result.record.set("threads", n_threads);
     std::vector<std::string> args(argv, argv + argc);
     result.record.set("command_line", args);
-    vpm::write_run_outputs(render.output, result, render.exposure);
-    if (!reference.empty()) {
-        std::filesystem::path csv = render.output;
-        csv.replace_extension(".passes.csv");
-        vpm::write_text_atomic(csv, passes_csv.str());
-        if (log) *log << "error against " << reference << ": rel RMSE " << last_error.rel_rmse << " after "
-                      << result.stats.passes.size() << " pass(es); per pass in " << csv.string() << "\n";
-    }
+    // The passes table is one of the run's files: committed together with the image and sidecar.
+    std::vector<std::pair<std::filesystem::path, std::string>> extra;
+    if (!reference.empty()) extra.emplace_back(passes_path, passes_csv.str());
+    vpm::write_run_outputs(render.output, result, render.exposure, extra);
+    if (!reference.empty() && log)
+        *log << "error against " << reference << ": rel RMSE " << last_error.rel_rmse << " after "
+             << result.stats.passes.size() << " pass(es); per pass in " << passes_path.string() << "\n";
     if (log) *log << "wrote " << render.output << " (+ .png, .json)\n";
+    if (const size_t bad = vpm::count_nonfinite_pixels(result.image))
+        std::cerr << "vpm render: warning: " << bad << " of " << size_t(result.image.width) * size_t(result.image.height)
+                  << " pixels are NaN or Inf (render.nonfinite_pixels in " << vpm::sidecar_path_for(render.output).string()
+                  << ")\n";
     return 0;
 }
 

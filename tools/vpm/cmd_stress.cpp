@@ -9,10 +9,13 @@
 #include <unistd.h>
 
 #include "analysis/stress.h"
+#include "arguments.h"
 #include "command.h"
 #include "data_files.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "render/image_io.h"
+#include "render/staged_file.h"
 
 namespace {
 
@@ -25,13 +28,16 @@ int run_stress_command(int argc, char** argv) {
         "vpm stress");
     std::string out = "out/stress", md, configs = vpm::cli::data_file("configs/stress").string(), only;
     bool quick = false;
-    app.add_option("--out", out, "Scratch folder (the dense-voxel VDB goes here)");
+    app.add_option("--out", out, "Scratch folder (the dense-voxel VDB goes here)")->capture_default_str();
     app.add_option("--md", md, "Markdown table to write (default: OUT/STRESS.md)");
-    app.add_option("--configs", configs, "Folder with the base scenes")->check(CLI::ExistingDirectory);
+    app.add_option("--configs", configs, "Folder with the base scenes")->capture_default_str()->check(CLI::ExistingDirectory);
     app.add_option("--only", only, "Run only cells whose 'axis/value' contains TEXT");
     app.add_flag("--quick", quick, "CI-sized subset: 8x8 images, 2000 photons, no photon counts above 1e3, no path-traced references");
-    CLI11_PARSE(app, argc, argv);
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     if (md.empty()) md = out + "/STRESS.md";
+    // Before the work: the scratch folder and the table must be writable.
+    vpm::prepare_output_folder(out);
+    vpm::check_output_file(md);
 
     vpm::StressOptions o;
     o.quick = quick;
@@ -49,13 +55,7 @@ int run_stress_command(int argc, char** argv) {
     std::string command = "vpm stress";
     for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
     const std::string text = report.to_markdown(command, machine.str());
-    const std::string tmp = md + ".tmp-" + std::to_string(getpid());
-    {
-        std::ofstream f(tmp);
-        f << text;
-        if (!f) throw vpm::FileError(md + ": cannot write");
-    }
-    std::filesystem::rename(tmp, md);
+    vpm::write_text_atomic(md, text);
     std::cerr << "wrote " << md << " (" << report.cells.size() << " cells, " << report.seconds << " s): "
               << (report.all_ok() ? "all ok" : "FAILURES") << "\n";
     return report.all_ok() ? 0 : 1;

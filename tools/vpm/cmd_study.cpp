@@ -15,9 +15,11 @@
 #include <sstream>
 
 #include "analysis/study.h"
+#include "arguments.h"
 #include "command.h"
 #include "data_files.h"
 #include "render/image_io.h"
+#include "render/staged_file.h"
 #include "core/error.h"
 
 namespace vpm {
@@ -37,10 +39,10 @@ std::vector<T> parse_list(const std::string& text, const char* what) {
             if (pos != item.size() || v < 0) throw std::invalid_argument(item);
             out.push_back(static_cast<T>(v));
         } catch (const std::exception&) {
-            throw Error(std::string("study: ") + what + ": '" + item + "' is not a non-negative integer");
+            throw cli::UsageError(std::string(what) + ": '" + item + "' is not a non-negative integer");
         }
     }
-    if (out.empty()) throw Error(std::string("study: ") + what + ": empty list");
+    if (out.empty()) throw cli::UsageError(std::string(what) + ": empty list");
     return out;
 }
 
@@ -66,7 +68,7 @@ int run_study(int argc, char** argv) {
     app.add_option("--dims", dims, "dimensions, comma-separated (2: disc / pi r^2, 3: ball / 4/3 pi r^3)")
         ->capture_default_str();
     app.add_option("--k", ks, "k values, comma-separated (default 2..256 log-spaced)");
-    app.add_option("--trials", opt.trials, "trials per scenario and dimension")->capture_default_str();
+    app.add_option("--trials", opt.trials, "trials per scenario and dimension (photon_map: a quarter, photon_pass: a tenth of them, at least 2)")->capture_default_str();
     app.add_option("--n", opt.n, "points per trial (must exceed the largest k)")->capture_default_str();
     app.add_option("--seed", opt.seed, "random seed (results are identical on any thread count)")
         ->capture_default_str();
@@ -77,13 +79,9 @@ int run_study(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_study.py");
-    app.add_flag("--quiet", quiet, "no progress lines");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e);
-    }
-    try {
+    app.add_flag("-q,--quiet", quiet, "no progress lines");
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    {
         opt.dims = parse_list<int>(dims, "--dims");
         if (!ks.empty()) opt.ks = parse_list<size_t>(ks, "--k");
         if (!scenarios.empty()) {
@@ -99,11 +97,11 @@ int run_study(int argc, char** argv) {
         auto log = [quiet](const std::string& s) {
             if (!quiet) std::cerr << s << std::endl;
         };
-        const StudyResult res = run_estimator_study(opt, log);
+        // Before the work: an unwritable --out fails now, not after minutes of trials.
         const std::filesystem::path out(out_dir);
-        std::error_code ec;
-        std::filesystem::create_directories(out, ec);
-        if (ec) throw FileError(out.string() + ": cannot create folder: " + ec.message());
+        prepare_output_folder(out);
+        for (const char* name : {"study.csv", "study.md", "study.json"}) check_output_file(out / name);
+        const StudyResult res = run_estimator_study(opt, log);
         write_text_atomic(out / "study.csv", study_csv(res));
         write_text_atomic(out / "study.md", study_markdown(res));
         write_text_atomic(out / "study.json", study_sidecar_json(res));
@@ -137,9 +135,6 @@ int run_study(int argc, char** argv) {
             }
         }
         return 0;
-    } catch (const Error& e) {
-        std::cerr << "vpm study: " << e.what() << std::endl;
-        return 2;
     }
 }
 

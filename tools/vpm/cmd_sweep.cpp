@@ -13,6 +13,7 @@
 
 #include "analysis/sweep.h"
 #include "analysis/sweep_plan.h"
+#include "arguments.h"
 #include "command.h"
 #include "data_files.h"
 #include "core/error.h"
@@ -46,12 +47,8 @@ int run_merge(int argc, char** argv) {
     app.add_option("DIRS", dirs, "sweep output folders (--out of each shard)")->required()->check(CLI::ExistingDirectory);
     app.add_option("--out", out, "merged folder (default: the first DIR)");
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_sweep.py");
-    app.add_flag("--quiet", quiet, "no progress lines");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e);
-    }
+    app.add_flag("-q,--quiet", quiet, "no progress lines");
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     auto log = [quiet](const std::string& s) {
         if (!quiet) std::cerr << s << std::endl;
     };
@@ -92,12 +89,8 @@ int run_sweep_command(int argc, char** argv) {
                  "render the references of the whole sweep and stop (before a job array shares --out)");
     app.add_flag("--dry-run", dry_run, "validate the sweep and print the plan, run nothing");
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_sweep.py");
-    app.add_flag("--quiet", quiet, "no progress lines");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e);
-    }
+    app.add_flag("-q,--quiet", quiet, "no progress lines");
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     parse_shard(shard, opt.shard, opt.shards);
     auto log = [quiet](const std::string& s) {
         if (!quiet) std::cerr << s << std::endl;

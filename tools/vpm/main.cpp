@@ -3,8 +3,11 @@
 #include <cstring>
 #include <iostream>
 
+#include "arguments.h"
 #include "command.h"
+#include "core/build_info.h"
 #include "core/error.h"
+#include "render/staged_file.h"
 
 namespace vpm::cli {
 
@@ -27,18 +30,32 @@ const std::vector<Command>& commands() { return registry(); }
 
 static void print_usage(std::ostream& out) {
     out << "vpm: volumetric photon mapping in participating media\n\n"
-           "usage: vpm COMMAND [options]    (vpm COMMAND --help for its options)\n\ncommands:\n";
+           "usage: vpm COMMAND [options]    (vpm COMMAND --help for its options)\n"
+           "       vpm --version\n\ncommands:\n";
     for (const auto& c : vpm::cli::commands()) {
         out << "  " << c.name;
         for (size_t i = c.name.size(); i < 12; ++i) out << ' ';
         out << c.summary << "\n";
     }
+    out << "\nexit codes: 0 success; 1 error (bad input, missing or corrupt file, unwritable output;\n"
+           "vpm stress: a cell failed); 2 bad command line; 3 internal error; killed by a signal:\n"
+           "the shell's 128 + signal number (interrupted outputs leave no temporary files)\n";
 }
 
 int main(int argc, char** argv) {
-    if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+    using namespace vpm::cli;
+    vpm::remove_temporaries_on_signals();
+    if (argc >= 2 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help"))) {
         print_usage(std::cout);
-        return argc < 2 ? 2 : 0;
+        return kExitOk;
+    }
+    if (argc >= 2 && (!std::strcmp(argv[1], "--version") || !std::strcmp(argv[1], "-V"))) {
+        std::cout << "vpm " << vpm::vpm_version() << " (git " << vpm::git_revision() << ")\n";
+        return kExitOk;
+    }
+    if (argc < 2) {
+        std::cerr << "vpm: error: no command given (see vpm --help)\n";
+        return kExitUsage;
     }
     for (const auto& c : vpm::cli::commands()) {
         if (c.name != argv[1]) continue;
@@ -47,15 +64,21 @@ int main(int argc, char** argv) {
         args[0] = program.data();
         try {
             return c.run(int(args.size()), args.data());
+        } catch (const UsageError& e) {
+            const std::string what = e.what();
+            std::cerr << "vpm " << c.name << ": error: " << what
+                      << (what.find("--help") == std::string::npos ? " (see vpm " + c.name + " --help)" : "") << "\n";
+            return kExitUsage;
         } catch (const vpm::Error& e) {
             std::cerr << "vpm " << c.name << ": error: " << e.what() << "\n";
-            return 1;
+            return kExitError;
         } catch (const std::exception& e) {
             std::cerr << "vpm " << c.name << ": internal error: " << e.what() << "\n";
-            return 3;
+            return kExitInternal;
         }
     }
-    std::cerr << "vpm: unknown command '" << argv[1] << "'\n\n";
-    print_usage(std::cerr);
-    return 2;
+    std::string names;
+    for (const auto& c : vpm::cli::commands()) names += (names.empty() ? "" : ", ") + c.name;
+    std::cerr << "vpm: error: unknown command '" << argv[1] << "' (commands: " << names << "; see vpm --help)\n";
+    return kExitUsage;
 }

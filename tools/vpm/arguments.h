@@ -1,0 +1,44 @@
+#pragma once
+// Command-line parsing for every subcommand, so they all fail the same way: a bad command line
+// becomes a UsageError, which main prints as one line "vpm <cmd>: error: <what> (see vpm <cmd>
+// --help)" and turns into exit code 2 (kExitUsage). --help prints the help to stdout.
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.h"
+
+namespace vpm::cli {
+
+// Exit codes of `vpm` (README "Exit codes").
+constexpr int kExitOk = 0;
+constexpr int kExitError = 1;      // bad input, missing/corrupt file, unwritable output; stress: a cell failed
+constexpr int kExitUsage = 2;      // bad command line (unknown option, bad value, missing argument)
+constexpr int kExitInternal = 3;   // a bug: an unexpected exception
+
+class UsageError : public vpm::Error {
+public:
+    using vpm::Error::Error;
+};
+
+// Parses argv into `app`. Returns false when --help was answered (the command returns 0);
+// throws UsageError for anything CLI11 rejects.
+inline bool parse_arguments(CLI::App& app, int argc, char** argv) {
+    try {
+        app.parse(argc, argv);
+        return true;
+    } catch (const CLI::CallForHelp&) {
+        std::cout << app.help();
+        return false;
+    } catch (const CLI::CallForAllHelp&) {
+        std::cout << app.help("", CLI::AppFormatMode::All);
+        return false;
+    } catch (const CLI::ParseError& e) {
+        std::string what = e.what();
+        while (!what.empty() && (what.back() == '\n' || what.back() == ' ')) what.pop_back();
+        throw UsageError(what + " (see " + app.get_name() + " --help)");
+    }
+}
+
+}  // namespace vpm::cli
