@@ -21,12 +21,6 @@ namespace vpm {
 
 namespace {
 
-int line_of(const toml::node& n) { return int(n.source().begin.line); }
-
-[[noreturn]] void fail(const std::string& file, const toml::node* n, const std::string& key, const std::string& msg) {
-    throw ConfigError(file + ":" + (n ? std::to_string(line_of(*n)) + ":" : std::string()) + " " + key + ": " + msg);
-}
-
 // TOML text of a value, as `--set key=<text>` expects it.
 std::string value_text(const toml::node& n) {
     toml::table t;
@@ -73,20 +67,6 @@ std::string override_text(const toml::node& n) {
     return value_text(n);
 }
 
-std::vector<double> number_list(const std::string& file, const toml::table& root, const toml::node* n,
-                                const std::string& key, bool integers) {
-    std::vector<double> out;
-    const toml::array* a = n ? n->as_array() : nullptr;
-    if (!a) fail(file, n, key, "expected a list of numbers, e.g. [1, 2, 4]");
-    for (const auto& v : *a) {
-        const auto d = v.value<double>();
-        if (!d || (integers && !v.is_integer()) || !(*d > 0))
-            fail(file, &v, key, std::string("expected positive ") + (integers ? "integers" : "numbers") + ", got " + value_text(v));
-        out.push_back(*d);
-    }
-    (void)root;
-    return out;
-}
 
 }  // namespace
 
@@ -95,88 +75,59 @@ SweepSpec load_sweep(const std::string& path) {
 }
 
 SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs::path& base_dir) {
-    const toml::table root = parse_toml_checked(text, name);
+    // A sweep file is read like a config: Params reports unknown keys, types and ranges with the
+    // file and line, and applies the same size and nesting limits before the TOML parser.
+    const auto doc = parse_config(text, name, base_dir);
+    toml::table resolved;
+    Params root(doc, &resolved);
     SweepSpec s;
     s.file = name;
-    static const std::set<std::string> allowed = {"scene", "set", "repeats", "time_budgets", "reference", "axes"};
-    for (const auto& [k, v] : root)
-        if (!allowed.count(std::string(k.str())))
-            fail(name, &v, std::string(k.str()), "unknown key; allowed: scene, set, repeats, time_budgets, [reference], [axes]");
+    if (!root.has("scene"))
+        root.fail("scene", "required: the base scene config file, e.g. scene = \"../default_photon_map.toml\"");
+    s.scene = root.path("scene");
+    s.set = root.strings("set", {});
+    s.repeats = int(root.integer("repeats", s.repeats, Range::closed(1, 100000)));
+    s.time_budgets = root.reals("time_budgets", {}, Range::positive());
 
-    const toml::node* scene = root.get("scene");
-    if (!scene || !scene->is_string()) fail(name, scene, "scene", "required: the base scene config file, e.g. scene = \"../default_photon_map.toml\"");
-    s.scene = fs::path(*scene->value<std::string>());
-    if (s.scene.is_relative()) s.scene = base_dir / s.scene;
-    if (!fs::exists(s.scene)) fail(name, scene, "scene", s.scene.string() + " does not exist");
-    if (fs::is_directory(s.scene)) fail(name, scene, "scene", s.scene.string() + " is a folder, not a config file");
-
-    if (const toml::node* set = root.get("set")) {
-        const toml::array* a = set->as_array();
-        if (!a) fail(name, set, "set", "expected a list of \"key=value\" strings");
-        for (const auto& v : *a) {
-            if (!v.is_string()) fail(name, &v, "set", "expected \"key=value\" strings");
-            s.set.push_back(*v.value<std::string>());
-        }
+    if (!root.has("reference"))
+        root.fail("reference", "required table: [reference] spp = N (render it) or file = \"ref.exr\"");
+    Params ref = root.table("reference");
+    if (ref.has("spp")) s.reference_spp = int(ref.integer("spp", Range::closed(1, 1 << 24)));
+    if (ref.has("file")) s.reference_file = ref.path("file");
+    for (double d : ref.reals("path_spp", {}, Range::closed(1, 1 << 24))) {
+        if (d != std::floor(d)) ref.fail("path_spp", "expected positive integers, got " + short_real(d));
+        s.path_spp.push_back(int(d));
     }
-    if (const toml::node* r = root.get("repeats")) {
-        if (!r->is_integer() || *r->value<int64_t>() < 1 || *r->value<int64_t>() > 100000)
-            fail(name, r, "repeats", "expected an integer in [1, 100000]");
-        s.repeats = int(*r->value<int64_t>());
-    }
-    if (const toml::node* t = root.get("time_budgets")) s.time_budgets = number_list(name, root, t, "time_budgets", false);
-
-    const toml::node* ref = root.get("reference");
-    if (!ref || !ref->is_table())
-        fail(name, ref, "reference", "required table: [reference] spp = N (render it) or file = \"ref.exr\"");
-    for (const auto& [k, v] : *ref->as_table()) {
-        const std::string key(k.str());
-        if (key == "spp") {
-            if (!v.is_integer() || *v.value<int64_t>() < 1) fail(name, &v, "reference.spp", "expected a positive integer");
-            s.reference_spp = int(*v.value<int64_t>());
-        } else if (key == "file") {
-            if (!v.is_string()) fail(name, &v, "reference.file", "expected a path to an EXR");
-            s.reference_file = fs::path(*v.value<std::string>());
-            if (s.reference_file.is_relative()) s.reference_file = base_dir / s.reference_file;
-            if (!fs::exists(s.reference_file)) fail(name, &v, "reference.file", s.reference_file.string() + " does not exist");
-        } else if (key == "path_spp") {
-            for (double d : number_list(name, root, &v, "reference.path_spp", true)) s.path_spp.push_back(int(d));
-        } else {
-            fail(name, &v, "reference." + key, "unknown key; allowed: spp, file, path_spp");
-        }
-    }
+    ref.finish();
     if ((s.reference_spp > 0) == !s.reference_file.empty())
-        fail(name, ref, "reference", "give exactly one of spp (render a reference) and file (an EXR)");
+        root.fail("reference", "give exactly one of spp (render a reference) and file (an EXR)");
 
-    const toml::node* axes = root.get("axes");
-    if (axes && !axes->is_table()) fail(name, axes, "axes", "expected a table of lists");
-    if (axes) {
-        for (const auto& [k, v] : *axes->as_table()) {
-            SweepAxis ax;
-            ax.name = std::string(k.str());
-            ax.key = ax.name == "k" ? "photons.k" : ax.name == "estimator" ? "photons.estimator"
-                     : ax.name == "kernel" ? "photons.kernel" : ax.name == "time_limit" ? "render.time_limit" : ax.name;
-            ax.line = line_of(v);
-            const toml::array* a = v.as_array();
-            if (!a || a->empty()) fail(name, &v, "axes." + ax.name, "expected a non-empty list of values");
-            for (const auto& x : *a) {
-                const std::string text = override_text(x);
-                if (std::find(ax.values.begin(), ax.values.end(), text) != ax.values.end())
-                    fail(name, &x, "axes." + ax.name, "the value " + value_label(x) +
-                                                          " is listed twice (every run would be rendered twice)");
-                ax.values.push_back(text);
-                ax.labels.push_back(value_label(x));
-            }
-            for (const auto& other : s.axes)
-                if (other.key == ax.key)
-                    fail(name, &v, "axes." + ax.name, "sweeps " + ax.key + ", as axes." + other.name +
-                                                          " does already (k = photons.k, estimator = photons.estimator); keep one");
-            if (ax.key == "render.integrator" || ax.key == "render.seed" || ax.key == "render.output")
-                fail(name, &v, "axes." + ax.name, "cannot be swept (the sweep sets it); use repeats for seeds");
-            s.axes.push_back(std::move(ax));
+    Params axes = root.table("axes");
+    for (const std::string& key : axes.keys()) {
+        const toml::node* v = axes.node(key);
+        SweepAxis ax;
+        ax.name = key;
+        ax.key = ax.name == "k" ? "photons.k" : ax.name == "estimator" ? "photons.estimator"
+                 : ax.name == "kernel" ? "photons.kernel" : ax.name == "time_limit" ? "render.time_limit" : ax.name;
+        ax.line = axes.line(key);
+        const toml::array* a = v->as_array();
+        if (!a || a->empty()) axes.fail(key, "expected a non-empty list of values");
+        for (const auto& x : *a) {
+            const std::string text = override_text(x);
+            if (std::find(ax.values.begin(), ax.values.end(), text) != ax.values.end())
+                axes.fail(key, "the value " + value_label(x) + " is listed twice (every run would be rendered twice)");
+            ax.values.push_back(text);
+            ax.labels.push_back(value_label(x));
         }
-        // toml++ keeps keys sorted; the plan follows the order written in the file.
-        std::stable_sort(s.axes.begin(), s.axes.end(), [](const SweepAxis& a, const SweepAxis& b) { return a.line < b.line; });
+        for (const auto& other : s.axes)
+            if (other.key == ax.key)
+                axes.fail(key, "sweeps " + ax.key + ", as axes." + other.name +
+                                   " does already (k = photons.k, estimator = photons.estimator); keep one");
+        if (ax.key == "render.integrator" || ax.key == "render.seed" || ax.key == "render.output")
+            axes.fail(key, "cannot be swept (the sweep sets it); use repeats for seeds");
+        s.axes.push_back(std::move(ax));
     }
+    root.finish();
     if (!s.reference_file.empty())
         for (const auto& ax : s.axes)
             if (!ax.photon_only())

@@ -192,8 +192,11 @@ Estimate<Rgb> gather_and_estimate(const PhotonMap& map, const Vec3& x, Estimator
     e.validate_k(k);
     size_t want = k;
     for (;;) {
-        const size_t found = map.knn(x, want, max_radius, buf.list);
-        const bool complete = found < want || found == map.size();
+        // Rule (b) with the whole map as the neighbourhood: one linear pass, the farthest last
+        // (a kd-tree query for k >= n would cost O(n log n) or worse per estimate).
+        const bool whole_map = want >= map.size() && !std::isfinite(max_radius);
+        const size_t found = whole_map ? map.gather_all(x, buf.list) : map.knn(x, want, max_radius, buf.list);
+        const bool complete = whole_map || found < want || found == map.size();
         if (buf.w.size() < found) {
             buf.w.resize(found);
             buf.d2.resize(found);

@@ -52,7 +52,10 @@
 //      radius at the farthest one, i.e. apply the estimator with k' = count (the kNN estimator
 //      of the whole sample: V(r_n)/|R| ~ Beta(n, 1), corrected stays unbiased for a uniform
 //      density). If k' is below the estimator's minimum (classic 1, corrected 2, mse_optimal 3)
-//      the estimate is 0 (counted as `insufficient`).
+//      the estimate is 0 (counted as `insufficient`). Only the farthest photon's place matters
+//      here (it sets r and is the one corrected drops), so the photon-map front end passes the
+//      whole map in one linear pass with the farthest last instead of sorting it
+//      (PhotonMap::gather_all).
 //  (c) r_k = 0 (k or more photons coincide with the query), r_k <= coincident_radius (the
 //      photon map passes its position resolution: stored float positions cannot resolve smaller
 //      distances, so such photons coincide as far as the map knows), or V(r_k) not a positive

@@ -7,8 +7,8 @@
 // Layout (24 bytes, 4-byte aligned):
 //   float    p[3]      position relative to the photon map's bounds centre (12 bytes)
 //   uint16_t dir[2]    octahedral direction, 2 x 16 bit                      ( 4 bytes)
-//   uint16_t power[3]  IEEE binary16 per channel of power / map power scale  ( 6 bytes)
-//   uint16_t reserved  zero; free for flags (e.g. bounce count)              ( 2 bytes)
+//   uint16_t power[3]  IEEE binary16 per channel of power / 2^e               ( 6 bytes)
+//   uint16_t reserved  the exponent e (int16) of the photon's largest channel ( 2 bytes)
 // plus 4 bytes per photon in the kd-tree's permutation array (uint32 index) = 28 bytes per photon,
 // see bytes_per_photon(). The kd-tree nodes add ~3 bytes per photon on top (32-byte nodes, one
 // per ~11 photons at leaf size 32): measured 30.8 bytes per photon in total for 1e5 and 1e6
@@ -19,15 +19,20 @@
 //               offset from the centre, so scenes far from the origin keep full precision).
 //   direction : angular error <= 7e-5 rad (octahedral grid step 2/65535, rounded to nearest;
 //               the octahedral map stretches the grid by ~2x; measured max 6.4e-5 rad).
-//   power     : each channel is divided by the map's power scale (largest channel of any photon,
-//               so stored values are in [0, 1]) and rounded to binary16: relative error
-//               <= 2^-11 per channel for values >= 2^-14 * scale; below that (subnormals) the
-//               absolute error is <= 2^-25 * scale. Channels are independent (no shared exponent),
-//               so a dim channel next to a bright one keeps its own relative precision.
+//   power     : each channel is divided by 2^e, e the binary exponent of the photon's own largest
+//               channel (stored in `reserved`, so the largest is in [1, 2)), and rounded to binary16:
+//               relative error <= 2^-11 per channel for values >= 2^-14 * 2^e; below that
+//               (subnormals) the absolute error is <= 2^-25 * 2^e. Channels are independent (no
+//               shared exponent), so a dim channel next to a bright one keeps its own relative
+//               precision, and photons of any power share one map: an earlier map-wide scale (the
+//               largest channel of any photon) flushed photons 2^24 times dimmer than the brightest
+//               to zero or to coarse subnormals (issue 12: a point light's photons next to a sky
+//               light's in one map came out 2x too bright).
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cmath>
 #include <cstring>
 
 #include "core/math.h"
@@ -99,12 +104,21 @@ inline double decode_half(uint16_t bits) {
     return static_cast<double>(static_cast<float>(Eigen::numext::bit_cast<Eigen::half>(bits)));
 }
 
-// power_scale > 0 is the map-wide scale (largest channel of any photon); inv_scale = 1/scale.
+// scale > 0 (the photon map passes 2^e, power_exponent below); inv_scale = 1/scale.
 inline void encode_power(const Rgb& power, double inv_scale, uint16_t out[3]) {
     for (int c = 0; c < 3; ++c) out[c] = encode_half(std::max(0.0, power[c]) * inv_scale);
 }
 inline Rgb decode_power(const uint16_t in[3], double scale) {
     return Rgb(decode_half(in[0]), decode_half(in[1]), decode_half(in[2])) * scale;
 }
+
+// e with 2^e <= the largest channel < 2^(e+1); 0 for a zero (or non-finite) power.
+inline int16_t power_exponent(const Rgb& power) {
+    const double m = power.maxCoeff();
+    if (!(m > 0.0) || !std::isfinite(m)) return 0;
+    return static_cast<int16_t>(std::ilogb(m));
+}
+inline uint16_t exponent_bits(int16_t e) { return static_cast<uint16_t>(e); }
+inline double exponent_scale(uint16_t bits) { return std::ldexp(1.0, static_cast<int16_t>(bits)); }
 
 }  // namespace vpm

@@ -28,17 +28,34 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, RecordAdaptor, 3, uint3
 
 // k nearest with an upper bound on the squared distance: the tree prunes with
 // min(current k-th distance, radius^2), so a small max_radius makes queries cheaper.
+// Small k: a sorted array with insertion (fastest for the usual k <= 64). Large k: a binary
+// max-heap on the distance, O(log k) per insertion instead of O(k) (with k in the tens of
+// thousands the insertion sort made one query cost O(n k)). Either way the caller sorts the
+// found entries; only the set matters here.
 class KnnRadiusResultSet {
 public:
     using DistanceType = float;
     using IndexType = uint32_t;
+    static constexpr size_t kHeapFrom = 128;
     KnnRadiusResultSet(uint32_t* idx, float* d2, size_t capacity, float radius2)
-        : idx_(idx), d2_(d2), cap_(capacity), radius2_(radius2) {}
+        : idx_(idx), d2_(d2), cap_(capacity), radius2_(radius2), heap_(capacity >= kHeapFrom) {}
     size_t size() const { return count_; }
     bool full() const { return count_ == cap_; }
-    float worstDist() const { return count_ == cap_ ? d2_[cap_ - 1] : radius2_; }
+    float worstDist() const {
+        if (count_ < cap_) return radius2_;
+        return heap_ ? d2_[0] : d2_[cap_ - 1];
+    }
     bool addPoint(float dist, uint32_t index) {
         if (dist >= worstDist()) return true;
+        if (heap_) {
+            if (count_ < cap_) {
+                sift_up(count_, dist, index);
+                ++count_;
+            } else {
+                sift_down(dist, index);   // replaces the current farthest at the root
+            }
+            return true;
+        }
         size_t i = count_ < cap_ ? count_ : cap_ - 1;
         for (; i > 0 && d2_[i - 1] > dist; --i) {
             d2_[i] = d2_[i - 1];
@@ -51,11 +68,39 @@ public:
     }
 
 private:
+    // Max-heap on (d2, index): larger index wins ties, so the kept set is deterministic.
+    bool greater(float da, uint32_t ia, float db, uint32_t ib) const { return da > db || (da == db && ia > ib); }
+    void sift_up(size_t i, float dist, uint32_t index) {
+        while (i > 0) {
+            const size_t parent = (i - 1) / 2;
+            if (!greater(dist, index, d2_[parent], idx_[parent])) break;
+            d2_[i] = d2_[parent];
+            idx_[i] = idx_[parent];
+            i = parent;
+        }
+        d2_[i] = dist;
+        idx_[i] = index;
+    }
+    void sift_down(float dist, uint32_t index) {
+        size_t i = 0;
+        for (;;) {
+            size_t child = 2 * i + 1;
+            if (child >= count_) break;
+            if (child + 1 < count_ && greater(d2_[child + 1], idx_[child + 1], d2_[child], idx_[child])) ++child;
+            if (!greater(d2_[child], idx_[child], dist, index)) break;
+            d2_[i] = d2_[child];
+            idx_[i] = idx_[child];
+            i = child;
+        }
+        d2_[i] = dist;
+        idx_[i] = index;
+    }
     uint32_t* idx_;
     float* d2_;
     size_t cap_;
     size_t count_ = 0;
     float radius2_;
+    bool heap_;
 };
 
 // Spreads the low 21 bits of v to every third bit.
@@ -99,7 +144,6 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
     if (in.empty()) return;
     centre_ = 0.5 * (bounds_.lo + bounds_.hi);
     power_scale_ = max_power > 0.0 ? max_power : 1.0;
-    const double inv_scale = 1.0 / power_scale_;
 
     // Morton order over the bounds for cache coherence of leaves and of neighbouring queries.
     const Vec3 extent = (bounds_.hi - bounds_.lo).cwiseMax(Vec3::Constant(1e-300));
@@ -122,8 +166,9 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
         const Vec3 rel = p.position - centre_;
         for (int a = 0; a < 3; ++a) r.p[a] = static_cast<float>(rel[a]);
         encode_direction(p.direction, r.dir);
-        encode_power(p.power, inv_scale, r.power);
-        r.reserved = 0;
+        const int16_t e = power_exponent(p.power);   // per photon: any dynamic range in one map
+        encode_power(p.power, std::ldexp(1.0, -e), r.power);
+        r.reserved = exponent_bits(e);
     }
     index_ = std::make_unique<Index>(photons_.data(), photons_.size(), std::max<size_t>(1, leaf_size));
 }
@@ -160,7 +205,7 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
         Neighbour n;
         n.index = idx;
         n.d2 = d2;
-        n.power = decode_power(p.power, power_scale_);
+        n.power = decode_power(p.power, exponent_scale(p.reserved));
         n.direction = decode_direction(p.dir);
         out.items.push_back(n);
     }
@@ -170,9 +215,29 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
     return out.items.size();
 }
 
+size_t PhotonMap::gather_all(const Vec3& query, NeighbourList& out) const {
+    out.items.clear();
+    if (photons_.empty()) return 0;
+    if (out.items.capacity() < photons_.size()) out.items.reserve(photons_.size());
+    const Vec3 rel = query - centre_;
+    size_t far = 0;
+    for (size_t i = 0; i < photons_.size(); ++i) {
+        const Photon& p = photons_[i];
+        Neighbour n;
+        n.index = uint32_t(i);
+        n.d2 = (rel - Vec3(p.p[0], p.p[1], p.p[2])).squaredNorm();
+        n.power = decode_power(p.power, exponent_scale(p.reserved));
+        n.direction = decode_direction(p.dir);
+        if (i == 0 || n.d2 >= out.items[far].d2) far = i;   // ties: the highest index is "farthest"
+        out.items.push_back(n);
+    }
+    std::swap(out.items[far], out.items.back());
+    return out.items.size();
+}
+
 Rgb PhotonMap::total_power() const {
     Rgb sum = Rgb::Zero();
-    for (const Photon& p : photons_) sum += decode_power(p.power, power_scale_);
+    for (const Photon& p : photons_) sum += decode_power(p.power, exponent_scale(p.reserved));
     return sum;
 }
 

@@ -59,12 +59,19 @@ public:
         return centre_ + Vec3(p.p[0], p.p[1], p.p[2]);
     }
     Vec3 direction(size_t i) const { return decode_direction(photons_[i].dir); }
-    Rgb power(size_t i) const { return decode_power(photons_[i].power, power_scale_); }
+    Rgb power(size_t i) const { return decode_power(photons_[i].power, exponent_scale(photons_[i].reserved)); }
     const Photon& record(size_t i) const { return photons_[i]; }
 
     // The min(k, available) nearest photons with distance <= max_radius (pass kInfinity for no
     // limit), sorted by distance (ties by stored index). Returns out.size().
     size_t knn(const Vec3& query, size_t k, double max_radius, NeighbourList& out) const;
+
+    // Every photon, in one linear pass without the kd-tree, for a query whose neighbourhood is the
+    // whole map (k >= size(), no max_radius: estimator rule (b)). Not sorted: the farthest photon
+    // (ties: highest stored index, as knn orders them) is last, the others in stored order. That
+    // is all the estimators need there (they sum every photon but the k-th); O(n) instead of the
+    // O(n log n) of a sorted gather. Returns out.size().
+    size_t gather_all(const Vec3& query, NeighbourList& out) const;
 
     // Distances below this cannot be resolved by the stored float positions (4 * 2^-24 times
     // the largest half-extent of the bounds); estimators treat them as coincident (rule (c)).

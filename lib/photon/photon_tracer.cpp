@@ -5,6 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "core/error.h"
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
 #include "core/sampling.h"
@@ -17,14 +18,35 @@ namespace {
 // Photons per independent batch. Batches are the unit of determinism: each has its own Rng
 // stream and output slot, and results are concatenated in batch order.
 constexpr uint64_t kBatchSize = 4096;
+constexpr uint64_t kPilotBatches = 16;    // the first chunk: 65536 photons
+constexpr uint64_t kChunkBatches = 256;   // then ~1M photons per chunk
 
-// Picks a light with probability proportional to its luminance power.
+// Picks a light with probability proportional to its weight: settings.light_weights when given
+// (photon/photon_allocation.h), else its luminance power. A photon's power is divided by the
+// pick probability, so any weights that are positive wherever a light has power are unbiased.
 struct LightPicker {
     std::vector<double> cdf;
-    explicit LightPicker(const Scene& scene) {
+    LightPicker(const Scene& scene, const std::vector<double>& weights, int single_light) {
+        if (single_light >= 0) {
+            if (size_t(single_light) >= scene.lights.size())
+                throw Error("photon tracer: single_light " + std::to_string(single_light) + " out of range");
+            for (size_t i = 0; i < scene.lights.size(); ++i) cdf.push_back(int(i) >= single_light ? 1.0 : 0.0);
+            return;
+        }
+        if (!weights.empty() && weights.size() != scene.lights.size())
+            throw Error("photon tracer: " + std::to_string(weights.size()) + " light weights for " +
+                        std::to_string(scene.lights.size()) + " lights");
         double sum = 0.0;
-        for (const auto& l : scene.lights) {
-            sum += std::max(0.0, luminance(l->power()));
+        for (size_t i = 0; i < scene.lights.size(); ++i) {
+            const double power = std::max(0.0, luminance(scene.lights[i]->power()));
+            double w = power;
+            if (!weights.empty()) {
+                w = weights[i];
+                if (!(w >= 0.0) || !std::isfinite(w) || (power > 0.0 && w == 0.0))
+                    throw Error("photon tracer: light " + std::to_string(i) + " has weight " + std::to_string(w) +
+                                " (allowed: finite, > 0 where the light has power)");
+            }
+            sum += w;
             cdf.push_back(sum);
         }
         for (double& c : cdf) c = sum > 0 ? c / sum : 1.0;
@@ -50,6 +72,7 @@ struct BatchOutput {
     std::vector<PhotonInput> photons, surface_photons;
     EnergyBalance energy;
     uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0;
+    std::vector<LightPhotonStats> per_light;
 };
 
 void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPicker& picker, uint64_t batch,
@@ -57,9 +80,14 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
     Rng rng(s.seed ^ 0x70686f746f6eULL, batch + s.stream_offset * ((s.count + kBatchSize - 1) / kBatchSize));
     const uint64_t begin = batch * kBatchSize, end = std::min(s.count, begin + kBatchSize);
     const double inv_n = 1.0 / double(s.count);
+    out.per_light.assign(scene.lights.size(), LightPhotonStats{});
     for (uint64_t i = begin; i < end; ++i) {
         double light_pdf = 1.0;
-        const Light& light = *scene.lights[picker.pick(rng.uniform(), light_pdf)];
+        const size_t light_index = picker.pick(rng.uniform(), light_pdf);
+        const Light& light = *scene.lights[light_index];
+        LightPhotonStats& light_stats = out.per_light[light_index];
+        const size_t stored_before = out.photons.size() + out.surface_photons.size();
+        ++light_stats.emitted;
         EmissionSample e = light.sample_emission(rng);
         Rgb power = e.power * (inv_n / light_pdf);
         out.energy.emitted += power;
@@ -79,6 +107,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 out.energy.escaped += power;
                 break;
             }
+            if (bounces == 0) ++light_stats.landed;
             ++bounces;
             const Rgb power_in = power;
             bool alive;
@@ -103,6 +132,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             if (!alive) break;
             scattered = true;
         }
+        light_stats.stored += out.photons.size() + out.surface_photons.size() - stored_before;
     }
 }
 
@@ -119,35 +149,56 @@ double EnergyBalance::relative_imbalance() const {
 PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s) {
     PhotonTraceResult result;
     const Timer timer;
-    const LightPicker picker(scene);
+    const LightPicker picker(scene, s.light_weights, s.single_light);
     const uint64_t batches = (s.count + kBatchSize - 1) / kBatchSize;
-    std::vector<BatchOutput> outputs(batches);
     Progress progress("photons", batches, s.progress);
-    tbb::parallel_for(uint64_t(0), batches, [&](uint64_t b) {
-        trace_batch(scene, s, picker, b, outputs[b]);
-        progress.advance();
-    });
+    // Chunks of batches, merged in batch order (the same photons and sums as one parallel loop over
+    // all batches): memory for per-batch outputs stays bounded whatever the count, and after each
+    // chunk the caller sees the running totals (pilot projection, budget, progress lines).
+    PhotonTraceProgress totals;
+    totals.total = s.count;
+    for (uint64_t first = 0; first < batches;) {
+        const uint64_t n = std::min(batches - first, first == 0 ? kPilotBatches : kChunkBatches);
+        std::vector<BatchOutput> outputs(n);
+        tbb::parallel_for(uint64_t(0), n, [&](uint64_t b) {
+            trace_batch(scene, s, picker, first + b, outputs[b]);
+            progress.advance();
+        });
+        for (auto& o : outputs) {   // fixed order: deterministic sums and photon order
+            result.photons.insert(result.photons.end(), o.photons.begin(), o.photons.end());
+            std::vector<PhotonInput>().swap(o.photons);
+            result.surface_photons.insert(result.surface_photons.end(), o.surface_photons.begin(),
+                                          o.surface_photons.end());
+            std::vector<PhotonInput>().swap(o.surface_photons);
+            result.surface_hits += o.surface_hits;
+            result.energy.emitted += o.energy.emitted;
+            result.energy.absorbed += o.energy.absorbed;
+            result.energy.escaped += o.energy.escaped;
+            result.energy.truncated += o.energy.truncated;
+            result.collisions += o.collisions;
+            result.truncated_paths += o.truncated_paths;
+            if (result.per_light.empty()) result.per_light.assign(scene.lights.size(), LightPhotonStats{});
+            for (size_t l = 0; l < o.per_light.size(); ++l) {
+                result.per_light[l].emitted += o.per_light[l].emitted;
+                result.per_light[l].landed += o.per_light[l].landed;
+                result.per_light[l].stored += o.per_light[l].stored;
+            }
+        }
+        first += n;
+        totals.emitted = std::min(s.count, first * kBatchSize);
+        totals.stored = result.photons.size();
+        totals.surface_stored = result.surface_photons.size();
+        totals.seconds = timer.seconds();
+        if (s.on_chunk) s.on_chunk(totals);
+        if (first == kPilotBatches && first < batches && totals.emitted > 0) {
+            // Reserve what the pilot projects (+10%), so the record vectors are not reallocated
+            // (a reallocation briefly holds both copies).
+            const double scale = 1.1 * double(s.count) / double(totals.emitted);
+            result.photons.reserve(size_t(double(totals.stored) * scale) + kBatchSize);
+            if (s.store_surface) result.surface_photons.reserve(size_t(double(totals.surface_stored) * scale) + kBatchSize);
+        }
+    }
     progress.done();
-    size_t total = 0, total_surface = 0;
-    for (const auto& o : outputs) {
-        total += o.photons.size();
-        total_surface += o.surface_photons.size();
-    }
-    result.photons.reserve(total);
-    result.surface_photons.reserve(total_surface);
-    for (auto& o : outputs) {   // fixed order: deterministic sums and photon order
-        result.photons.insert(result.photons.end(), o.photons.begin(), o.photons.end());
-        std::vector<PhotonInput>().swap(o.photons);
-        result.surface_photons.insert(result.surface_photons.end(), o.surface_photons.begin(), o.surface_photons.end());
-        std::vector<PhotonInput>().swap(o.surface_photons);
-        result.surface_hits += o.surface_hits;
-        result.energy.emitted += o.energy.emitted;
-        result.energy.absorbed += o.energy.absorbed;
-        result.energy.escaped += o.energy.escaped;
-        result.energy.truncated += o.energy.truncated;
-        result.collisions += o.collisions;
-        result.truncated_paths += o.truncated_paths;
-    }
     result.paths = s.count;
     result.seconds = timer.seconds();
     return result;

@@ -21,12 +21,24 @@
 // power removed at each event (power in minus power out), so the balance telescopes exactly and
 // a photon that vanishes unaccounted shows up as an imbalance.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "photon/photon.h"
 #include "scene/scene.h"
 
 namespace vpm {
+
+// Running totals handed to PhotonTraceSettings::on_chunk after each chunk of batches (in batch
+// order, on the calling thread). The first chunk is small (16 batches, 65536 photons): a pilot
+// from which the caller can project the final counts and stop before the real work.
+struct PhotonTraceProgress {
+    uint64_t emitted = 0;          // photon paths traced so far
+    uint64_t total = 0;            // photon paths to trace in all
+    uint64_t stored = 0;           // volume photons stored so far
+    uint64_t surface_stored = 0;   // surface photons stored so far
+    double seconds = 0.0;          // since the pass started
+};
 
 struct PhotonTraceSettings {
     uint64_t count = 100000;
@@ -36,6 +48,22 @@ struct PhotonTraceSettings {
     bool store_surface = false;   // also fill surface_photons (Lambertian surface hits)
     int max_bounces = 1000;       // collisions + surface bounces per path before truncation
     bool progress = true;
+    // Called after each chunk; may throw (vpm::Error) to stop the pass, e.g. when the projected
+    // map cannot fit in memory (photon/photon_budget.h). Null: no callback.
+    std::function<void(const PhotonTraceProgress&)> on_chunk;
+    // Relative photon counts per light (one per scene light; photon/photon_allocation.h). Empty:
+    // proportional to luminance power. Photon power is divided by the pick probability, so any
+    // weights > 0 wherever a light has power keep the map unbiased.
+    std::vector<double> light_weights;
+    // >= 0: every photon comes from this light, with its full power (pilot passes); the map then
+    // holds that light's light only.
+    int single_light = -1;
+};
+
+// Photons of one light: emitted, landed (reached a medium collision or a surface at all) and
+// stored (volume + surface records).
+struct LightPhotonStats {
+    uint64_t emitted = 0, landed = 0, stored = 0;
 };
 
 struct EnergyBalance {
@@ -55,6 +83,7 @@ struct PhotonTraceResult {
     uint64_t collisions = 0;            // real medium collisions, stored or not
     uint64_t surface_hits = 0;          // surface hits, stored or not
     uint64_t truncated_paths = 0;
+    std::vector<LightPhotonStats> per_light;   // one per scene light
     double seconds = 0.0;
 };
 

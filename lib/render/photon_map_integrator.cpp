@@ -5,7 +5,10 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include "core/henyey_greenstein.h"
 #include "core/sampling.h"
+#include "photon/ball_extinction.h"
+#include "photon/bounded_radius.h"
 #include "scene/params.h"
 #include "transport/direct_light.h"
 #include "transport/walk_steps.h"
@@ -13,27 +16,6 @@
 namespace vpm {
 
 namespace {
-
-// Fixed points uniform in the unit ball (Halton 2, 3, 5 through the volume-preserving warp): a
-// deterministic quadrature, so the ball average adds no noise of its own.
-constexpr int kBallPoints = 32;
-const std::array<Vec3, kBallPoints>& unit_ball_points() {
-    static const std::array<Vec3, kBallPoints> points = [] {
-        auto halton = [](int i, int base) {
-            double f = 1.0, r = 0.0;
-            for (; i > 0; i /= base) {
-                f /= base;
-                r += f * (i % base);
-            }
-            return r;
-        };
-        std::array<Vec3, kBallPoints> p;
-        for (int i = 0; i < kBallPoints; ++i)
-            p[size_t(i)] = sample_uniform_ball(halton(i + 1, 2), halton(i + 1, 3), halton(i + 1, 5));
-        return p;
-    }();
-    return points;
-}
 
 double total_sigma_t(const Scene& scene, const Vec3& x) {
     double sigma_t = 0.0;   // overlapping media: photons of all of them are in the map
@@ -47,30 +29,27 @@ Bounds3 media_bounds(const Scene& scene) {
     return b;
 }
 
-double ball_mean_sigma_t(const Scene& scene, const Vec3& x, double radius) {
-    double sum = 0.0;
-    for (const Vec3& p : unit_ball_points()) sum += total_sigma_t(scene, x + radius * p);
-    return sum / kBallPoints;
-}
-
 }  // namespace
 
 struct PhotonMapIntegrator::ThreadState {
+    explicit ThreadState(const Scene& scene) : ball(scene.media) {}
+    BallExtinction ball;   // mean sigma_t over kNN balls (photons.extinction = "ball")
     struct Local {
         GatherBuffers buffers;
         EstimatorStats stats, surface_stats;
+        uint64_t continued = 0;   // camera paths continued past a collision (bounded radius)
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
     : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>()) {}
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>(scene)) {}
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
                                          const PhotonMap& volume_map, const PhotonMap* surface_map)
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>()) {}
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>(scene)) {}
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
@@ -93,7 +72,10 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
 
 void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     stats.volume_estimates = this->stats();
-    if (log) *log << "estimates: " << stats.volume_estimates->to_string() << "\n";
+    stats.continued_paths = continued_paths();
+    if (log)
+        *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
+             << "(fewer than k photons within photons.max_radius_mfp): " << *stats.continued_paths << "\n";
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
         stats.surface_estimates = ss;
@@ -104,6 +86,12 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
 EstimatorStats PhotonMapIntegrator::stats() const {
     EstimatorStats total;
     for (const auto& l : threads_->local) total.merge(l.stats);
+    return total;
+}
+
+uint64_t PhotonMapIntegrator::continued_paths() const {
+    uint64_t total = 0;
+    for (const auto& l : threads_->local) total += l.continued;
     return total;
 }
 
@@ -144,10 +132,30 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             const double sigma_t = total_sigma_t(scene_, x);
             if (sigma_t > 0.0 && !map_->empty()) {
                 auto& local = threads_->local.local();
-                const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, max_radius_,
-                                                               local.buffers, &local.stats);
+                const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
+                const bool bounded = radius < max_radius_;   // the mean-free-path bound (photon/bounded_radius.h)
+                // k above the stored count + 1: no ball can hold k - 1 photons, so no query is needed.
+                const bool too_few = bounded && k_ >= map_->size() + 2;
+                Estimate<Rgb> s;
+                if (!too_few)
+                    s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius,
+                                               local.buffers, &local.stats);
+                if (bounded) {
+                    const BoundedQuery q = too_few ? BoundedQuery::continue_path : bounded_query(s, k_);
+                    if (q == BoundedQuery::zero) break;
+                    if (q == BoundedQuery::continue_path) {   // too few photons: scatter and go on
+                        ++local.continued;
+                        if (settings_.direct != DirectLighting::nee)
+                            radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
+                        throughput = weight;
+                        const double u1 = rng.uniform(), u2 = rng.uniform();
+                        ray = Ray{x, hg_sample(ray.dir, m.g(), u1, u2)};
+                        if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
+                        continue;
+                    }
+                }
                 // The ball can miss every quadrature point's smoke only if it is tiny; then use the point.
-                const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? ball_mean_sigma_t(scene_, x, s.radius) : 0.0;
+                const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
                 radiance += weight * s.value / (ball > 0.0 ? ball : sigma_t);
             }
             break;
@@ -205,7 +213,7 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, Rng& 
             const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, g, settings_.estimator, k_,
                                                            max_radius_, local.buffers, &local.stats);
             const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0
-                                    ? ball_mean_sigma_t(scene_, x, s.radius)
+                                    ? threads_->ball.mean(x, s.radius)
                                     : 0.0;
             in += s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
         }

@@ -62,6 +62,9 @@ public:
     std::string name() const override { return "photon_map"; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
     EstimatorStats stats() const;
+    // Camera paths continued past a collision whose mean-free-path-bounded ball held fewer than
+    // k - 1 photons (photons.max_radius_mfp; photon/bounded_radius.h).
+    uint64_t continued_paths() const;
     // The same for the surface map's queries.
     EstimatorStats surface_stats() const;
 

@@ -41,6 +41,9 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.final_gather = p.boolean("final_gather", s.final_gather);
     s.extinction = p.choice("extinction", s.extinction,
                             {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball}});
+    s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
+    s.allocation = p.choice("allocation", s.allocation,
+                            {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
     s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}});
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
     s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});

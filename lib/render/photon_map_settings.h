@@ -16,6 +16,11 @@
 //   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
 //   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x    |
+//   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
+//   |                        |             | fewer than k photons within: the camera path continues   |
+//   |                        |             | (photon/bounded_radius.h; gather = "collision"); 0: off  |
+//   | allocation             | "importance"| photons per light: "importance" (pilot: power landing    |
+//   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
 //   | gather                 | "collision" | camera side: "collision": one estimate where the camera  |
 //   |                        |             | ray collides; "march": gather_queries stratified points  |
 //   |                        |             | along every segment in the media, each weighted by its   |
@@ -42,6 +47,7 @@ class Params;
 
 enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point };
+enum class PhotonAllocationRule { importance, power };
 enum class GatherMode { collision, march };
 enum class KSchedule { fixed, shrink };
 
@@ -55,6 +61,8 @@ struct PhotonMapSettings {
     double memory_budget_fraction = 0.5;
     bool final_gather = false;
     ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
+    double max_radius_mfp = 2.0;
+    PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::collision;
     int gather_queries = 4;
     KSchedule schedule = KSchedule::fixed;

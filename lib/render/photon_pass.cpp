@@ -3,6 +3,9 @@
 #include <ostream>
 
 #include "core/progress.h"
+#include "photon/photon_allocation.h"
+#include "photon/photon_budget.h"
+#include "render/photon_lights_report.h"
 
 namespace vpm {
 
@@ -17,9 +20,16 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     ts.max_bounces = ps.max_bounces;
     ts.progress = context.progress;
     ts.store_surface = surface;
+    // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
+    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), log);
+    // Photons per light: by a pilot's importance where the camera looks, or by power.
+    const bool importance = ps.allocation == PhotonAllocationRule::importance;
+    const LightAllocation allocation = importance ? importance_allocation(scene, ts) : power_allocation(scene);
+    ts.light_weights = allocation.weights;
     PhotonTraceResult traced = trace_photons(scene, ts);
     stats.phase("trace", traced.seconds);
     PhotonPassStats p;
+    report_photon_lights(scene, importance ? "importance" : "power", allocation, traced, p, log);
     const size_t stored = traced.photons.size();
     p.emitted = traced.paths;
     p.stored = stored;

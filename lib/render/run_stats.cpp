@@ -37,6 +37,16 @@ void PhotonPassStats::merge(const PhotonPassStats& o) {
     surface_hits += o.surface_hits;
     surface_stored += o.surface_stored;
     surface_map_bytes = std::max(surface_map_bytes, o.surface_map_bytes);
+    allocation = o.allocation;
+    stored_per_emitted = emitted ? double(stored + surface_stored) / double(emitted) : 0.0;
+    if (lights.size() == o.lights.size()) {   // the allocation pilot runs per pass: counts add
+        for (size_t l = 0; l < lights.size(); ++l) {
+            lights[l].counts.emitted += o.lights[l].counts.emitted;
+            lights[l].counts.landed += o.lights[l].counts.landed;
+            lights[l].counts.stored += o.lights[l].counts.stored;
+            lights[l].wasted = lights[l].wasted || o.lights[l].wasted;
+        }
+    }
 }
 
 void RunStats::phase(const std::string& name, double seconds) {
@@ -109,12 +119,30 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.bytes_per_photon", p->bytes_per_photon);
         record.set("photons.map_bytes", p->map_bytes);
         record.set("photons.map_bytes_per_photon", p->map_bytes_per_photon);
+        record.set("photons.allocation", p->allocation);
+        record.set("photons.stored_per_emitted", p->stored_per_emitted);
+        nlohmann::json lights = nlohmann::json::array();
+        for (const LightPhotonReport& l : p->lights) {
+            const double emitted = double(l.counts.emitted);
+            lights.push_back({{"light", l.light},
+                              {"weight", l.weight},
+                              {"power_share", l.power_share},
+                              {"importance", l.importance},
+                              {"emitted", l.counts.emitted},
+                              {"landed", l.counts.landed},
+                              {"stored", l.counts.stored},
+                              {"stored_per_emitted", emitted > 0 ? double(l.counts.stored) / emitted : 0.0},
+                              {"landed_fraction", emitted > 0 ? double(l.counts.landed) / emitted : 0.0},
+                              {"wasted", l.wasted}});
+        }
+        record.set("photons.lights", lights);
         if (p->surface_map) {
             record.set("photons.surface_hits", p->surface_hits);
             record.set("photons.surface_stored", p->surface_stored);
             record.set("photons.surface_map_bytes", p->surface_map_bytes);
         }
     }
+    if (stats.continued_paths) record.set("photons.continued_paths", *stats.continued_paths);
     if (stats.volume_estimates) write_estimates("photons.estimate_cases.", *stats.volume_estimates, record);
     if (stats.surface_estimates) write_estimates("photons.surface_estimate_cases.", *stats.surface_estimates, record);
 }

@@ -22,6 +22,16 @@ struct PhaseStats {
     uint64_t peak_rss_bytes = 0;
 };
 
+// Where one light's photons went (photon/photon_allocation.h, render/photon_lights_report.h).
+struct LightPhotonReport {
+    std::string light;            // describe()
+    double weight = 0.0;          // share of the photons
+    double power_share = 0.0;
+    double importance = 0.0;      // pilot's share of stored power where the camera looks
+    LightPhotonStats counts;      // emitted, landed, stored
+    bool wasted = false;          // landed / emitted < kWastedLightFraction
+};
+
 // The photon pass and its kd-trees.
 struct PhotonPassStats {
     uint64_t emitted = 0;             // photon paths
@@ -40,6 +50,9 @@ struct PhotonPassStats {
     uint64_t surface_hits = 0;
     uint64_t surface_stored = 0;
     uint64_t surface_map_bytes = 0;
+    std::string allocation;            // "importance" | "power"
+    double stored_per_emitted = 0.0;   // (volume + surface records) / emitted
+    std::vector<LightPhotonReport> lights;
 
     // Adds another pass's counts and energy; bytes are the largest of one map (one at a time).
     void merge(const PhotonPassStats& o);
@@ -61,6 +74,7 @@ struct RunStats {
     std::optional<PhotonPassStats> photons;            // integrators with a photon pass
     std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
     std::optional<EstimatorStats> surface_estimates;   // surface photon map queries (when any)
+    std::optional<uint64_t> continued_paths;           // photon map: camera paths continued (bounded radius)
 
     // Adds `seconds` to a phase (phases repeat once per pass), with the peak resident memory now.
     void phase(const std::string& name, double seconds);

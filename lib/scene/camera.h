@@ -17,6 +17,8 @@ public:
     // Ray through image position (x, y) in pixels, (0,0) the top-left corner of the image.
     Ray generate_ray(double x, double y) const;
     std::string describe() const;
+    int width() const { return width_; }
+    int height() const { return height_; }
 
 private:
     Vec3 position_ = Vec3::Zero();

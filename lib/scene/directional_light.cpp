@@ -1,11 +1,12 @@
 // type = "directional": direction (travel direction), irradiance (W/m^2); parallel light. Photons
-// start on a disc covering the scene (scene/scene_disc.h).
+// start on the silhouette of the bounds of what can be lit (scene/emission_bounds.h), and only the
+// light crossing it is emitted.
 #include <sstream>
 
 #include "core/sampling.h"
 #include "scene/light_registry.h"
 #include "scene/params.h"
-#include "scene/scene_disc.h"
+#include "scene/emission_bounds.h"
 
 namespace vpm {
 
@@ -22,11 +23,12 @@ public:
         return true;
     }
     EmissionSample sample_emission(Rng& rng) const override {
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        return {Ray{disc_.sample_origin(dir_, u1, u2), dir_}, power()};
+        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+        return {Ray{bounds_.sample_origin(dir_, u1, u2, u3), dir_}, power()};
     }
-    Rgb power() const override { return irradiance_ * disc_.area(); }
-    void set_scene_bounds(const Bounds3& b) override { disc_.set(b); }
+    // Only the light crossing the silhouette of what can be lit (emission_bounds.h).
+    Rgb power() const override { return irradiance_ * bounds_.projected_area(dir_); }
+    void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
     std::string describe() const override {
         std::ostringstream s;
         s << "directional light along (" << dir_.transpose() << "), irradiance " << format_rgb(irradiance_);
@@ -36,7 +38,7 @@ public:
 private:
     Vec3 dir_;
     Rgb irradiance_;
-    SceneDisc disc_;
+    EmissionBounds bounds_;
 };
 
 }  // namespace

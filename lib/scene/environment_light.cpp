@@ -1,11 +1,11 @@
 // type = "environment": radiance; constant radiance from every direction, seen by rays that
-// escape. Photons start on a disc covering the scene (scene/scene_disc.h).
+// escape. Photons start on the silhouette of the bounds of what can be lit (scene/emission_bounds.h).
 #include <sstream>
 
 #include "core/sampling.h"
 #include "scene/light_registry.h"
 #include "scene/params.h"
-#include "scene/scene_disc.h"
+#include "scene/emission_bounds.h"
 
 namespace vpm {
 
@@ -22,19 +22,23 @@ public:
         out.weight = radiance_ * (4.0 * kPi);
         return true;
     }
+    // Direction uniform over the sphere (pdf 1 / 4 pi), origin uniform over the silhouette of what
+    // can be lit seen along it (pdf 1 / A_proj(dir)): power L 4 pi A_proj(dir), whose mean over
+    // directions is power() = L pi S (emission_bounds.h).
     EmissionSample sample_emission(Rng& rng) const override {
-        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform();
+        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(),
+                     u5 = rng.uniform();
         const Vec3 dir = sample_uniform_sphere(u1, u2);   // travel direction of the photon
-        return {Ray{disc_.sample_origin(dir, u3, u4), dir}, power()};
+        return {Ray{bounds_.sample_origin(dir, u3, u4, u5), dir}, radiance_ * (4.0 * kPi * bounds_.projected_area(dir))};
     }
-    Rgb power() const override { return radiance_ * (4.0 * kPi * disc_.area()); }
+    Rgb power() const override { return radiance_ * (4.0 * kPi * bounds_.mean_projected_area()); }
     Rgb escaped_radiance(const Vec3&) const override { return radiance_; }
-    void set_scene_bounds(const Bounds3& b) override { disc_.set(b); }
+    void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
     std::string describe() const override { return "constant environment, radiance " + format_rgb(radiance_); }
 
 private:
     Rgb radiance_;
-    SceneDisc disc_;
+    EmissionBounds bounds_;
 };
 
 }  // namespace

@@ -35,7 +35,8 @@ public:
     virtual Rgb power() const = 0;
     // Radiance seen by a ray that escapes to infinity in direction `dir` (environment only).
     virtual Rgb escaped_radiance(const Vec3& dir) const { return Rgb::Zero(); }
-    // Lights at infinity emit photons through a disc covering the scene; they need its bounds.
+    // Lights at infinity emit photons over the silhouette of the bounds of what can be lit (media and
+    // shapes; scene/emission_bounds.h); they need those bounds.
     virtual void set_scene_bounds(const Bounds3& bounds) {}
     virtual std::string describe() const = 0;
 };

@@ -391,6 +391,44 @@ std::vector<double> Params::reals(const std::string& key, const std::vector<doub
     return v;
 }
 
+std::vector<std::string> Params::strings(const std::string& key, const std::vector<std::string>& fallback) {
+    const toml::node* n = lookup(key);
+    if (!n) return fallback;
+    const auto* a = n->as_array();
+    if (!a) fail(key, "expected an array of strings, got " + type_name(*n));
+    std::vector<std::string> v;
+    toml::array out;
+    for (const auto& e : *a) {
+        const auto s = e.value_exact<std::string>();
+        if (!s) fail(key, "expected strings, got " + type_name(e));
+        v.push_back(*s);
+        out.push_back(*s);
+    }
+    resolved_->insert_or_assign(key, std::move(out));
+    return v;
+}
+
+const toml::node* Params::node(const std::string& key) {
+    const toml::node* n = lookup(key);
+    if (n) resolved_->insert_or_assign(key, *n);
+    return n;
+}
+
+std::vector<std::string> Params::keys() const {
+    std::vector<std::pair<int, std::string>> lines;
+    for (const auto& [k, v] : *table_) lines.emplace_back(int(v.source().begin.line), std::string(k.str()));
+    std::stable_sort(lines.begin(), lines.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::string> out;
+    for (auto& l : lines) out.push_back(std::move(l.second));
+    return out;
+}
+
+int Params::line(const std::string& key) const {
+    if (doc_->overridden.count(path_of(key))) return 0;
+    const toml::node* n = table_->get(key);
+    return n ? int(n->source().begin.line) : 0;
+}
+
 fs::path Params::path(const std::string& key, bool must_exist) {
     const toml::node* n = lookup(key);
     if (!n) fail(key, "required file path is missing");
@@ -436,7 +474,11 @@ std::vector<Params> Params::tables(const std::string& key) {
 void Params::finish() const {
     for (const auto& [k, node] : *table_) {
         const std::string key(k.str());
-        if (!used_.count(key)) fail(key, "unknown key");
+        if (used_.count(key)) continue;
+        // The keys this table's reader asked for are exactly the ones it knows.
+        std::string known;
+        for (const std::string& u : used_) known += (known.empty() ? "" : ", ") + u;
+        fail(key, "unknown key" + (known.empty() ? std::string() : "; known here: " + known));
     }
 }
 

@@ -91,6 +91,15 @@ public:
     Vec3 vec3(const std::string& key);
     std::vector<double> reals(const std::string& key, const std::vector<double>& fallback,
                               Range range = Range::any());
+    // An array of strings.
+    std::vector<std::string> strings(const std::string& key, const std::vector<std::string>& fallback);
+    // The raw value of `key`, marked as read, for callers that interpret TOML values themselves
+    // (sweep axes); null when absent.
+    const toml::node* node(const std::string& key);
+    // The keys present in this table, in the order they appear in the file.
+    std::vector<std::string> keys() const;
+    // Line of `key` in its file; 0 when absent or set on the command line.
+    int line(const std::string& key) const;
     // A file path, resolved against the config file's folder; must exist when must_exist.
     std::filesystem::path path(const std::string& key, bool must_exist = true);
 

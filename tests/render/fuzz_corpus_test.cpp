@@ -39,9 +39,15 @@ TEST(FuzzCorpus, ConfigSeedsBuildOrFailWithAMessage) {
         s << f.rdbuf();
         const std::string name = e.path().filename().string();
         const std::string msg = outcome(s.str(), name);
-        if (name.rfind("deep_", 0) == 0) EXPECT_NE(msg.find("nesting deeper than 64"), std::string::npos) << name << ": " << msg;
-        if (name == "nesting_at_limit.toml") EXPECT_EQ(msg.find("nesting deeper"), std::string::npos) << msg;
-        if (name == "sidecar_config.json") EXPECT_EQ(msg, "") << msg;
+        if (name.rfind("deep_", 0) == 0) {
+            EXPECT_NE(msg.find("nesting deeper than 64"), std::string::npos) << name << ": " << msg;
+        }
+        if (name == "nesting_at_limit.toml") {
+            EXPECT_EQ(msg.find("nesting deeper"), std::string::npos) << msg;
+        }
+        if (name == "sidecar_config.json") {
+            EXPECT_EQ(msg, "") << msg;
+        }
         ++seeds;
     }
     EXPECT_GE(seeds, 12);

@@ -42,7 +42,9 @@ TEST(PhotonMapRender, ClassicOverestimatesByKOverKMinusOneCorrectedDoesNot) {
     const RunConfig config = furnace();
     PhotonMapSettings ps = photon_map_settings(config);
     const double kEnv = config.scene->escaped_radiance(Vec3::UnitZ())[1];   // the furnace's radiance everywhere
-    const int repeats = 12;
+    // 20 maps: the map-to-map spread is large here (0.48 - 0.54 for single maps); with 12 maps the
+    // stream of the silhouette emission (issue 12) put seeds 1000.. at -3.0 SE (seeds 3000..: +0.8).
+    const int repeats = 20;
     const int ks[] = {4, 8, 16};
     Sample classic[3], corrected[3], excess[3];
     for (int r = 0; r < repeats; ++r) {

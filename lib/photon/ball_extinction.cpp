@@ -1,0 +1,102 @@
+#include "photon/ball_extinction.h"
+
+#include <array>
+
+#include "core/sampling.h"
+
+namespace vpm {
+
+namespace {
+
+double radical_inverse(uint32_t i, uint32_t base) {
+    double f = 1.0, r = 0.0;
+    for (; i > 0; i /= base) {
+        f /= base;
+        r += f * (i % base);
+    }
+    return r;
+}
+
+Vec3 halton3(uint32_t i) { return Vec3(radical_inverse(i, 2), radical_inverse(i, 3), radical_inverse(i, 5)); }
+
+constexpr int kBallPoints = 32;
+constexpr uint32_t kClippedPoints = 4096;
+constexpr uint32_t kMassPoints = 65536;
+
+const std::array<Vec3, kBallPoints>& unit_ball_points() {
+    static const std::array<Vec3, kBallPoints> points = [] {
+        std::array<Vec3, kBallPoints> p;
+        for (int i = 0; i < kBallPoints; ++i) {
+            const Vec3 h = halton3(uint32_t(i + 1));
+            p[size_t(i)] = sample_uniform_ball(h[0], h[1], h[2]);
+        }
+        return p;
+    }();
+    return points;
+}
+
+double box_volume(const Bounds3& b) {
+    if (b.empty()) return 0.0;
+    const Vec3 e = b.hi - b.lo;
+    return e[0] * e[1] * e[2];
+}
+
+}  // namespace
+
+BallExtinction::BallExtinction(const std::vector<std::unique_ptr<Medium>>& media) {
+    for (const auto& m : media) {
+        Entry e{m.get(), m->bounds(), 0.0};
+        const double v = box_volume(e.box);
+        if (v > 0.0 && std::isfinite(v)) {
+            double sum = 0.0;
+            const Vec3 extent = e.box.hi - e.box.lo;
+            for (uint32_t i = 1; i <= kMassPoints; ++i)
+                sum += m->sigma_t(e.box.lo + halton3(i).cwiseProduct(extent));
+            e.mass = sum * v / kMassPoints;
+        }
+        entries_.push_back(e);
+    }
+}
+
+double BallExtinction::integral(const Vec3& x, double r) const {
+    const double volume = (4.0 / 3.0) * kPi * r * r * r;
+    const Vec3 half = Vec3::Constant(r);
+    Bounds3 cube;
+    cube.lo = x - half;
+    cube.hi = x + half;
+    double total = 0.0;
+    for (const Entry& e : entries_) {
+        if (e.box.contains(cube.lo) && e.box.contains(cube.hi)) {   // the ball is inside the box
+            double sum = 0.0;
+            for (const Vec3& p : unit_ball_points()) sum += e.medium->sigma_t(x + r * p);
+            total += sum / kBallPoints * volume;
+            continue;
+        }
+        // Is the box inside the ball? (farthest corner within r)
+        const Vec3 far = (e.box.lo - x).cwiseAbs().cwiseMax((e.box.hi - x).cwiseAbs());
+        if (far.squaredNorm() <= r * r) {
+            total += e.mass;
+            continue;
+        }
+        Bounds3 c;
+        c.lo = e.box.lo.cwiseMax(cube.lo);
+        c.hi = e.box.hi.cwiseMin(cube.hi);
+        const double vc = box_volume(c);
+        if (!(vc > 0.0)) continue;
+        const Vec3 extent = c.hi - c.lo;
+        double sum = 0.0;
+        for (uint32_t i = 1; i <= kClippedPoints; ++i) {
+            const Vec3 p = c.lo + halton3(i).cwiseProduct(extent);
+            if ((p - x).squaredNorm() <= r * r) sum += e.medium->sigma_t(p);
+        }
+        total += sum * vc / kClippedPoints;
+    }
+    return total;
+}
+
+double BallExtinction::mean(const Vec3& x, double r) const {
+    const double volume = (4.0 / 3.0) * kPi * r * r * r;
+    return volume > 0.0 ? integral(x, r) / volume : 0.0;
+}
+
+}  // namespace vpm

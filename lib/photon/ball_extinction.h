@@ -1,0 +1,46 @@
+#pragma once
+// Mean extinction over a kNN ball, for photons.extinction = "ball" (photon_map_integrator.h).
+//
+// The volume estimate S = sum f Phi / V(r) averages sigma_t L over the ball B(x, r); dividing it by
+// the mean of sigma_t over the same ball makes the ratio consistent. Only the integral of sigma_t
+// over the ball matters (V(r) cancels), so the quadrature follows where the medium is:
+//
+//   ball inside a medium's bounds box  the fixed 32-point quadrature of the ball (Halton 2, 3, 5
+//                                      through the volume-preserving warp), as before;
+//   medium's box inside the ball       the medium's total mass integral sigma_t dV (computed once,
+//                                      65536 Halton points over its box): exact up to that quadrature
+//                                      however large the ball is (rule (b): k above the stored count
+//                                      gives a ball around the whole map);
+//   otherwise                          4096 Halton points over the part of the medium's box that the
+//                                      ball's bounding cube covers, counting those inside the ball.
+//
+// A deterministic quadrature: it adds no noise of its own. Its error for the volume of a sphere in
+// its box (an indicator, the hardest case): 256 points -3.0%, 1024 -1.3%, 4096 -0.2%, 65536 +0.07%. Before the second and third cases a
+// ball much larger than the medium sampled the medium with a few of its 32 points or none (the
+// default scene at k = 65536 gave an image mean of 1.94 instead of ~0.08).
+#include <memory>
+#include <vector>
+
+#include "core/math.h"
+#include "scene/medium.h"
+
+namespace vpm {
+
+class BallExtinction {
+public:
+    explicit BallExtinction(const std::vector<std::unique_ptr<Medium>>& media);
+    // Mean over B(x, r) of the summed sigma_t of all media (overlapping media add).
+    double mean(const Vec3& x, double r) const;
+    // The integral of sigma_t over B(x, r).
+    double integral(const Vec3& x, double r) const;
+
+private:
+    struct Entry {
+        const Medium* medium;
+        Bounds3 box;
+        double mass;   // integral of sigma_t over the box
+    };
+    std::vector<Entry> entries_;
+};
+
+}  // namespace vpm
