@@ -1,6 +1,7 @@
 #include "photon/ball_extinction.h"
 
 #include <array>
+#include <vector>
 
 #include "core/sampling.h"
 
@@ -30,6 +31,17 @@ const std::array<Vec3, kBallPoints>& unit_ball_points() {
             const Vec3 h = halton3(uint32_t(i + 1));
             p[size_t(i)] = sample_uniform_ball(h[0], h[1], h[2]);
         }
+        return p;
+    }();
+    return points;
+}
+
+// The first kClippedPoints points of the Halton sequence (indices 1..), computed once: the clipped
+// quadrature below runs per kNN query, and the radical inverses were most of its cost.
+const std::vector<Vec3>& clipped_points() {
+    static const std::vector<Vec3> points = [] {
+        std::vector<Vec3> p(kClippedPoints);
+        for (uint32_t i = 1; i <= kClippedPoints; ++i) p[i - 1] = halton3(i);
         return p;
     }();
     return points;
@@ -85,8 +97,8 @@ double BallExtinction::integral(const Vec3& x, double r) const {
         if (!(vc > 0.0)) continue;
         const Vec3 extent = c.hi - c.lo;
         double sum = 0.0;
-        for (uint32_t i = 1; i <= kClippedPoints; ++i) {
-            const Vec3 p = c.lo + halton3(i).cwiseProduct(extent);
+        for (const Vec3& h : clipped_points()) {
+            const Vec3 p = c.lo + h.cwiseProduct(extent);
             if ((p - x).squaredNorm() <= r * r) sum += e.medium->sigma_t(p);
         }
         total += sum * vc / kClippedPoints;

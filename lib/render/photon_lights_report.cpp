@@ -22,9 +22,13 @@ void report_photon_lights(const Scene& scene, const char* allocation_rule, const
         if (l < traced.per_light.size()) r.counts = traced.per_light[l];
         const double landed = r.counts.emitted ? double(r.counts.landed) / double(r.counts.emitted) : 0.0;
         r.wasted = r.counts.emitted > 0 && landed < kWastedLightFraction;
+        r.reaches_nothing = !(luminance(scene.lights[l]->power()) > 0.0);
         if (log) {
             *log << "photons: light " << l << " (" << r.light << "): " << r.counts.emitted << " emitted, "
                  << r.counts.landed << " reached the scene, " << r.counts.stored << " stored\n";
+            if (r.reaches_nothing)
+                *log << "warning: light " << l << " (" << r.light << "): none of its light can reach the scene's "
+                        "media or shapes; it emits no photons\n";
             if (r.wasted)
                 *log << "warning: light " << l << " (" << r.light << "): " << 100.0 * (1.0 - landed)
                      << "% of its photons reach nothing (no medium collision, no surface); they cost time and "

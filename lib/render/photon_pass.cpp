@@ -11,7 +11,8 @@ namespace vpm {
 
 PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
                            bool surface, RunStats& stats) {
-    std::ostream* log = context.log;
+    // The report lines are written for a run's first pass; later passes add one "pass" line each.
+    std::ostream* log = context.first_of_run ? context.log : nullptr;
     PhotonTraceSettings ts;
     ts.count = uint64_t(ps.count);
     ts.seed = context.seed;
@@ -21,7 +22,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     ts.progress = context.progress;
     ts.store_surface = surface;
     // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
-    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), log);
+    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), context.log);
     // Photons per light: by a pilot's importance where the camera looks, or by power.
     const bool importance = ps.allocation == PhotonAllocationRule::importance;
     const LightAllocation allocation = importance ? importance_allocation(scene, ts) : power_allocation(scene);

@@ -45,6 +45,7 @@ void PhotonPassStats::merge(const PhotonPassStats& o) {
             lights[l].counts.landed += o.lights[l].counts.landed;
             lights[l].counts.stored += o.lights[l].counts.stored;
             lights[l].wasted = lights[l].wasted || o.lights[l].wasted;
+            lights[l].reaches_nothing = lights[l].reaches_nothing || o.lights[l].reaches_nothing;
         }
     }
 }
@@ -133,7 +134,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
                               {"stored", l.counts.stored},
                               {"stored_per_emitted", emitted > 0 ? double(l.counts.stored) / emitted : 0.0},
                               {"landed_fraction", emitted > 0 ? double(l.counts.landed) / emitted : 0.0},
-                              {"wasted", l.wasted}});
+                              {"wasted", l.wasted}, {"reaches_nothing", l.reaches_nothing}});
         }
         record.set("photons.lights", lights);
         if (p->surface_map) {

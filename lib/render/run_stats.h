@@ -30,6 +30,7 @@ struct LightPhotonReport {
     double importance = 0.0;      // pilot's share of stored power where the camera looks
     LightPhotonStats counts;      // emitted, landed, stored
     bool wasted = false;          // landed / emitted < kWastedLightFraction
+    bool reaches_nothing = false; // no direction of the light meets the scene's box: no photons
 };
 
 // The photon pass and its kd-trees.

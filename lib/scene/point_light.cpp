@@ -1,7 +1,9 @@
-// type = "point": position, intensity (W/sr, rgb); emits uniformly in all directions.
+// type = "point": position, intensity (W/sr, rgb); shines uniformly in all directions and emits
+// photons only toward what can be lit (scene/emission_cone.h).
 #include <sstream>
 
 #include "core/sampling.h"
+#include "scene/emission_cone.h"
 #include "scene/light_registry.h"
 #include "scene/params.h"
 
@@ -24,9 +26,11 @@ public:
     }
     EmissionSample sample_emission(Rng& rng) const override {
         const double u1 = rng.uniform(), u2 = rng.uniform();
-        return {Ray{position_, sample_uniform_sphere(u1, u2)}, intensity_ * (4.0 * kPi)};
+        return {Ray{position_, cone_.sample(u1, u2)}, power()};
     }
-    Rgb power() const override { return intensity_ * (4.0 * kPi); }
+    // The power that can reach the scene's box (all of it from inside the box's sphere).
+    Rgb power() const override { return intensity_ * cone_.solid_angle(); }
+    void set_scene_bounds(const Bounds3& b) override { cone_ = EmissionCone::towards(position_, b); }
     std::string describe() const override {
         std::ostringstream s;
         s << "point light at (" << position_.transpose() << "), intensity " << format_rgb(intensity_);
@@ -36,6 +40,7 @@ public:
 private:
     Vec3 position_;
     Rgb intensity_;
+    EmissionCone cone_;
 };
 
 }  // namespace

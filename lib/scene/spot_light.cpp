@@ -1,9 +1,14 @@
 // type = "spot": position, look_at, intensity (W/sr), cone_angle (degrees, half-angle in (0, 180],
 // default 30); constant intensity inside the cone, zero outside (no falloff ring: keeps the
-// emitted power exact).
+// emitted power exact). Photons go toward what can be lit: when the cone around the scene's box
+// (scene/emission_cone.h) lies inside the spot's cone, photons are emitted in it alone; when the
+// two do not meet, the light emits no photons (its power reaches nothing).
 #include <sstream>
 
+#include <algorithm>
+
 #include "core/sampling.h"
+#include "scene/emission_cone.h"
 #include "scene/light_registry.h"
 #include "scene/params.h"
 
@@ -30,10 +35,25 @@ public:
     }
     EmissionSample sample_emission(Rng& rng) const override {
         const double u1 = rng.uniform(), u2 = rng.uniform();
-        const Vec3 dir = frame_.to_world(sample_uniform_cone(u1, u2, cos_max_)).normalized();
+        const Vec3 dir = emit_in_scene_cone_ ? scene_cone_.sample(u1, u2)
+                                             : frame_.to_world(sample_uniform_cone(u1, u2, cos_max_)).normalized();
         return {Ray{position_, dir}, power()};
     }
-    Rgb power() const override { return intensity_ * (2.0 * kPi * (1.0 - cos_max_)); }
+    // The power emitted toward what can be lit (see the file comment).
+    Rgb power() const override {
+        if (misses_scene_) return Rgb::Zero();
+        return intensity_ * (emit_in_scene_cone_ ? scene_cone_.solid_angle() : 2.0 * kPi * (1.0 - cos_max_));
+    }
+    void set_scene_bounds(const Bounds3& b) override {
+        scene_cone_ = EmissionCone::towards(position_, b);
+        emit_in_scene_cone_ = misses_scene_ = false;
+        if (scene_cone_.full_sphere) return;
+        const double spot = std::acos(std::clamp(cos_max_, -1.0, 1.0));
+        const double scene = std::acos(std::clamp(scene_cone_.cos_max, -1.0, 1.0));
+        const double between = std::acos(std::clamp(frame_.n.dot(scene_cone_.frame.n), -1.0, 1.0));
+        emit_in_scene_cone_ = between + scene <= spot;
+        misses_scene_ = between >= spot + scene;
+    }
     std::string describe() const override {
         std::ostringstream s;
         s << "spot light at (" << position_.transpose() << ") towards (" << frame_.n.transpose()
@@ -46,6 +66,9 @@ private:
     Frame frame_;
     Rgb intensity_;
     double cos_max_;
+    EmissionCone scene_cone_;
+    bool emit_in_scene_cone_ = false;   // the scene's cone lies inside the spot's
+    bool misses_scene_ = false;         // the two cones do not meet
 };
 
 }  // namespace

@@ -152,8 +152,12 @@ albedo = 0.9
     const auto& j = r.record.json();
     ASSERT_TRUE(j["photons"].contains("stored_per_emitted"));
     ASSERT_EQ(j["photons"]["lights"].size(), 2u);
-    EXPECT_TRUE(j["photons"]["lights"][0]["wasted"].get<bool>());
+    // The spot points away from the sphere: its cone and the cone around the scene do not meet, so it
+    // emits no photons at all (before emission toward the scene it emitted and wasted 2/3 of them).
+    EXPECT_TRUE(j["photons"]["lights"][0]["reaches_nothing"].get<bool>());
+    EXPECT_EQ(j["photons"]["lights"][0]["emitted"].get<uint64_t>(), 0u);
     EXPECT_EQ(j["photons"]["lights"][0]["landed"].get<uint64_t>(), 0u);
+    EXPECT_FALSE(j["photons"]["lights"][1]["reaches_nothing"].get<bool>());
     EXPECT_FALSE(j["photons"]["lights"][1]["wasted"].get<bool>());
     EXPECT_NE(log.str().find("warning: light 0"), std::string::npos) << log.str();
     EXPECT_NE(log.str().find("stored per"), std::string::npos) << log.str();

@@ -122,3 +122,42 @@ TEST(Lights, ConfigErrors) {
         EXPECT_NE(std::string(e.what()).find("light.toml:5: lights.0.colour: unknown key"), std::string::npos) << e.what();
     }
 }
+
+TEST(Lights, PointAndSpotEmitOnlyTowardTheScene) {
+    // A point light 10 units from a unit box: photons go into the cone around the box's sphere, each
+    // with power I * solid angle (the power that can arrive there), and every one heads for the sphere.
+    Bounds3 box;
+    box.extend(Vec3(-0.5, -0.5, -0.5));
+    box.extend(Vec3(0.5, 0.5, 0.5));
+    const double radius = 0.5 * std::sqrt(3.0) * 1.001;
+    auto point = light_from("[[lights]]\ntype='point'\nposition=[10,0,0]\nintensity=2\n");
+    point->set_scene_bounds(box);
+    const double s = radius / 10.0, solid = 2.0 * kPi * (1.0 - std::sqrt(1.0 - s * s));
+    EXPECT_NEAR(point->power()[0], 2.0 * solid, 1e-6 * 2.0 * solid);
+    Rng rng(3, 1);
+    int inside_cone = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        const EmissionSample e = point->sample_emission(rng);
+        const Vec3 to_centre = -e.ray.origin;
+        const double miss = (to_centre - to_centre.dot(e.ray.dir) * e.ray.dir).norm();   // distance of the line to the centre
+        inside_cone += miss <= radius * (1.0 + 1e-9);
+        EXPECT_DOUBLE_EQ(e.power[0], point->power()[0]);
+    }
+    EXPECT_EQ(inside_cone, n);
+    // From inside the sphere the whole sphere is kept.
+    auto inner = light_from("[[lights]]\ntype='point'\nposition=[0.1,0,0]\nintensity=2\n");
+    inner->set_scene_bounds(box);
+    EXPECT_NEAR(inner->power()[0], 8.0 * kPi, 1e-12);
+    // A spot whose cone holds the scene's cone emits in the scene's cone; one looking away emits nothing.
+    auto spot = light_from("[[lights]]\ntype='spot'\nposition=[10,0,0]\nlook_at=[0,0,0]\nintensity=2\ncone_angle=30\n");
+    spot->set_scene_bounds(box);
+    EXPECT_NEAR(spot->power()[0], 2.0 * solid, 1e-6 * 2.0 * solid);
+    auto away = light_from("[[lights]]\ntype='spot'\nposition=[10,0,0]\nlook_at=[20,0,0]\nintensity=2\ncone_angle=30\n");
+    away->set_scene_bounds(box);
+    EXPECT_EQ(away->power()[0], 0.0);
+    // A spot narrower than the scene's cone keeps its own cone.
+    auto narrow = light_from("[[lights]]\ntype='spot'\nposition=[10,0,0]\nlook_at=[0,0,0]\nintensity=2\ncone_angle=1\n");
+    narrow->set_scene_bounds(box);
+    EXPECT_NEAR(narrow->power()[0], 2.0 * 2.0 * kPi * (1.0 - std::cos(kPi / 180.0)), 1e-12);
+}

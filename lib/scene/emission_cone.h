@@ -1,0 +1,49 @@
+#pragma once
+// Where point and spot lights emit photons: toward what can be lit. Seen from a light outside the
+// sphere around the scene's box (media and shapes), that sphere subtends a cone of half-angle
+// asin(R / d); a direction outside the cone reaches nothing, so photons are emitted uniformly inside
+// it with power I * solid_angle (the power that can arrive somewhere) instead of over the whole
+// sphere with power 4 pi I. Uniform directions in the cone and I * solid_angle per photon give the
+// same expected power in every direction of the cone as before: unbiased, with no photon wasted on
+// empty space. A light inside the sphere keeps the whole sphere.
+#include "core/math.h"
+#include "core/sampling.h"
+
+namespace vpm {
+
+struct EmissionCone {
+    bool full_sphere = true;
+    Frame frame{Vec3::UnitZ()};   // frame.n: the cone's axis
+    double cos_max = -1.0;
+    double one_minus_cos = 2.0;   // 1 - cos_max, computed without cancellation
+
+    // The cone from `position` around the sphere enclosing `box` (full sphere when inside or empty).
+    static EmissionCone towards(const Vec3& position, const Bounds3& box) {
+        EmissionCone c;
+        if (box.empty()) return c;
+        const Vec3 centre = 0.5 * (box.lo + box.hi);
+        const double radius = 0.5 * (box.hi - box.lo).norm() * 1.001 + 1e-9 * (1.0 + centre.cwiseAbs().maxCoeff());
+        const Vec3 to_centre = centre - position;
+        const double d = to_centre.norm();
+        if (!(d > radius) || !std::isfinite(d)) return c;
+        const double s = radius / d;   // sin of the half-angle
+        c.full_sphere = false;
+        c.frame = Frame(to_centre / d);
+        c.one_minus_cos = s * s / (1.0 + std::sqrt(1.0 - s * s));
+        c.cos_max = 1.0 - c.one_minus_cos;
+        return c;
+    }
+    double solid_angle() const { return full_sphere ? 4.0 * kPi : 2.0 * kPi * one_minus_cos; }
+    Vec3 sample(double u1, double u2) const {
+        if (full_sphere) return sample_uniform_sphere(u1, u2);
+        // z = 1 - u1 (1 - cos_max), written with one_minus_cos so that tiny cones keep their width
+        const double z = 1.0 - u1 * one_minus_cos;
+        const double r = std::sqrt(std::max(0.0, u1 * one_minus_cos * (2.0 - u1 * one_minus_cos)));
+        const double phi = 2.0 * kPi * u2;
+        return frame.to_world(Vec3(r * std::cos(phi), r * std::sin(phi), z)).normalized();
+    }
+    // Whether unit direction w lies in the cone.
+    bool contains(const Vec3& w) const { return full_sphere || w.dot(frame.n) >= cos_max; }
+};
+
+}  // namespace vpm
