@@ -60,7 +60,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
     if (scene_.has_media() || surface) {
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
-        owned_ = run_photon_pass(scene_, settings_, context, surface, stats);
+        owned_ = run_photon_pass(scene_, settings_, context, surface, stats, allocation_);
         surface_map_ = surface ? &owned_.surface : nullptr;
     } else if (log) {
         *log << "photons: no media and no surface map, so no photon pass\n";

@@ -35,6 +35,7 @@
 // before (off a medium or a surface), with "photon_map" every hit, as for the volume map.
 // Without a surface map (final_gather = true) surfaces behave as described above.
 #include <memory>
+#include <optional>
 
 #include "photon/estimators.h"
 #include "photon/photon_map.h"
@@ -74,6 +75,7 @@ private:
     PhotonMapSettings settings_;
     bool owns_maps_;
     PhotonMaps owned_;
+    std::optional<LightAllocation> allocation_;   // photons per light, from the run's first pass
     const PhotonMap* map_;
     const PhotonMap* surface_map_;
     double max_radius_;

@@ -10,7 +10,7 @@
 namespace vpm {
 
 PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
-                           bool surface, RunStats& stats) {
+                           bool surface, RunStats& stats, std::optional<LightAllocation>& cached) {
     // The report lines are written for a run's first pass; later passes add one "pass" line each.
     std::ostream* log = context.first_of_run ? context.log : nullptr;
     PhotonTraceSettings ts;
@@ -25,7 +25,12 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), context.log);
     // Photons per light: by a pilot's importance where the camera looks, or by power.
     const bool importance = ps.allocation == PhotonAllocationRule::importance;
-    const LightAllocation allocation = importance ? importance_allocation(scene, ts) : power_allocation(scene);
+    if (!cached) {
+        PhotonTraceSettings pilot = ts;
+        pilot.stream_offset = context.run_stream_offset;
+        cached = importance ? importance_allocation(scene, pilot) : power_allocation(scene);
+    }
+    const LightAllocation& allocation = *cached;
     ts.light_weights = allocation.weights;
     PhotonTraceResult traced = trace_photons(scene, ts);
     stats.phase("trace", traced.seconds);

@@ -44,6 +44,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         PassContext context;
         context.seed = rs.seed;
         context.stream_offset = stream;
+        context.run_stream_offset = options.stream_offset;
         context.pass = index;
         context.first_of_run = pass == 0;
         context.progress = options.progress;
