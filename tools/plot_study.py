@@ -3,7 +3,9 @@
 figure) and relative MSE vs k for the three scales. The numbers all come from study.csv (C++).
 
 usage: /usr/bin/python3 tools/plot_study.py OUT/study.csv OUT_DIR
-writes OUT_DIR/study_error_<scenario>.png and OUT_DIR/study_mse_<scenario>.png
+writes OUT_DIR/study_error_<scenario>.png and OUT_DIR/study_mse_<scenario>.png; the kernels
+scenario (estimators labelled "classic/<kernel>") gets one colour per kernel, the k-th photon
+kept (classic: open markers, dashed theory) or discarded (corrected: filled, solid theory).
 """
 import csv
 import math
@@ -34,6 +36,47 @@ def num(s):
     return float(s)
 
 
+def plot_kernels(sub, out):
+    dims = sorted({int(r["dim"]) for r in sub})
+    kernels = list(dict.fromkeys(r["estimator"].split("/", 1)[1] if "/" in r["estimator"] else "constant" for r in sub))
+    colours = dict(zip(kernels, (["tab:gray"] + OTHER_COLOURS + ["tab:red", "tab:blue"]) * 2))
+    for kind in ("error", "mse"):
+        fig, axes = plt.subplots(1, len(dims), figsize=(7 * len(dims), 5), squeeze=False)
+        for ax, dim in zip(axes[0], dims):
+            for kern in kernels:
+                for est, fill, style in (("classic", "none", "--"), ("corrected", None, "-")):
+                    label = est if kern == "constant" else f"{est}/{kern}"
+                    rr = [r for r in sub if int(r["dim"]) == dim and r["estimator"] == label]
+                    if not rr:
+                        continue
+                    k = [int(r["k"]) for r in rr]
+                    y = [num(r["mean_rel_error" if kind == "error" else "rel_mse"]) for r in rr]
+                    e = [num(r["se_mean" if kind == "error" else "se_mse"]) for r in rr]
+                    th = [num(r["theory_rel_error" if kind == "error" else "theory_rel_mse"]) for r in rr]
+                    ax.errorbar(k, y, yerr=e, fmt="o", ms=4, color=colours[kern], mfc=fill, capsize=2)
+                    kt = [kk for kk, t in zip(k, th) if math.isfinite(t)]
+                    tt = [t for t in th if math.isfinite(t)]
+                    kept = "kept" if est == "classic" else "discarded"
+                    ax.plot(kt, tt, style, color=colours[kern], lw=1, label=f"{kern}, k-th {kept}")
+            ax.set_xscale("log")
+            if kind == "error":
+                ax.axhline(0.0, color="k", lw=0.5)
+                ax.set_ylabel("relative error  E[S]/truth - 1")
+            else:
+                ax.set_yscale("log")
+                ax.set_ylabel("relative MSE")
+            ax.set_xlabel("k")
+            ax.set_title(f"kernels, {dim}D (n = {sub[0]['n']}, {sub[0]['trials']} trials; lines: exact theory)")
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=6, ncol=2)
+        fig.tight_layout()
+        path = os.path.join(out, f"study_{kind}_kernels.png")
+        tmp = path + f".tmp-{os.getpid()}.png"
+        fig.savefig(tmp, dpi=110)
+        os.replace(tmp, path)
+        plt.close(fig)
+
+
 def main():
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
@@ -44,6 +87,9 @@ def main():
     scenarios = sorted({r["scenario"] for r in rows}, key=lambda s: [r["scenario"] for r in rows].index(s))
     for sc in scenarios:
         sub = [r for r in rows if r["scenario"] == sc]
+        if sc == "kernels":
+            plot_kernels(sub, out)
+            continue
         dims = sorted({int(r["dim"]) for r in sub})
         for kind in ("error", "mse"):
             fig, axes = plt.subplots(1, len(dims), figsize=(6 * len(dims), 4.5), squeeze=False)

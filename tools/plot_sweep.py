@@ -37,7 +37,7 @@ def num(s):
 
 
 def photon_axis(a):
-    return a in ("k", "estimator") or a.startswith("photons.")
+    return a in ("k", "estimator", "kernel") or a.startswith("photons.")
 
 
 def scene_name(out):
@@ -115,7 +115,7 @@ def error_vs_time(groups, titles, out):
 
 def by_line(g, axes):
     """Photon-map rows grouped into lines over k: (estimator, other photon axes)."""
-    others = [a for a in axes if photon_axis(a) and a not in ("k", "estimator")]
+    others = [a for a in axes if photon_axis(a) and a not in ("k", "estimator", "kernel")]   # in the method
     lines = {}
     for r in g:
         if r["method"] == "path" or "k" not in r or r["k"] == "":

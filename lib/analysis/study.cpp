@@ -132,6 +132,7 @@ const char* scenario_name(StudyScenario s) {
         case StudyScenario::weighted: return "weighted";
         case StudyScenario::photon_map: return "photon_map";
         case StudyScenario::photon_pass: return "photon_pass";
+        case StudyScenario::kernels: return "kernels";
     }
     return "unknown";
 }
@@ -139,33 +140,39 @@ const char* scenario_name(StudyScenario s) {
 StudyScenario parse_scenario(const std::string& name) {
     for (StudyScenario s : {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
                             StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
-                            StudyScenario::photon_pass})
+                            StudyScenario::photon_pass, StudyScenario::kernels})
         if (name == scenario_name(s)) return s;
     throw Error("study: unknown scenario '" + name +
-                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass)");
+                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels)");
 }
 
 std::vector<StudyScenario> default_scenarios() {
     return {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
             StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
-            StudyScenario::photon_pass};
+            StudyScenario::photon_pass, StudyScenario::kernels};
+}
+
+std::vector<Kernel> default_study_kernels() {
+    std::vector<Kernel> k = Kernel::all();
+    k.push_back(Kernel::named("cone", 0.5));
+    return k;
 }
 
 std::vector<size_t> default_k_list() {
     return {2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40, 50, 64, 80, 100, 128, 160, 200, 256};
 }
 
-Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w) {
+Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w, int dim) {
     e.validate_k(k);
     if (!e.entry().uniform_theory) throw Error(std::string("study: estimator ") + e.name() + " has no uniform theory");
-    return e.entry().uniform_theory(k, n, c_w);
+    return e.uniform_theory(k, n, c_w, dim);
 }
 
 Theory quadrature_theory(Estimator e, size_t k, size_t n, int dim,
                          const std::function<double(double)>& mass_fraction, double r_max,
                          double phi_over_truth) {
     e.validate_k(k);
-    if (!e.entry().unit_weight_count)
+    if (!e.entry().unit_weight_count || !e.kernel().is_constant())
         throw Error(std::string("study: estimator ") + e.name() + " has no quadrature theory (not a constant kernel)");
     const double kk = double(k), nn = double(n);
     const double mu = kk / (nn + 1.0);
@@ -297,12 +304,13 @@ struct SampleGrid {
     size_t at(size_t t, size_t ki, size_t ei) const { return t * stride() + ki * ne + ei; }
 };
 
-// Applies every registered estimator at every k to one sorted neighbour list.
-void estimate_all(const StudyOptions& opt, const SampleGrid& grid, size_t t, const double* w, const double* d2,
-                  size_t found, bool complete, int dim, EstimatorStats& st, std::vector<double>& samples) {
+// Applies every estimator of the scenario at every k to one sorted neighbour list.
+void estimate_all(const StudyOptions& opt, const SampleGrid& grid, const std::vector<Estimator>& ests, size_t t,
+                  const double* w, const double* d2, size_t found, bool complete, int dim, EstimatorStats& st,
+                  std::vector<double>& samples) {
     for (size_t ki = 0; ki < grid.nk; ++ki)
         for (size_t ei = 0; ei < grid.ne; ++ei) {
-            const Estimator e = Estimator::all()[ei];
+            const Estimator& e = ests[ei];
             if (opt.ks[ki] < e.min_k()) continue;
             samples[grid.at(t, ki, ei)] =
                 estimate_density<double>(e, w, d2, found, complete, opt.ks[ki], kInfinity, dim, &st).value;
@@ -328,7 +336,8 @@ void validate_study_options(StudyOptions& opt) {
 
 // The synthetic scenarios: n points per trial from the scenario's density, query at the centre.
 void run_synthetic(const StudyOptions& opt, StudyScenario sc, int dim, const SampleGrid& grid,
-                   tbb::combinable<EstimatorStats>& stats, std::vector<double>& samples) {
+                   const std::vector<Estimator>& ests, tbb::combinable<EstimatorStats>& stats,
+                   std::vector<double>& samples) {
     const size_t trials = opt.trials, n = opt.n, kmax = opt.ks.back();
     samples.assign(trials * grid.stride(), 0.0);
     const double vol = unit_volume(dim);
@@ -370,7 +379,7 @@ void run_synthetic(const StudyOptions& opt, StudyScenario sc, int dim, const Sam
                 w[i] = pts[i].w;
                 d2[i] = pts[i].d2;
             }
-            estimate_all(opt, grid, t, w.data(), d2.data(), kmax, kmax >= n, dim, st, samples);
+            estimate_all(opt, grid, ests, t, w.data(), d2.data(), kmax, kmax >= n, dim, st, samples);
         }
     });
 }
@@ -416,7 +425,8 @@ size_t run_photon_map(const StudyOptions& opt, const SampleGrid& grid, tbb::comb
                 w[i] = 4.0 * kPi * hg_eval(list[i].direction.dot(wo), 0.0) * list[i].power[1];
                 d2[i] = list[i].d2;
             }
-            estimate_all(opt, grid, m * per_map + q, w.data(), d2.data(), found, found < kmax, 3, st, samples);
+            estimate_all(opt, grid, Estimator::all(), m * per_map + q, w.data(), d2.data(), found, found < kmax, 3, st,
+                         samples);
         }
     });
     // Exactly the estimates asked for: the last map's grid of queries may hold more.
@@ -437,11 +447,12 @@ void attach_theory(const StudyOptions& opt, StudyScenario sc, StudyRow& row) {
         case StudyScenario::gradient:
         case StudyScenario::photon_map:
         case StudyScenario::photon_pass:
-        case StudyScenario::weighted: {
+        case StudyScenario::weighted:
+        case StudyScenario::kernels: {
             if (!e.entry().uniform_theory) return;
             const double c_w = sc == StudyScenario::weighted ? 2.0 : 1.0;   // Exp(1) weights: E[w^2]/E[w]^2 = 2
-            th = uniform_theory(e, k, n, c_w);
-            lim = uniform_theory(e, k, 0, c_w);
+            th = uniform_theory(e, k, n, c_w, dim);
+            lim = uniform_theory(e, k, 0, c_w, dim);
             row.theory_source = "exact";
             break;
         }
@@ -486,10 +497,14 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     for (size_t k : opt.ks)
         for (const Estimator& e : Estimator::all())
             if (const std::string w = e.warning(k); !w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
-    const SampleGrid grid{opt.ks.size(), Estimator::all().size()};
+    std::vector<Estimator> kernel_ests;   // the kernels scenario: kernel-major, registry order inside
+    for (const Kernel& k : opt.kernels)
+        for (const Estimator& e : Estimator::all()) kernel_ests.push_back(e.with_kernel(k));
     tbb::combinable<EstimatorStats> stats;
 
     for (StudyScenario sc : opt.scenarios) {
+        const std::vector<Estimator>& ests = sc == StudyScenario::kernels ? kernel_ests : Estimator::all();
+        const SampleGrid grid{opt.ks.size(), ests.size()};
         for (int dim : opt.dims) {
             const bool real_map = sc == StudyScenario::photon_map || sc == StudyScenario::photon_pass;
             if (real_map && dim != 3) continue;
@@ -498,7 +513,7 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
             size_t n = opt.n;
             std::vector<double> samples;
             if (!real_map) {
-                run_synthetic(opt, sc, dim, grid, stats, samples);
+                run_synthetic(opt, sc, dim, grid, ests, stats, samples);
             } else if (sc == StudyScenario::photon_pass) {
                 run_photon_pass(opt, opt.ks.back(), grid.stride(), stats, samples, trials, n, say);
             } else {
@@ -513,7 +528,7 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
             for (size_t ki = 0; ki < grid.nk; ++ki)
                 for (size_t ei = 0; ei < grid.ne; ++ei) {
                     StudyRow row;
-                    row.estimator = Estimator::all()[ei];
+                    row.estimator = ests[ei];
                     row.k = opt.ks[ki];
                     if (row.k < row.estimator.min_k()) continue;
                     row.scenario = scenario_name(sc);
@@ -539,7 +554,7 @@ std::string study_csv(const StudyResult& r) {
     s << "scenario,dim,k,estimator,n,trials,mean_rel_error,se_mean,rel_variance,rel_mse,se_mse,"
          "theory_rel_error,theory_rel_variance,theory_rel_mse,theory_rel_variance_limit,theory_source\n";
     for (const StudyRow& row : r.rows) {
-        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << row.estimator.name() << ','
+        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << row.estimator.label() << ','
           << row.n << ',' << row.trials << ',' << fmt(row.mean_error) << ',' << fmt(row.se_mean) << ','
           << fmt(row.rel_variance) << ',' << fmt(row.rel_mse) << ',' << fmt(row.se_mse) << ',';
         if (row.has_theory)
@@ -570,10 +585,18 @@ std::string study_markdown(const StudyResult& r) {
               << "| k | estimator | rel. error +- SE | theory | rel. variance | theory | rel. MSE +- SE | theory |\n"
               << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
         }
-        s << "| " << row.k << " | " << row.estimator.name() << " | " << fmt(row.mean_error) << " +- "
+        s << "| " << row.k << " | " << row.estimator.label() << " | " << fmt(row.mean_error) << " +- "
           << fmt(row.se_mean) << " | " << (row.has_theory ? fmt(row.th_error) : "") << " | " << fmt(row.rel_variance)
           << " | " << (row.has_theory ? fmt(row.th_variance) : "") << " | " << fmt(row.rel_mse) << " +- "
           << fmt(row.se_mse) << " | " << (row.has_theory ? fmt(row.th_mse) : "") << " |\n";
+    }
+    bool kernels = false;
+    for (const StudyRow& row : r.rows) kernels |= row.scenario == "kernels";
+    if (kernels) {
+        s << "\n## Kernels: theory (exact)\n\n" << kernel_headline_table(r.options.kernels);
+        for (int dim : r.options.dims)
+            s << "\n## Kernels " << dim << "D: kept (classic) and discarded (corrected) k-th photon\n\n"
+              << kernel_summary_table(r, dim, r.options.ks);
     }
     if (!r.notes.empty()) {
         s << "\n## Notes\n\n";
@@ -621,6 +644,50 @@ std::string study_summary_table(const StudyResult& r, const std::string& scenari
     return s.str();
 }
 
+// Theory values that are zero up to rounding print as 0.0000, not -0.0000.
+std::string fmt_theory(double v) { return fmt_fixed(std::abs(v) < 1e-12 ? 0.0 : v, 4); }
+
+std::string kernel_summary_table(const StudyResult& r, int dim, const std::vector<size_t>& ks) {
+    std::ostringstream s;
+    s << "| kernel | k | kept (classic): theory | measured +- SE | rel. MSE (theory) | discarded (corrected): theory "
+         "| measured +- SE | rel. MSE (theory) |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    const Estimator classic = Estimator::named("classic"), corrected = Estimator::named("corrected");
+    for (const Kernel& kernel : r.options.kernels)
+        for (size_t k : ks) {
+            const StudyRow *kept = nullptr, *dropped = nullptr;
+            for (const StudyRow& row : r.rows)
+                if (row.scenario == "kernels" && row.dim == dim && row.k == k) {
+                    if (row.estimator == classic.with_kernel(kernel)) kept = &row;
+                    if (row.estimator == corrected.with_kernel(kernel)) dropped = &row;
+                }
+            if (!kept || !dropped) continue;
+            s << "| " << kernel.label() << " | " << k;
+            for (const StudyRow* row : {kept, dropped})
+                s << " | " << fmt_theory(row->th_error) << " | " << fmt_fixed(row->mean_error, 4) << " +- "
+                  << fmt_fixed(row->se_mean, 4) << " | " << fmt_fixed(row->rel_mse, 4) << " ("
+                  << fmt_fixed(row->th_mse, 4) << ")";
+            s << " |\n";
+        }
+    return s.str();
+}
+
+std::string kernel_headline_table(const std::vector<Kernel>& kernels) {
+    std::ostringstream s;
+    s << "| kernel | dim | n_d (registry) | M_d (mean of K) | limit bias m1 - 1 | kept k-th: bias - limit bias | "
+         "bias kept k=10 | variance factor q |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const Kernel& kernel : kernels)
+        for (int dim : {2, 3}) {
+            const KernelMoments& m = kernel.moments(dim);
+            char kept[64];
+            std::snprintf(kept, sizeof kept, "%.4f / (k-1)", m.k1);
+            const double b10 = Estimator::named("classic").with_kernel(kernel).uniform_theory(10, 0, 1.0, dim).error;
+            s << "| " << kernel.label() << " | " << dim << " | " << fmt_fixed(kernel.normalisation(dim), 5) << " | "
+              << fmt_fixed(kernel.profile_mean(dim), 5) << " | " << fmt_theory(m.m1 - 1.0) << " | " << kept << " | "
+              << fmt_theory(b10) << " | " << fmt_fixed(m.variance_factor(), 4) << " |\n";
+        }
+    return s.str();
+}
+
 std::string study_sidecar_json(const StudyResult& r) {
     nlohmann::json j;
     const StudyOptions& o = r.options;
@@ -635,6 +702,9 @@ std::string study_sidecar_json(const StudyResult& r) {
                        {"photon_map_size", o.photon_map_size},
                        {"photon_map_queries", o.photon_map_queries},
                        {"weights", "Exp(1), c_w = 2 (weighted scenario)"}};
+    std::vector<std::string> kernels;
+    for (const Kernel& k : o.kernels) kernels.push_back(k.label());
+    j["parameters"]["kernels"] = kernels;
     j["time_seconds"] = r.seconds;
     j["threads"] = r.threads;
     j["git_revision"] = git_revision();

@@ -31,6 +31,10 @@
 //   photon_map (3D) uniform photons in the unit cube stored in the real PhotonMap (compressed
 //              records, nanoflann kd-tree), queried with estimate_in_scattering (isotropic
 //              phase) at well-separated interior points. Exact uniform theory with n = map size.
+//   kernels    uniform as above, every estimator with every study kernel (StudyOptions::kernels:
+//              the registry's kernels and the cone at slope 0.5, photon/kernels.h): the follow-up
+//              (Garcia, Urena & Sbert, TVCG 2014). Exact finite-n theory from the kernel's moments
+//              (EstimatorEntry::uniform_theory); rows are labelled "classic/epanechnikov".
 //   photon_pass (3D) photons from the renderer's photon pass in a volume furnace (see
 //              study_photon_pass_map), in the real PhotonMap. Photons left by one random walk are
 //              correlated, so the Poisson theory is a reference, not an identity: the difference
@@ -46,10 +50,14 @@
 
 namespace vpm {
 
-enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass };
+enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels };
 const char* scenario_name(StudyScenario s);
 StudyScenario parse_scenario(const std::string& name);   // throws vpm::Error listing allowed names
 std::vector<StudyScenario> default_scenarios();           // all of them
+
+// The kernels scenario's kernels: every registered kernel (default parameters), then the cone at
+// slope 0.5 (Jensen's k = 2, not consistent with the k-th photon kept).
+std::vector<Kernel> default_study_kernels();
 
 struct StudyOptions {
     std::vector<int> dims = {2, 3};
@@ -62,6 +70,7 @@ struct StudyOptions {
     double boundary_distance = 0.9;    // query distance from the centre, in [0, 1]
     size_t photon_map_size = 100000;   // photons per map (photon_map), emitted per map (photon_pass)
     size_t photon_map_queries = 0;     // estimates in the photon_map scenario (0: trials / 4)
+    std::vector<Kernel> kernels = default_study_kernels();   // the kernels scenario's kernels
 };
 
 // 2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40, 50, 64, 80, 100, 128, 160, 200, 256
@@ -96,7 +105,8 @@ struct StudyResult {
 // c_w = E[w^2]/E[w]^2 (1 for unit weights). Returns (relative error, variance, MSE); +inf
 // variance/MSE at k = 2 for classic and corrected. n = 0 gives the n -> infinity limit.
 using Theory = EstimatorTheory;
-Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w = 1.0);
+// With a kernel (Estimator::with_kernel) the theory depends on the dimension (2 or 3).
+Theory uniform_theory(Estimator e, size_t k, size_t n, double c_w = 1.0, int dim = 3);
 
 // Quadrature theory for unit weights: n points with mass fraction F(r) within distance r of the
 // query (F increasing, F(r_max) = 1), phi_over_truth = photon power / true density.
@@ -127,5 +137,12 @@ std::string study_sidecar_json(const StudyResult& r);
 // Compact table: one scenario and dimension, chosen k, "mean +- se (theory)" per estimator.
 std::string study_summary_table(const StudyResult& r, const std::string& scenario, int dim,
                                 const std::vector<size_t>& ks);
+// The kernels scenario as the issue-15 table: kernel x {kept (classic), discarded (corrected)} x
+// the chosen k, one dimension: theory, measured mean +- SE, relative MSE measured (theory).
+std::string kernel_summary_table(const StudyResult& r, int dim, const std::vector<size_t>& ks);
+// The follow-up's headline figures from the exact theory (no Monte Carlo): per kernel and
+// dimension the limit bias m1 - 1 (fixed radius and k -> inf), the extra bias of the kept k-th
+// photon k1/(k-1), and the variance factor q.
+std::string kernel_headline_table(const std::vector<Kernel>& kernels);
 
 }  // namespace vpm

@@ -392,7 +392,7 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
         if (std::find(methods.begin(), methods.end(), p->method) == methods.end()) methods.push_back(p->method);
     std::vector<size_t> shown;   // axes with a value somewhere (estimator shown as the method)
     for (size_t a = 0; a < axes.size(); ++a)
-        if (axes[a] != "estimator") shown.push_back(a);
+        if (axes[a] != "estimator" && axes[a] != "kernel") shown.push_back(a);   // both are in the method label
     std::ostringstream md;
     md << "# Sweep: " << title << "\n\n"
        << rows.size() << " runs in " << points.size() << " configurations; errors relative to the reference's mean "
@@ -428,7 +428,9 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
     std::vector<std::string> scenes;
     for (const PointStats* p : points)
         if (std::find(scenes.begin(), scenes.end(), p->scene) == scenes.end()) scenes.push_back(p->scene);
-    auto photon_axis = [](const std::string& a) { return a == "k" || a == "estimator" || a.rfind("photons.", 0) == 0; };
+    auto photon_axis = [](const std::string& a) {
+        return a == "k" || a == "estimator" || a == "kernel" || a.rfind("photons.", 0) == 0;
+    };
     for (const auto& sc : scenes) {
         std::vector<const PointStats*> sp;
         for (const PointStats* p : points)

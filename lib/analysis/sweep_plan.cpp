@@ -108,7 +108,7 @@ SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs
         SweepAxis ax;
         ax.name = key;
         ax.key = ax.name == "k" ? "photons.k" : ax.name == "estimator" ? "photons.estimator"
-                 : ax.name == "time_limit" ? "render.time_limit" : ax.name;
+                 : ax.name == "kernel" ? "photons.kernel" : ax.name == "time_limit" ? "render.time_limit" : ax.name;
         ax.line = axes.line(key);
         const toml::array* a = v->as_array();
         if (!a || a->empty()) axes.fail(key, "expected a non-empty list of values");
@@ -151,7 +151,7 @@ Built build_config(const SweepSpec& spec, const std::vector<std::string>& overri
     b.resolved = std::move(config.resolved);
     b.seed = config.render.seed;
     b.integrator = config.integrator->name;
-    b.estimator = photon_map_settings(config).estimator.name();
+    b.estimator = photon_map_settings(config).estimator.label();   // "corrected", "corrected/cone(slope=1)"
     b.spp = config.render.spp;
     return b;
 }

@@ -27,12 +27,44 @@ EstimatorTheory constant_kernel_theory(double kept, double scale, size_t k, size
     return t;
 }
 
-EstimatorTheory classic_theory(size_t k, size_t n, double c_w) { return constant_kernel_theory(double(k), 1.0, k, n, c_w); }
-EstimatorTheory corrected_theory(size_t k, size_t n, double c_w) {
-    return constant_kernel_theory(double(k) - 1.0, 1.0, k, n, c_w);
+// Kernel with relative weight omega (moments m1 = E[omega], m2 = E[omega^2] over the ball,
+// k1 = omega(1)), the k-th photon kept (keep = 1) or discarded (0), the sum scaled by `scale`.
+// Given r_k the k-1 inner photons are i.i.d. uniform in the ball and the k-th lies on the
+// sphere, so with i.i.d. weights (E[w] = 1, E[w^2] = c_w) independent of position, Z = the
+// weighted kernel sum has
+//   E[Z | r_k]   = (k-1) m1 + keep k1
+//   E[Z^2 | r_k] = (k-1) c_w m2 + (k-1)(k-2) m1^2 + keep (2 (k-1) m1 k1 + c_w k1^2)
+// and S = scale Z / V(r_k) with E[1/V] = rho/(k-1), E[1/V^2] = rho^2 (n-1)/n / ((k-1)(k-2)).
+// The constant kernel (m1 = m2 = k1 = 1) reduces to constant_kernel_theory, which it uses.
+EstimatorTheory kernel_theory(bool keep, double scale, size_t k, size_t n, double c_w, const KernelMoments& m) {
+    const double kk = double(k);
+    if (m.constant) return constant_kernel_theory(keep ? kk : kk - 1.0, scale, k, n, c_w);
+    const double f = n > 0 ? double(n - 1) / double(n) : 1.0;
+    const double kp = keep ? 1.0 : 0.0;
+    const double mean = scale * ((kk - 1.0) * m.m1 + kp * m.k1) / (kk - 1.0);
+    EstimatorTheory t;
+    t.error = mean - 1.0;
+    t.variance = t.mse = kInfinity;
+    if (k > 2) {
+        const double z2 = (kk - 1.0) * c_w * m.m2 + (kk - 1.0) * (kk - 2.0) * m.m1 * m.m1 +
+                          kp * (2.0 * (kk - 1.0) * m.m1 * m.k1 + c_w * m.k1 * m.k1);
+        const double m2 = scale * scale * z2 * f / ((kk - 1.0) * (kk - 2.0));
+        t.variance = m2 - mean * mean;
+        t.mse = t.variance + t.error * t.error;
+    }
+    return t;
 }
-EstimatorTheory mse_optimal_theory(size_t k, size_t n, double c_w) {
-    return constant_kernel_theory(double(k) - 1.0, (double(k) - 2.0) / (double(k) - 1.0), k, n, c_w);
+
+EstimatorTheory classic_theory(size_t k, size_t n, double c_w, const KernelMoments& m) {
+    return kernel_theory(true, 1.0, k, n, c_w, m);
+}
+EstimatorTheory corrected_theory(size_t k, size_t n, double c_w, const KernelMoments& m) {
+    return kernel_theory(false, 1.0, k, n, c_w, m);
+}
+EstimatorTheory mse_optimal_theory(size_t k, size_t n, double c_w, const KernelMoments& m) {
+    const double kk = double(k);
+    if (m.constant) return kernel_theory(false, (kk - 2.0) / (kk - 1.0), k, n, c_w, m);
+    return kernel_theory(false, (kk - 2.0) / (kk - 2.0 + m.variance_factor()), k, n, c_w, m);
 }
 
 // The registry: one line per estimator.
@@ -68,6 +100,16 @@ Estimator Estimator::named(const std::string& name) {
     std::string allowed;
     for (const std::string& n : names()) allowed += (allowed.empty() ? "" : ", ") + n;
     throw Error("estimator: unknown value '" + name + "' (allowed: " + allowed + ")");
+}
+
+std::string Estimator::label() const {
+    if (kernel_.is_constant()) return name();
+    return std::string(name()) + "/" + kernel_.label();
+}
+
+EstimatorTheory Estimator::uniform_theory(size_t k, size_t n, double c_w, int dim) const {
+    if (!entry_->uniform_theory) throw Error(std::string("estimator ") + name() + " has no uniform theory");
+    return entry_->uniform_theory(k, n, c_w, kernel_.moments(dim));
 }
 
 void Estimator::validate_k(size_t k) const {

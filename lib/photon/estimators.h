@@ -25,9 +25,24 @@
 // weights, which is what Russian-roulette photon maps have) so the estimator needs no knowledge
 // of the weight distribution. Its relative bias is -1/(k-1) for any weights.
 //
+// Kernels (photon/kernels.h, issue 15): with a kernel K every neighbour's weight is multiplied
+// by omega(t_i) = K(t_i) / n_d, t_i = r_i / r_k, so that the estimators above become
+//   classic     S = sum_{i=1..k}   w_i omega(t_i) / V(r_k)       (the k-th photon kept, t_k = 1)
+//   corrected   S = sum_{i=1..k-1} w_i omega(t_i) / V(r_k)       (the k-th photon discarded)
+//   mse_optimal S = (k-2)/(k-2+q) * corrected,  q = E[omega^2]/E[omega]^2 over the ball
+// (q = 1 for the constant kernel: (k-2)/(k-1) as above). Exact theory for a uniform density:
+// given r_k the k-1 inner photons are i.i.d. uniform in the ball, so E[omega(t_i)] = m1 and the
+// k-th contributes omega(1) = k1; with E[1/V(r_k)] = rho/(k-1) (any n),
+//   E[S]/rho = scale * ((k-1) m1 + kept * k1) / (k-1)
+// classic is unbiased iff k1 = 0 (epanechnikov, silverman, cone with slope 1), corrected for
+// every properly normalised kernel (m1 = 1). The constant kernel is the default and takes
+// exactly the code path it took before kernels existed.
+//
 // Rules for incomplete or degenerate neighbourhoods (estimate_density below; each is tested):
 //  (a) fewer than k photons within a finite max_radius R: fixed-radius estimate
-//      sum of all found w_i / V(R), nothing dropped. R does not depend on the photons, so
+//      sum of all found w_i / V(R), nothing dropped (with a kernel: w_i omega(r_i / R); the
+//      argument below still holds, since given the count in B(R) the photons are uniform in it).
+//      R does not depend on the photons, so
 //      E[sum_{x_i in B(R)} w_i] = integral of the density over B(R): unbiased for the ball mean.
 //      Moreover the combination "corrected when r_k <= R, else fixed radius R" is exactly
 //      unbiased for a Poisson process of intensity rho: with N = count in B(R), mu = rho V(R),
@@ -51,6 +66,7 @@
 //      farther photon and more exist, the caller must gather more (kind need_more; the PhotonMap
 //      helper does this by doubling k). If none exist: with finite max_radius, rule (a); else
 //      the estimate is 0 and counted as `degenerate`. Never Inf or NaN.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -62,6 +78,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "photon/kernels.h"
 #include "photon/photon_map.h"
 
 namespace vpm {
@@ -79,6 +96,7 @@ struct Neighbours {
     double radius = 0.0;          // r_k
     double volume = 0.0;          // V(r_k) > 0
     int dim = 3;
+    const Kernel* kernel = nullptr;   // null: the constant kernel (Estimator::apply sets it)
 };
 template <class T>
 using EstimateFn = T (*)(const Neighbours<T>&);
@@ -95,17 +113,33 @@ inline T sum_first(const T* w, size_t m) {
     return s;
 }
 
+// sum_{i<m} w_i omega(t_i), t_i^2 = d2_i / radius^2; the plain sum for the constant kernel.
+template <class T>
+inline T kernel_sum(const Neighbours<T>& n, size_t m) {
+    if (!n.kernel || n.kernel->is_constant()) return sum_first(n.w, m);
+    const double inv_r2 = 1.0 / (n.radius * n.radius);
+    T s = zero_value<T>();
+    // u <= 1 except for rounding of r = sqrt(d2_k) squared again (one ulp): the k-th has u = 1.
+    for (size_t i = 0; i < m; ++i) s += n.w[i] * n.kernel->weight(std::min(1.0, n.d2[i] * inv_r2), n.dim);
+    return s;
+}
+inline double kernel_variance_factor(const Kernel* k, int dim) {
+    return k ? k->moments(dim).variance_factor() : 1.0;
+}
+
 template <class T>
 inline T estimate_classic(const Neighbours<T>& n) {
-    return sum_first(n.w, n.k) / n.volume;
+    return kernel_sum(n, n.k) / n.volume;
 }
 template <class T>
 inline T estimate_corrected(const Neighbours<T>& n) {
-    return sum_first(n.w, n.k - 1) / n.volume;   // drop the k-th (farthest) photon
+    return kernel_sum(n, n.k - 1) / n.volume;   // drop the k-th (farthest) photon
 }
 template <class T>
 inline T estimate_mse_optimal(const Neighbours<T>& n) {
-    return sum_first(n.w, n.k - 1) * (double(n.k - 2) / (double(n.k - 1) * n.volume));
+    // (k-2)/(k-2+q); q = 1 exactly for the constant kernel, so k-2+q == k-1 in floating point.
+    const double q = kernel_variance_factor(n.kernel, n.dim);
+    return kernel_sum(n, n.k - 1) * (double(n.k - 2) / ((double(n.k - 2) + q) * n.volume));
 }
 
 // Relative error, variance and MSE of an estimate of a uniform density (truth 1).
@@ -121,8 +155,9 @@ struct EstimatorEntry {
     EstimateFn<double> scalar;            // the same function for unit weights (the study) ...
     EstimateFn<Rgb> rgb;                  // ... and RGB photon powers (the renderer)
     // Exact theory for n points uniform in a region, i.i.d. weights with c_w = E[w^2]/E[w]^2
-    // (n = 0: the limit n -> inf); null when not known.
-    EstimatorTheory (*uniform_theory)(size_t k, size_t n, double c_w);
+    // (n = 0: the limit n -> inf), with the kernel's moments (KernelMoments{} for the constant
+    // kernel); null when not known.
+    EstimatorTheory (*uniform_theory)(size_t k, size_t n, double c_w, const KernelMoments& m);
     // For a constant kernel with unit weights the estimate is count(k) / V(r_k); the study's
     // quadrature theory for non-uniform densities uses it. Null for other kernels.
     double (*unit_weight_count)(size_t k);
@@ -137,6 +172,19 @@ public:
     static const std::vector<Estimator>& all();
     static std::vector<std::string> names();
 
+    // The same estimator with kernel K (the registry's estimators use the constant kernel).
+    Estimator with_kernel(const Kernel& k) const {
+        Estimator e = *this;
+        e.kernel_ = k;
+        return e;
+    }
+    const Kernel& kernel() const { return kernel_; }
+    // "corrected" for the constant kernel, else "corrected/epanechnikov" (kernel label).
+    std::string label() const;
+    // Exact uniform-density theory of this estimator with its kernel in `dim` dimensions
+    // (throws vpm::Error if the entry has none).
+    EstimatorTheory uniform_theory(size_t k, size_t n, double c_w, int dim) const;
+
     const EstimatorEntry& entry() const { return *entry_; }
     const char* name() const { return entry_->name; }
     size_t min_k() const { return entry_->min_k; }
@@ -146,15 +194,25 @@ public:
     std::string warning(size_t k) const;
     template <class T>
     T apply(const Neighbours<T>& n) const {
-        if constexpr (std::is_same_v<T, Rgb>) return entry_->rgb(n);
-        else return entry_->scalar(n);
+        Neighbours<T> m = n;
+        m.kernel = kernel_.is_constant() ? nullptr : &kernel_;
+        if constexpr (std::is_same_v<T, Rgb>) return entry_->rgb(m);
+        else return entry_->scalar(m);
     }
-    bool operator==(const Estimator& o) const { return entry_ == o.entry_; }
-    bool operator!=(const Estimator& o) const { return entry_ != o.entry_; }
+    // Rule (a): every neighbour kept, bandwidth n.radius = R.
+    template <class T>
+    T fixed_radius(const Neighbours<T>& n) const {
+        Neighbours<T> m = n;
+        m.kernel = kernel_.is_constant() ? nullptr : &kernel_;
+        return kernel_sum(m, m.k) / m.volume;
+    }
+    bool operator==(const Estimator& o) const { return entry_ == o.entry_ && kernel_ == o.kernel_; }
+    bool operator!=(const Estimator& o) const { return !(*this == o); }
 
 private:
-    explicit Estimator(const EstimatorEntry* e) : entry_(e) {}
+    explicit Estimator(const EstimatorEntry* e) : entry_(e), kernel_(Kernel::constant()) {}
     const EstimatorEntry* entry_;
+    Kernel kernel_;
 };
 
 // Ball volume: dim 2 -> pi r^2, dim 3 -> 4/3 pi r^3 (throws vpm::Error for other dims).
@@ -211,7 +269,7 @@ Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t f
         out.radius = max_radius;
         out.k_used = found;
         if (!(v > 0.0) || !std::isfinite(v)) return finish(EstimateCase::degenerate);
-        out.value = sum_first(w, found) / v;
+        out.value = e.fixed_radius(Neighbours<T>{w, d2, found, max_radius, v, dim});
         return finish(c);
     };
     if (found == 0) {

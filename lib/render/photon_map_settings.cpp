@@ -15,6 +15,18 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     std::vector<std::pair<std::string, Estimator>> estimators;
     for (const Estimator& e : Estimator::all()) estimators.emplace_back(e.name(), e);
     s.estimator = p.choice("estimator", s.estimator, estimators);
+    // photons.kernel (registry in photon/kernels.h) and its parameter, if any, as
+    // photons.<kernel>_<parameter> (cone_slope); the key exists only for that kernel.
+    std::vector<std::pair<std::string, Kernel>> kernels;
+    for (const Kernel& k : Kernel::all()) kernels.emplace_back(k.name(), k);
+    Kernel kernel = p.choice("kernel", s.estimator.kernel(), kernels);
+    if (kernel.has_parameter()) {
+        const KernelEntry& ke = kernel.entry();
+        const std::string key = std::string(ke.name) + "_" + ke.parameter;
+        const double v = p.real(key, ke.default_parameter, {ke.parameter_lo, ke.parameter_hi, true, false});
+        kernel = Kernel::named(ke.name, v);
+    }
+    s.estimator = s.estimator.with_kernel(kernel);
     s.k = int(p.integer("k", s.k, Range::closed(1, 1 << 20)));
     if (size_t(s.k) < s.estimator.min_k())
         p.fail("k", std::string("the ") + s.estimator.name() + " estimator needs k >= " +

@@ -6,6 +6,9 @@
 //   | count                  | 100000      | photons emitted                                          |
 //   | k                      | 32          | nearest neighbours per estimate (>= the estimator's min) |
 //   | estimator              | "corrected" | a name from the estimator registry (photon/estimators.h) |
+//   | kernel                 | "constant"  | a name from the kernel registry (photon/kernels.h): the  |
+//   |                        |             | estimator above with this kernel (volume 3D, surface 2D) |
+//   | cone_slope             | 1           | kernel "cone" only: K = 1 - s t, s in (0, 1]             |
 //   | direct                 | "nee"       | "nee": single scattering by NEE, the map holds the rest;  |
 //   |                        |             | "photon_map": everything from the map (the bias study)   |
 //   | max_radius             | 0           | kNN search radius; 0: unbounded                          |
@@ -51,7 +54,7 @@ enum class KSchedule { fixed, shrink };
 struct PhotonMapSettings {
     int64_t count = 100000;
     int k = 32;
-    Estimator estimator = Estimator::named("corrected");
+    Estimator estimator = Estimator::named("corrected");   // carries the kernel (photons.kernel)
     DirectLighting direct = DirectLighting::nee;
     double max_radius = 0.0;
     int max_bounces = 1000;

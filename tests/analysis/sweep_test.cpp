@@ -134,6 +134,18 @@ TEST_F(SweepTest, PlanExpandsAxesRepeatsAndPathTracer) {
     EXPECT_EQ(plan.runs.back().stream_offset, 1u);
 }
 
+// Issue 15: `kernel` is an axis (photons.kernel) beside `estimator`; the method label carries both,
+// and the kernel does not change the scene (one reference, one path-tracer point).
+TEST_F(SweepTest, KernelAxisSetsPhotonsKernel) {
+    const SweepPlan plan = plan_sweep(spec("scene = \"scene.toml\"\n[reference]\nspp = 4\npath_spp = [1]\n[axes]\n"
+                                           "kernel = [\"constant\", \"epanechnikov\", \"cone\"]\n"
+                                           "estimator = [\"corrected\"]\nk = [8]\n"));
+    EXPECT_EQ(plan.references.size(), 1u);
+    std::vector<std::string> methods;
+    for (const auto& r : plan.runs) methods.push_back(r.method);
+    EXPECT_EQ(methods, (std::vector<std::string>{"corrected", "path", "corrected/epanechnikov", "corrected/cone(slope=1)"}));
+}
+
 TEST_F(SweepTest, ResumeAfterRowLimitGivesTheUninterruptedRows) {
     const SweepPlan plan = plan_sweep(spec());
     const auto full = run(plan, dir_ / "full");

@@ -73,8 +73,8 @@ int run_study(int argc, char** argv) {
     app.add_option("--seed", opt.seed, "random seed (results are identical on any thread count)")
         ->capture_default_str();
     app.add_option("--scenarios", scenarios,
-                   "comma-separated: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass "
-                   "(default: all)");
+                   "comma-separated: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, "
+                   "kernels (default: all)");
     app.add_option("--photon-map-size", opt.photon_map_size, "photons per map (photon_map) / photons emitted per map (photon_pass)")
         ->capture_default_str();
     app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
@@ -112,6 +112,14 @@ int run_study(int argc, char** argv) {
             if (!has || quiet) continue;
             std::cout << "uniform " << dim << "D, relative error (theory):\n"
                       << study_summary_table(res, "uniform", dim, {3, 5, 10, 50, 100}) << "\n";
+        }
+        bool kernels = false;
+        for (const auto& r : res.rows) kernels |= r.scenario == "kernels";
+        if (kernels && !quiet) {
+            std::cout << "kernels: theory (exact, no Monte Carlo)\n" << kernel_headline_table(res.options.kernels) << "\n";
+            for (int dim : res.options.dims)
+                std::cout << "kernels " << dim << "D, relative error: theory, measured +- SE, relative MSE (theory):\n"
+                          << kernel_summary_table(res, dim, {3, 5, 10, 50}) << "\n";
         }
         log("study: wrote " + (out / "study.csv").string() + ", study.md, study.json in " +
             std::to_string(res.seconds) + " s");
