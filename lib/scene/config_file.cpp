@@ -178,7 +178,7 @@ toml::table config_from_json(const std::string& text, const std::string& name) {
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {   // syntax errors, and numbers out of range (found by fuzzing)
         throw ConfigError(name + ": JSON syntax error: " + e.what());
     }
     if (!j.is_object()) throw ConfigError(name + ": expected a JSON object");

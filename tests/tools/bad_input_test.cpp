@@ -126,6 +126,13 @@ TEST(BadInput, MalformedToml) {
     expect_clean_failure(dir, "syntax.toml", "[render\nwidth = 4\n", {"syntax.toml:1"});
 }
 
+TEST(BadInput, JsonNumberOutOfRange) {
+    // Found by fuzz_config: a JSON config with a number beyond double range escaped as nlohmann's
+    // out_of_range (exit 3 "internal error" here, abort in the fuzz target).
+    TempDir dir;
+    expect_clean_failure(dir, "overflow.json", "{\"render\": {\"width\": 1e99999}}\n", {"overflow.json", "JSON"});
+}
+
 TEST(BadInput, UnknownKey) {
     TempDir dir;
     expect_clean_failure(dir, "unknown.toml", scene_text("widht = 3"), {"unknown.toml:", "render.widht"});
