@@ -99,24 +99,11 @@ fs::path shard_csv_name(int shard, int shards) {
     return "runs.shard-" + std::to_string(shard) + "-of-" + std::to_string(shards) + ".csv";
 }
 
-SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
-    const Timer timer;
-    auto log = [&](const std::string& s) {
-        if (opt.log) opt.log(s);
-    };
-    if (opt.shards < 1 || opt.shard < 0 || opt.shard >= opt.shards)
-        throw Error("--shard " + std::to_string(opt.shard) + "/" + std::to_string(opt.shards) +
-                    ": expected i/N with 0 <= i < N");
-    const SweepSpec& spec = plan.spec;
-    make_dir(opt.out);
-    make_dir(opt.out / "images");
-    make_dir(opt.out / "references");
-    SweepOutcome outcome;
-    outcome.planned = plan.runs.size();
-    outcome.csv = opt.out / shard_csv_name(opt.shard, opt.shards);
-    const auto header = sweep_csv_header(spec.axes);
-    prepare_csv(outcome.csv, header);
+namespace {
 
+// The runs of this shard that no CSV in the folder has finished yet (counted into `outcome`), at
+// most options.max_runs of them.
+std::vector<const PlannedRun*> runs_to_do(const SweepPlan& plan, const SweepOptions& opt, SweepOutcome& outcome) {
     std::set<std::string> finished;
     for (const auto& f : run_csvs(opt.out)) {
         const CsvTable t = read_csv(f);
@@ -135,20 +122,15 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
         outcome.remaining = todo.size() - opt.max_runs;
         todo.resize(opt.max_runs);
     }
-    log("sweep: " + std::to_string(outcome.planned) + " runs planned, " + std::to_string(outcome.in_shard) +
-        " in shard " + std::to_string(opt.shard) + "/" + std::to_string(opt.shards) + ", " +
-        std::to_string(outcome.skipped) + " already done, " + std::to_string(todo.size()) + " to run");
+    return todo;
+}
 
-    // References: rendered once per scene hash, cached in the folder.
-    std::map<std::string, Image> references;
-    std::map<std::string, std::string> reference_column;
-    std::vector<const PlannedRun*> need_reference = todo;
-    if (opt.references_only) {
-        need_reference.clear();
-        for (const auto& r : plan.runs) need_reference.push_back(&r);
-        todo.clear();
-    }
-    for (const PlannedRun* r : need_reference) {
+// Renders (once per scene hash, cached in OUT/references/) or reads every reference `runs` need.
+void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::vector<const PlannedRun*>& runs,
+                     std::map<std::string, Image>& references, std::map<std::string, std::string>& reference_column,
+                     const std::function<void(const std::string&)>& log) {
+    const SweepSpec& spec = plan.spec;
+    for (const PlannedRun* r : runs) {
         if (references.count(r->scene)) continue;
         if (!spec.reference_file.empty()) {
             references[r->scene] = read_exr(spec.reference_file);
@@ -172,6 +154,91 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
         references[r->scene] = read_exr(path);
         reference_column[r->scene] = rel.string();
     }
+}
+
+// One runs.csv row (sweep_csv_header's columns).
+std::vector<std::string> run_row(const PlannedRun& run, const RunResult& res, const RunError& err,
+                                 const fs::path& image_rel, const std::string& reference) {
+    const double trace = res.stats.seconds("trace"), build = res.stats.seconds("build"),
+                 render = res.stats.seconds("render");
+    const uint64_t stored = res.stats.photons ? res.stats.photons->stored : 0;
+    std::vector<std::string> row = {std::to_string(run.index), run.hash, run.point, run.scene, run.method,
+                                    std::to_string(run.spp), std::to_string(run.repeat),
+                                    std::to_string(run.seed), std::to_string(run.stream_offset)};
+    row.insert(row.end(), run.values.begin(), run.values.end());
+    const std::vector<std::string> tail = {num(trace), num(build), num(render), num(trace + build + render),
+                                           std::to_string(peak_rss_bytes()), std::to_string(stored),
+                                           num(err.rel_rmse), num(err.rel_mean_error),
+                                           std::to_string(err.nonfinite_pixels), image_rel.string(),
+                                           reference};
+    row.insert(row.end(), tail.begin(), tail.end());
+    return row;
+}
+
+// sweep.json (or its shard's name): the plan, the counts and the machine.
+void write_sweep_sidecar(const SweepSpec& spec, const SweepOptions& opt, const SweepOutcome& outcome,
+                         double run_seconds) {
+    RunRecord rec = RunRecord::with_environment();
+    rec.set("sweep_file", spec.file);
+    rec.set("scene", spec.scene.string());
+    rec.set("set", spec.set);
+    rec.set("repeats", spec.repeats);
+    rec.set("time_budgets", nlohmann::json(spec.time_budgets));
+    rec.set("reference.spp", spec.reference_spp);
+    rec.set("reference.file", spec.reference_file.string());
+    rec.set("reference.path_spp", nlohmann::json(spec.path_spp));
+    nlohmann::json axes = nlohmann::json::array();
+    for (const auto& a : spec.axes) axes.push_back({{"name", a.name}, {"key", a.key}, {"values", a.labels}});
+    rec.set("axes", axes);
+    rec.set("command_line", opt.command_line);
+    rec.set("shard.index", opt.shard);
+    rec.set("shard.count", opt.shards);
+    rec.set("jobs", opt.jobs);
+    rec.set("runs.planned", outcome.planned);
+    rec.set("runs.in_shard", outcome.in_shard);
+    rec.set("runs.skipped_finished", outcome.skipped);
+    rec.set("runs.ran", outcome.ran);
+    rec.set("runs.remaining", outcome.remaining);
+    rec.set("runs.run_seconds", run_seconds);
+    rec.set("seconds", outcome.seconds);
+    rec.write(opt.out / (opts_sidecar_name(opt.shard, opt.shards)));
+}
+
+}  // namespace
+
+SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
+    const Timer timer;
+    auto log = [&](const std::string& s) {
+        if (opt.log) opt.log(s);
+    };
+    if (opt.shards < 1 || opt.shard < 0 || opt.shard >= opt.shards)
+        throw Error("--shard " + std::to_string(opt.shard) + "/" + std::to_string(opt.shards) +
+                    ": expected i/N with 0 <= i < N");
+    const SweepSpec& spec = plan.spec;
+    make_dir(opt.out);
+    make_dir(opt.out / "images");
+    make_dir(opt.out / "references");
+    SweepOutcome outcome;
+    outcome.planned = plan.runs.size();
+    outcome.csv = opt.out / shard_csv_name(opt.shard, opt.shards);
+    const auto header = sweep_csv_header(spec.axes);
+    prepare_csv(outcome.csv, header);
+
+    std::vector<const PlannedRun*> todo = runs_to_do(plan, opt, outcome);
+    log("sweep: " + std::to_string(outcome.planned) + " runs planned, " + std::to_string(outcome.in_shard) +
+        " in shard " + std::to_string(opt.shard) + "/" + std::to_string(opt.shards) + ", " +
+        std::to_string(outcome.skipped) + " already done, " + std::to_string(todo.size()) + " to run");
+
+    // References: rendered once per scene hash, cached in the folder.
+    std::map<std::string, Image> references;
+    std::map<std::string, std::string> reference_column;
+    std::vector<const PlannedRun*> need_reference = todo;
+    if (opt.references_only) {
+        need_reference.clear();
+        for (const auto& r : plan.runs) need_reference.push_back(&r);
+        todo.clear();
+    }
+    load_references(plan, opt, need_reference, references, reference_column, log);
 
     // The runs (the ETA counts from here: references are not runs).
     const Timer runs_timer;
@@ -198,17 +265,7 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
                 const RunError err = run_error(res.image, ref);
                 const double trace = res.stats.seconds("trace"), build = res.stats.seconds("build"),
                              render = res.stats.seconds("render");
-                const uint64_t stored = res.stats.photons ? res.stats.photons->stored : 0;
-                std::vector<std::string> row = {std::to_string(run.index), run.hash, run.point, run.scene, run.method,
-                                                std::to_string(run.spp), std::to_string(run.repeat),
-                                                std::to_string(run.seed), std::to_string(run.stream_offset)};
-                row.insert(row.end(), run.values.begin(), run.values.end());
-                const std::vector<std::string> tail = {num(trace), num(build), num(render), num(trace + build + render),
-                                                       std::to_string(peak_rss_bytes()), std::to_string(stored),
-                                                       num(err.rel_rmse), num(err.rel_mean_error),
-                                                       std::to_string(err.nonfinite_pixels), image_rel.string(),
-                                                       reference_column.at(run.scene)};
-                row.insert(row.end(), tail.begin(), tail.end());
+                const std::vector<std::string> row = run_row(run, res, err, image_rel, reference_column.at(run.scene));
                 std::lock_guard<std::mutex> lock(mutex);
                 append_csv_row(outcome.csv, row);
                 ++done;
@@ -241,31 +298,7 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
     outcome.ran = done;
     outcome.seconds = timer.seconds();
 
-    // Sidecar and report.
-    RunRecord rec = RunRecord::with_environment();
-    rec.set("sweep_file", spec.file);
-    rec.set("scene", spec.scene.string());
-    rec.set("set", spec.set);
-    rec.set("repeats", spec.repeats);
-    rec.set("time_budgets", nlohmann::json(spec.time_budgets));
-    rec.set("reference.spp", spec.reference_spp);
-    rec.set("reference.file", spec.reference_file.string());
-    rec.set("reference.path_spp", nlohmann::json(spec.path_spp));
-    nlohmann::json axes = nlohmann::json::array();
-    for (const auto& a : spec.axes) axes.push_back({{"name", a.name}, {"key", a.key}, {"values", a.labels}});
-    rec.set("axes", axes);
-    rec.set("command_line", opt.command_line);
-    rec.set("shard.index", opt.shard);
-    rec.set("shard.count", opt.shards);
-    rec.set("jobs", opt.jobs);
-    rec.set("runs.planned", outcome.planned);
-    rec.set("runs.in_shard", outcome.in_shard);
-    rec.set("runs.skipped_finished", outcome.skipped);
-    rec.set("runs.ran", outcome.ran);
-    rec.set("runs.remaining", outcome.remaining);
-    rec.set("runs.run_seconds", run_seconds);
-    rec.set("seconds", outcome.seconds);
-    rec.write(opt.out / (opts_sidecar_name(opt.shard, opt.shards)));
+    write_sweep_sidecar(spec, opt, outcome, run_seconds);
     std::set<std::string> planned;
     for (const auto& r : plan.runs) planned.insert(r.hash);
     write_sweep_report(opt.out, spec.time_budgets, spec.file, planned);
