@@ -48,12 +48,6 @@ std::string coord(double v) {   // exact decimal for TOML overrides
     return t.find_first_of(".e") == std::string::npos ? t + ".0" : t;
 }
 
-double image_mean(const Image& img) {
-    double sum = 0.0;   // double sums (the image holds floats)
-    for (float v : img.rgb) sum += double(v);
-    return img.rgb.empty() ? 0.0 : sum / double(img.rgb.size());
-}
-
 uint64_t nonfinite_count(const Image& img) {
     uint64_t n = 0;
     for (float v : img.rgb) n += !std::isfinite(v);
@@ -269,7 +263,7 @@ StressReport run_stress(const StressOptions& o) {
             c.seconds = t.seconds();
             c.nonfinite_pixels = nonfinite_count(r.image);
             c.nonfinite_samples = r.stats.render.nonfinite_samples;
-            c.value = image_mean(r.image);
+            c.value = r.image.mean();
             if (const auto& p = r.stats.photons) {
                 c.photon_pass = true;
                 c.energy_imbalance = p->energy.relative_imbalance();
@@ -291,7 +285,7 @@ StressReport run_stress(const StressOptions& o) {
                 RunResult ref = run(RunConfig::load(file, rs), ro);
                 c.has_reference = true;
                 c.reference_kind = "path tracer";
-                c.reference = image_mean(ref.image);
+                c.reference = ref.image.mean();
                 c.nonfinite_pixels += nonfinite_count(ref.image);
                 c.nonfinite_samples += ref.stats.render.nonfinite_samples;
             } else if (spec.ref == Ref::compare) {
@@ -309,7 +303,7 @@ StressReport run_stress(const StressOptions& o) {
                               std::to_string(r.image.rgb.size()) + " pixel channels differ by > 1e-4";
                     c.has_reference = true;
                     c.reference_kind = "untranslated (mean |diff| / mean)";
-                    c.reference = image_mean(it->second);
+                    c.reference = it->second.mean();
                     c.rel_error = base > 0 ? diff / base : diff;
                 }
             }

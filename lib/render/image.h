@@ -14,6 +14,12 @@ struct Image {
 
     Image() = default;
     Image(int w, int h) : width(w), height(h), rgb(size_t(3) * size_t(w) * size_t(h), 0.0f) {}
+    // Mean over pixels and channels, summed in double (0 for an empty image).
+    double mean() const {
+        double sum = 0.0;
+        for (float v : rgb) sum += double(v);
+        return rgb.empty() ? 0.0 : sum / double(rgb.size());
+    }
     Rgb at(int x, int y) const {
         const size_t i = 3 * (size_t(y) * size_t(width) + size_t(x));
         return Rgb(rgb[i], rgb[i + 1], rgb[i + 2]);

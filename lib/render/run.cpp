@@ -21,12 +21,6 @@ nlohmann::json toml_to_json(const toml::table& table) {
 // was); later passes sit 2^20 offsets apart so that repeats (consecutive r) never share a pass.
 constexpr uint64_t kPassStreamStride = uint64_t(1) << 20;
 
-double image_mean(const Image& image) {
-    double sum = 0.0;
-    for (float v : image.rgb) sum += double(v);
-    return image.rgb.empty() ? 0.0 : sum / double(image.rgb.size());
-}
-
 }  // namespace
 
 RunResult run(const RunConfig& config, const RunOptions& options) {
@@ -64,7 +58,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         render.samples += pass_render.samples;
         render.nonfinite_samples += pass_render.nonfinite_samples;
         render.seconds += pass_render.seconds;
-        result.stats.passes.push_back({pass_timer.seconds(), run_timer.seconds(), ro.spp, image_mean(image)});
+        result.stats.passes.push_back({pass_timer.seconds(), run_timer.seconds(), ro.spp, image.mean()});
 
         const int done = pass + 1;
         const double mean_pass = run_timer.seconds() / done;

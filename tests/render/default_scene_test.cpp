@@ -15,19 +15,8 @@ namespace {
 
 // Mean image value over `repeats` independent runs (photon maps and camera samples), with its SE.
 test::Sample mean_brightness(const std::vector<std::string>& overrides, int repeats) {
-    const RunConfig config = RunConfig::load(VPM_SOURCE_DIR "/configs/default_photon_map.toml", overrides);
-    test::Sample brightness;
-    for (int r = 0; r < repeats; ++r) {
-        RunOptions o;
-        o.progress = false;
-        o.stream_offset = uint64_t(r);
-        const RunResult result = run(config, o);
-        EXPECT_EQ(result.stats.render.nonfinite_samples, 0u);
-        double m = 0;
-        for (size_t i = 0; i < result.image.rgb.size(); ++i) m += result.image.rgb[i];
-        brightness.add(m / double(result.image.rgb.size()));
-    }
-    return brightness;
+    return test::repeated_run_brightness(
+        RunConfig::load(VPM_SOURCE_DIR "/configs/default_photon_map.toml", overrides), repeats);
 }
 
 }  // namespace

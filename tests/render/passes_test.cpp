@@ -22,12 +22,6 @@ RunResult run_furnace(std::vector<std::string> sets) {
     return run(RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml", sets), o);
 }
 
-double mean_of(const Image& image) {
-    double m = 0;
-    for (float v : image.rgb) m += v;
-    return m / double(image.rgb.size());
-}
-
 }  // namespace
 
 TEST(Passes, FurnaceMeanOverPassesCorrectedUnbiasedClassicHighByKOverKMinusOne) {
@@ -49,7 +43,7 @@ TEST(Passes, FurnaceMeanOverPassesCorrectedUnbiasedClassicHighByKOverKMinusOne) 
         excess.add(classic.stats.passes[size_t(p)].image_mean / corrected.stats.passes[size_t(p)].image_mean - 1.0);
     }
     // The image is the mean of the pass images.
-    EXPECT_NEAR(mean_of(corrected.image), u.mean(), 1e-6 * u.mean());
+    EXPECT_NEAR(corrected.image.mean(), u.mean(), 1e-6 * u.mean());
     EXPECT_EQ(corrected.stats.render.samples, uint64_t(16 * 16 * 12));
     const double k = 8.0;
     EXPECT_NEAR(u.mean(), 0.5, 3.0 * u.se());

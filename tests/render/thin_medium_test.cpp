@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "render/run.h"
-#include "../support/sample_statistics.h"
+#include "../support/render_statistics.h"
 
 using namespace vpm;
 
@@ -16,19 +16,7 @@ namespace {
 test::Sample brightness(const std::vector<std::string>& sets, int repeats) {
     std::vector<std::string> all = {"render.width=16", "render.height=16", "photons.count=20000"};
     all.insert(all.end(), sets.begin(), sets.end());
-    const RunConfig config = RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml", all);
-    test::Sample s;
-    for (int r = 0; r < repeats; ++r) {
-        RunOptions o;
-        o.progress = false;
-        o.stream_offset = uint64_t(r);
-        const RunResult result = run(config, o);
-        EXPECT_EQ(result.stats.render.nonfinite_samples, 0u);
-        double m = 0;
-        for (float v : result.image.rgb) m += v;
-        s.add(m / double(result.image.rgb.size()));
-    }
-    return s;
+    return test::repeated_run_brightness(RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml", all), repeats);
 }
 
 }  // namespace

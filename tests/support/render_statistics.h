@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "render/render_loop.h"
+#include "render/run.h"
 #include "sample_statistics.h"
 #include "render/run_config.h"
 
@@ -27,6 +28,21 @@ inline double image_mean(const RunConfig& config, const Integrator& integrator, 
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) m += image.at(x, y)[1];
     return m / double(image.width * image.height);
+}
+
+// Mean image value (all channels) over `repeats` independent runs of `config` (stream offsets 0 ..
+// repeats-1: independent photon maps and camera samples), asserting no non-finite sample.
+inline Sample repeated_run_brightness(const RunConfig& config, int repeats) {
+    Sample brightness;
+    for (int r = 0; r < repeats; ++r) {
+        RunOptions o;
+        o.progress = false;
+        o.stream_offset = uint64_t(r);
+        const RunResult result = run(config, o);
+        EXPECT_EQ(result.stats.render.nonfinite_samples, 0u);
+        brightness.add(result.image.mean());
+    }
+    return brightness;
 }
 
 }  // namespace vpm::test
