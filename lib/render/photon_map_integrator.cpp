@@ -38,6 +38,7 @@ struct PhotonMapIntegrator::ThreadState {
         GatherBuffers buffers;
         EstimatorStats stats, surface_stats;
         uint64_t continued = 0;   // camera paths continued past a collision (bounded radius)
+        uint64_t march_wide = 0;  // march queries whose kNN ball exceeds max_radius_mfp mean free paths
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
@@ -76,6 +77,15 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     if (log)
         *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
              << "(fewer than k photons within photons.max_radius_mfp): " << *stats.continued_paths << "\n";
+    uint64_t wide = 0;
+    for (const auto& l : threads_->local) wide += l.march_wide;
+    if (settings_.gather == GatherMode::march) {
+        stats.march_wide_queries = wide;
+        if (wide > 0 && log)
+            *log << "warning: photons.gather = \"march\": " << wide << " of " << stats.volume_estimates->queries
+                 << " queries used a kNN ball wider than photons.max_radius_mfp = " << settings_.max_radius_mfp
+                 << " mean free paths; in dense media the march is biased low there (the collision gather is not)\n";
+    }
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
         stats.surface_estimates = ss;
@@ -216,6 +226,9 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, Rng& 
                                     ? threads_->ball.mean(x, s.radius)
                                     : 0.0;
             in += s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
+            // The march has no path to continue where the ball spans many mean free paths (the
+            // collision gather's bound, photon/bounded_radius.h): count those queries, they are biased low.
+            if (settings_.max_radius_mfp > 0.0 && s.radius * sigma_t > settings_.max_radius_mfp) ++local.march_wide;
         }
         sum += (transmittance * dt) * sigma_s * in;
     }

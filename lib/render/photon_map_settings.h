@@ -26,6 +26,8 @@
 //   |                        |             | along every segment in the media, each weighted by its   |
 //   |                        |             | ratio-tracked transmittance (every ray gathers, also in  |
 //   |                        |             | thin media)                                              |
+//   |                        |             | No mean-free-path bound: in dense media it is biased low |
+//   |                        |             | (counted: photons.march_wide_queries, and a warning)     |
 //   | gather_queries         | 4           | points per segment for "march"                           |
 //   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
 //   |                        |             | counting from render.first_pass) uses                    |

@@ -144,6 +144,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         }
     }
     if (stats.continued_paths) record.set("photons.continued_paths", *stats.continued_paths);
+    if (stats.march_wide_queries) record.set("photons.march_wide_queries", *stats.march_wide_queries);
     if (stats.volume_estimates) write_estimates("photons.estimate_cases.", *stats.volume_estimates, record);
     if (stats.surface_estimates) write_estimates("photons.surface_estimate_cases.", *stats.surface_estimates, record);
 }

@@ -76,6 +76,7 @@ struct RunStats {
     std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
     std::optional<EstimatorStats> surface_estimates;   // surface photon map queries (when any)
     std::optional<uint64_t> continued_paths;           // photon map: camera paths continued (bounded radius)
+    std::optional<uint64_t> march_wide_queries;        // gather = "march": queries beyond max_radius_mfp
 
     // Adds `seconds` to a phase (phases repeat once per pass), with the peak resident memory now.
     void phase(const std::string& name, double seconds);
