@@ -20,8 +20,10 @@ public:
         out.wi = sample_uniform_sphere(u1, u2);
         out.distance = kInfinity;
         out.weight = radiance_ * (4.0 * kPi);
+        out.pdf = 1.0 / (4.0 * kPi);
         return true;
     }
+    double pdf_incident(const Vec3&, const Vec3&) const override { return 1.0 / (4.0 * kPi); }
     // Direction uniform over the sphere (pdf 1 / 4 pi), origin uniform over the silhouette of what
     // can be lit seen along it (pdf 1 / A_proj(dir)): power L 4 pi A_proj(dir), whose mean over
     // directions is power() = L pi S (emission_bounds.h).

@@ -11,11 +11,13 @@ namespace vpm {
 
 // Light arriving at a point: direction towards the light, distance to it (kInfinity for
 // directional / environment) and radiance divided by the solid-angle pdf of the sample
-// (for delta lights the incident irradiance-like weight I / d^2).
+// (for delta lights the incident irradiance-like weight I / d^2), and that solid-angle pdf for
+// multiple importance sampling (0 for delta lights: no other strategy can find them).
 struct LightSample {
     Vec3 wi = Vec3::UnitZ();
     double distance = kInfinity;
     Rgb weight = Rgb::Zero();
+    double pdf = 0.0;
 };
 
 // A photon leaving a light: its ray and its power weight, normalised so that the mean of
@@ -35,6 +37,9 @@ public:
     virtual Rgb power() const = 0;
     // Radiance seen by a ray that escapes to infinity in direction `dir` (environment only).
     virtual Rgb escaped_radiance(const Vec3& dir) const { return Rgb::Zero(); }
+    // Solid-angle pdf with which sample_incident(x) returns direction wi (0 for delta lights and
+    // directions the light cannot send to x). The weight of the other strategy in MIS needs it.
+    virtual double pdf_incident(const Vec3& x, const Vec3& wi) const { return 0.0; }
     // Lights at infinity emit photons over the silhouette of the bounds of what can be lit (media and
     // shapes; scene/emission_bounds.h); they need those bounds.
     virtual void set_scene_bounds(const Bounds3& bounds) {}
