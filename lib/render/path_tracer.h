@@ -5,8 +5,9 @@
 // phase sampling, Lambertian surfaces, Russian roulette from rr_depth on. max_depth < 0 means
 // unlimited path length, which is what makes it unbiased.
 //
-// Emission is counted only through NEE after the first vertex; camera rays that escape see the
-// environment directly. Area lights are not geometry, so no path can hit one: nothing is counted twice.
+// Emission is counted once: the camera sees area lights and the environment directly; after a
+// vertex, light sampling and the walk's phase / BSDF sampling are combined by the power heuristic
+// (render.mis = true, transport/mis.h), or light sampling alone counts (render.mis = false).
 #include <memory>
 
 #include "render/integrator.h"

@@ -11,6 +11,7 @@
 #include "photon/bounded_radius.h"
 #include "scene/params.h"
 #include "transport/direct_light.h"
+#include "transport/mis.h"
 #include "transport/walk_steps.h"
 
 namespace vpm {
@@ -116,16 +117,18 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
     Ray ray = camera_ray;
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
+    EmissionWeighting emission = EmissionWeighting::camera();   // transport/mis.h
     for (int depth = 0;; ++depth) {
         const PathVertex v = next_vertex(scene_, ray, rng);
         const MediumEvent& event = v.medium;
         const SurfaceHit& hit = v.hit;
         if (v.escaped()) {
-            if (depth == 0) radiance += throughput * scene_.escaped_radiance(ray.dir);
+            radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             if (settings_.gather == GatherMode::march && !(max_depth >= 0 && depth + 1 > max_depth))
                 radiance += throughput * march_in_scattering(ray, kInfinity, rng);
             break;
         }
+        if (!event && hit.emitter) radiance += throughput * emitted_radiance(hit, ray.dir, emission);   // black: ends below
         if (max_depth >= 0 && depth + 1 > max_depth) break;
         if (settings_.gather == GatherMode::march) {
             // The medium's in-scattering along this segment comes from the march; the collision
@@ -160,6 +163,7 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
                         throughput = weight;
                         const double u1 = rng.uniform(), u2 = rng.uniform();
                         ray = Ray{x, hg_sample(ray.dir, m.g(), u1, u2)};
+                        emission = EmissionWeighting::after(false, x, 0.0);   // its NEE above weighed 1
                         if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
                         continue;
                     }
@@ -181,9 +185,10 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
             }
             break;
         }
-        radiance += throughput * direct_light_on_surface(scene_, hit, rng);
+        radiance += throughput * direct_light_on_surface(scene_, hit, rng, settings_.walk.mis);
         throughput *= hit.reflectance;
         ray = diffuse_bounce(hit, rng);
+        emission = EmissionWeighting::after(settings_.walk.mis, hit.position, std::max(0.0, ray.dir.dot(hit.normal)) * kInvPi);
         if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
     }
     return radiance;

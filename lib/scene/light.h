@@ -27,6 +27,14 @@ struct EmissionSample {
     Rgb power = Rgb::Zero();
 };
 
+// A ray meeting an area light: the distance, the unit geometric normal turned to face the ray, and
+// the radiance the light sends back along the ray (zero on the back of a one-sided emitter).
+struct EmitterHit {
+    double t = kInfinity;
+    Vec3 normal = Vec3::UnitZ();
+    Rgb radiance = Rgb::Zero();
+};
+
 class Light {
 public:
     virtual ~Light() = default;
@@ -43,6 +51,12 @@ public:
     // Lights at infinity emit photons over the silhouette of the bounds of what can be lit (media and
     // shapes; scene/emission_bounds.h); they need those bounds.
     virtual void set_scene_bounds(const Bounds3& bounds) {}
+    // Area lights (quad, sphere) are opaque black geometry that emits: camera rays, scattered paths,
+    // shadow rays to other lights and photons all stop on them (Scene::intersect, Scene::transmittance).
+    // Closest hit in (epsilon, tmax), the epsilon keeping rays that leave the light from meeting it.
+    virtual bool intersect(const Ray& ray, double tmax, EmitterHit& hit) const { return false; }
+    // The box around an area light's surface; empty for lights that are not geometry.
+    virtual Bounds3 bounds() const { return {}; }
     virtual std::string describe() const = 0;
 };
 

@@ -8,6 +8,7 @@ std::unique_ptr<Light> make_point_light(Params&);
 std::unique_ptr<Light> make_spot_light(Params&);
 std::unique_ptr<Light> make_directional_light(Params&);
 std::unique_ptr<Light> make_quad_light(Params&);
+std::unique_ptr<Light> make_sphere_light(Params&);
 std::unique_ptr<Light> make_environment_light(Params&);
 
 const std::vector<LightType>& light_types() {
@@ -16,6 +17,7 @@ const std::vector<LightType>& light_types() {
         {"spot", make_spot_light},
         {"directional", make_directional_light},
         {"quad", make_quad_light},
+        {"sphere", make_sphere_light},
         {"environment", make_environment_light},
     };
     return types;

@@ -7,6 +7,7 @@
 //   "spot"        spot_light.cpp           position, look_at, intensity, cone_angle
 //   "directional" directional_light.cpp    direction, irradiance
 //   "quad"        quad_light.cpp           center, u, v, radiance, two_sided
+//   "sphere"      sphere_light.cpp         center, radius, radiance
 //   "environment" environment_light.cpp    radiance
 //
 // Adding a light type: one file with its Light class and factory, and one line in the table in

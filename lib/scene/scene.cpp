@@ -33,6 +33,13 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
     scene->build_log.push_back(scene->openvdb_media_ ? "OpenVDB: " + std::to_string(scene->openvdb_media_) + " grid(s) loaded"
                                                      : "OpenVDB: not used (no grid media)");
 
+    // Area lights are opaque geometry: what can be lit (and can block light) includes them.
+    for (auto& light : scene->lights) {
+        const Bounds3 b = light->bounds();
+        if (b.empty()) continue;
+        scene->area_lights_.push_back(light.get());
+        scene->bounds.extend(b);
+    }
     for (auto& light : scene->lights) {
         light->set_scene_bounds(scene->bounds);
         scene->build_log.push_back("light: " + light->describe());
@@ -53,8 +60,27 @@ MediumEvent Scene::sample_medium(const Ray& ray, double tmax, Rng& rng) const {
     return event;
 }
 
-double Scene::transmittance(const Ray& ray, double tmax, Rng& rng) const {
+bool Scene::intersect(const Ray& ray, double tmax, SurfaceHit& hit) const {
+    bool found = surfaces && surfaces->intersect(ray, tmax, hit);
+    EmitterHit e;
+    for (const Light* light : area_lights_) {
+        if (!light->intersect(ray, found ? hit.t : tmax, e)) continue;
+        found = true;
+        hit = SurfaceHit{};
+        hit.t = e.t;
+        hit.position = ray.at(e.t);
+        hit.normal = e.normal;
+        hit.emitter = light;
+        hit.emitted = e.radiance;
+    }
+    return found;
+}
+
+double Scene::transmittance(const Ray& ray, double tmax, Rng& rng, const Light* target) const {
     if (surfaces && surfaces->occluded(ray, tmax)) return 0.0;
+    EmitterHit e;
+    for (const Light* light : area_lights_)
+        if (light != target && light->intersect(ray, tmax, e)) return 0.0;
     double tr = 1.0;
     for (const auto& m : media) {
         tr *= m->transmittance(ray, tmax, rng);

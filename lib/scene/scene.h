@@ -42,28 +42,32 @@ public:
     std::vector<std::unique_ptr<Light>> lights;
     std::vector<std::unique_ptr<Medium>> media;
     std::unique_ptr<Surfaces> surfaces;   // null when the scene has no shapes
-    Bounds3 bounds;                       // media and surfaces
+    Bounds3 bounds;                       // media, surfaces and area lights
     std::vector<std::string> build_log;   // one line per subsystem built or skipped
 
     bool has_media() const { return !media.empty(); }
     bool uses_openvdb() const { return openvdb_media_ > 0; }
     bool uses_embree() const { return surfaces != nullptr; }
 
-    // Closest surface hit in (0, tmax).
-    bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const {
-        return surfaces && surfaces->intersect(ray, tmax, hit);
-    }
+    // Closest hit in (0, tmax) among the surfaces and the area lights (an analytic test per area
+    // light: there are few, and a scene without shapes still builds no Embree device). An area
+    // light's hit is black (reflectance 0) with `emitter` and `emitted` set.
+    bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const;
     // First real collision among all media in (0, tmax). Overlapping media add their sigma_t; the
     // minimum of independent free flights is exactly the free flight of the sum.
     MediumEvent sample_medium(const Ray& ray, double tmax, Rng& rng) const;
-    // Visibility times medium transmittance (unbiased estimate) along ray over (0, tmax).
-    double transmittance(const Ray& ray, double tmax, Rng& rng) const;
+    // Visibility times medium transmittance (unbiased estimate) along ray over (0, tmax). Area
+    // lights occlude, except `target`: the light a shadow ray was sent to, which it reaches at tmax.
+    double transmittance(const Ray& ray, double tmax, Rng& rng, const Light* target = nullptr) const;
     // Radiance of rays escaping the scene in direction dir (environment lights).
     Rgb escaped_radiance(const Vec3& dir) const;
     Rgb total_light_power() const;
 
+    const std::vector<const Light*>& area_lights() const { return area_lights_; }
+
 private:
     int openvdb_media_ = 0;
+    std::vector<const Light*> area_lights_;   // the lights that are geometry (non-empty bounds())
 };
 
 }  // namespace vpm

@@ -11,11 +11,17 @@
 
 namespace vpm {
 
+class Light;
+
 struct SurfaceHit {
     double t = kInfinity;
     Vec3 position = Vec3::Zero();
     Vec3 normal = Vec3::UnitZ();   // unit geometric normal, flipped to face the incoming ray
     Rgb reflectance = Rgb::Zero(); // Lambertian albedo; zero for black
+    // Set by Scene::intersect when the hit is an area light (black, so paths end there): the light
+    // and the radiance it sends back along the ray.
+    const Light* emitter = nullptr;
+    Rgb emitted = Rgb::Zero();
 };
 
 class Surfaces {

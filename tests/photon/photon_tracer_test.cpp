@@ -86,3 +86,55 @@ TEST(PhotonTracer, NeeModeStoresOnlyScatteredLight) {
     const auto all = trace_photons(*scene, s);
     EXPECT_EQ(all.photons.size(), all.collisions);
 }
+
+TEST(PhotonTracer, EnergyBalancesWithAreaLights) {
+    // A sphere light and a one-sided quad light (facing up, u x v = +y) beside the spot, around the homogeneous sphere. The
+    // lights are picked by power and every light's photons carry its power / its pick probability,
+    // so without lights at infinity each photon carries total power / N: the emitted sum is the
+    // scene's power exactly. Area lights are black: photons that come back to them are absorbed.
+    const std::string text = R"(
+[camera]
+position = [0, 0, 5]
+look_at = [0, 0, 0]
+[[lights]]
+type = "spot"
+position = [0, 3, 0]
+look_at = [0, 0, 0]
+intensity = [4, 3, 2]
+cone_angle = 40
+[[lights]]
+type = "sphere"
+center = [1.8, 0.5, 0]
+radius = 0.4
+radiance = [1, 2, 3]
+[[lights]]
+type = "quad"
+center = [0, -1.5, 0]
+u = [0.5, 0, 0]
+v = [0, 0, -0.5]
+radiance = 2
+[[media]]
+)" + kHomogeneous;
+    for (double albedo : {0.0, 0.5, 1.0}) {
+        auto scene = RunConfig::build(parse_config(text + "albedo = " + std::to_string(albedo) + "\n", "area.toml", ".")).scene;
+        ASSERT_EQ(scene->area_lights().size(), 2u);
+        PhotonTraceSettings s;
+        s.count = 20000;
+        s.max_bounces = 20;
+        s.progress = false;
+        const PhotonTraceResult r = trace_photons(*scene, s);
+        EXPECT_LT(r.energy.relative_imbalance(), 1e-6) << "albedo " << albedo;
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(r.energy.emitted[c], scene->total_light_power()[c], 1e-9 * scene->total_light_power()[c]);
+        // Each light emits its power share of the photons (binomial standard error).
+        const double total = luminance(scene->total_light_power());
+        for (size_t l = 0; l < scene->lights.size(); ++l) {
+            const double p = luminance(scene->lights[l]->power()) / total;
+            const double n = double(s.count);
+            EXPECT_NEAR(double(r.per_light[l].emitted), n * p, 4.0 * std::sqrt(n * p * (1.0 - p)) + 1.0) << "light " << l;
+            EXPECT_GT(r.per_light[l].landed, 0u) << "light " << l;
+        }
+        if (albedo == 1.0) EXPECT_GT(r.energy.absorbed.maxCoeff(), 0.0);   // only the black lights absorb
+        EXPECT_GT(r.photons.size(), 0u);
+    }
+}
