@@ -21,7 +21,7 @@ Rgb direct_light_in_medium(const Scene& scene, const Vec3& x, const Vec3& ray_di
     return sum;
 }
 
-Rgb direct_light_on_surface(const Scene& scene, const SurfaceHit& hit, Rng& rng) {
+Rgb direct_light_on_surface(const Scene& scene, const SurfaceHit& hit, Rng& rng, bool mis) {
     Rgb sum = Rgb::Zero();
     if ((hit.reflectance == 0.0).all()) return sum;
     for (const auto& light : scene.lights) {
