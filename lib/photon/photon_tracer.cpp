@@ -71,7 +71,7 @@ bool roulette(Rgb& power, const Rgb& factor, Rng& rng) {
 struct BatchOutput {
     std::vector<PhotonInput> photons, surface_photons;
     EnergyBalance energy;
-    uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0;
+    uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0, light_hits = 0;
     std::vector<LightPhotonStats> per_light;
 };
 
@@ -122,6 +122,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 }
             } else {
                 ++out.surface_hits;
+                if (hit.emitter) ++out.light_hits;
                 if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
                     out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power});
                 alive = roulette(power, hit.reflectance, rng);
@@ -171,6 +172,7 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
                                           o.surface_photons.end());
             std::vector<PhotonInput>().swap(o.surface_photons);
             result.surface_hits += o.surface_hits;
+            result.light_hits += o.light_hits;
             result.energy.emitted += o.energy.emitted;
             result.energy.absorbed += o.energy.absorbed;
             result.energy.escaped += o.energy.escaped;

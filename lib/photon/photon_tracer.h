@@ -82,6 +82,7 @@ struct PhotonTraceResult {
     uint64_t paths = 0;
     uint64_t collisions = 0;            // real medium collisions, stored or not
     uint64_t surface_hits = 0;          // surface hits, stored or not
+    uint64_t light_hits = 0;            // of which on area lights (black: the photon is absorbed there)
     uint64_t truncated_paths = 0;
     std::vector<LightPhotonStats> per_light;   // one per scene light
     double seconds = 0.0;

@@ -73,7 +73,9 @@ reflectance = 0.5
 
 // A closed diffuse box [-1,1]^3 (reflectance 0.5) with a quad light under its ceiling, no medium;
 // the camera inside looks at the back wall.
-RunConfig closed_box(bool with_medium, const std::vector<std::string>& overrides = {}) {
+// light_table replaces the quad light (a point light keeps every hit on a grey wall: area lights are
+// black geometry that absorbs the photons coming back to them).
+RunConfig closed_box(bool with_medium, const std::vector<std::string>& overrides = {}, const std::string& light_table = "") {
     std::string text = R"(
 [render]
 width = 24
@@ -87,12 +89,13 @@ fov = 40
 [photons]
 count = 150000
 direct = "photon_map"
-[[lights]]
+)" + (light_table.empty() ? std::string(R"([[lights]]
 type = "quad"
 center = [0, 0.99, 0]
 u = [0.3, 0, 0]
 v = [0, 0, 0.3]
 radiance = 3.0
+)") : light_table) + R"(
 [[shapes]]
 type = "box"
 min = [-1, -1, -1]
@@ -187,11 +190,14 @@ TEST(SurfacePhotonMap, ClosedBoxWallAgreesWithPathTracer) {
 
 TEST(SurfacePhotonMap, NeeConventionStoresOnlyScatteredPhotons) {
     // With store_direct false the surface map holds exactly the hits after the first event: in the
-    // closed box without medium that is every hit but each path's first.
+    // closed box without medium that is every hit but each path's first. Hits on the quad light
+    // (opaque and black since area lights are geometry) absorb the photon and store nothing; a
+    // photon's first hit is never its own light.
     const RunConfig config = closed_box(false, {"photons.count=20000"});
     const PhotonTraceResult all = trace(config, 7, true);
     const PhotonTraceResult indirect = trace(config, 7, false);
-    EXPECT_EQ(all.surface_photons.size(), all.surface_hits);
+    EXPECT_EQ(all.surface_photons.size(), all.surface_hits - all.light_hits);
+    EXPECT_GT(all.light_hits, 0u);
     EXPECT_EQ(indirect.surface_hits, all.surface_hits);   // same random walks
     EXPECT_EQ(indirect.surface_photons.size() + 20000u, all.surface_photons.size());
 }
@@ -199,8 +205,8 @@ TEST(SurfacePhotonMap, NeeConventionStoresOnlyScatteredPhotons) {
 TEST(SurfacePhotonMap, ClosedBoxStoredPowerIsEmittedOverOneMinusReflectance) {
     // Grey reflectance rho: Russian roulette keeps the power and each hit survives with prob. rho,
     // so hits per path are geometric, mean 1/(1-rho), variance rho/(1-rho)^2; the stored power sums
-    // to emitted * hits/N.
-    const RunConfig config = closed_box(false, {"photons.count=50000"});
+    // to emitted * hits/N. A point light: every hit is on a grey wall.
+    const RunConfig config = closed_box(false, {"photons.count=50000"}, "[[lights]]\ntype = 'point'\nposition = [0, 0.9, 0]\nintensity = 3\n");
     const PhotonTraceResult t = trace(config, 9, true);
     Rgb stored = Rgb::Zero();
     for (const auto& p : t.surface_photons) stored += p.power;

@@ -35,6 +35,7 @@ TEST(LightRegistry, ListsEveryTypeOnceAndBuildsEach) {
         {"spot", "position = [0, 1, 0]\nlook_at = [0, 0, 0]\nintensity = 1"},
         {"directional", "direction = [0, -1, 0]\nirradiance = 1"},
         {"quad", "center = [0, 1, 0]\nu = [1, 0, 0]\nv = [0, 0, 1]\nradiance = 1"},
+        {"sphere", "center = [0, 1, 0]\nradius = 0.5\nradiance = 1"},
         {"environment", "radiance = 1"},
     };
     std::set<std::string> seen;
