@@ -115,3 +115,120 @@ TEST(AreaLightRender, PhotonMapMatchesPathTracerOnTheCornellBoxWithItsLightInVie
     // The corrected estimator is unbiased in the kNN count; what is left is the kernel's blur.
     expect_same_mean(brightness(path, pm, 6), brightness(path, pt, 6), 3.0, 0.02, "Cornell box, photon map vs path tracer");
 }
+
+namespace {
+
+struct RayEstimate {
+    double mean = 0.0, se = 0.0;
+};
+
+// Mean green radiance of n independent estimates along `ray`.
+RayEstimate estimate(const Integrator& integrator, const Ray& ray, int n, uint64_t seed) {
+    test::Sample s;
+    for (int i = 0; i < n; ++i) {
+        Rng rng(seed, uint64_t(i));
+        s.add(integrator.radiance(ray, rng)[1]);
+    }
+    return {s.mean(), s.se()};
+}
+
+}  // namespace
+
+TEST(AreaLightRender, FloorUnderAQuadLightHasTheClosedFormRadianceWithAndWithoutMis) {
+    // A grey floor under a square light (half edge a, height h, facing down): at the point under
+    // its centre L = rho / pi * E with E from the four corner rectangles. The light is black, so
+    // nothing else reaches the floor. A double count (both strategies at weight 1) would be ~2x.
+    const double a = 0.5, h = 1.3, Le = 2.0, rho = 0.5;
+    const double X = a / h, s = std::sqrt(1.0 + X * X);
+    const double expected = rho / kPi * 4.0 * (Le / 2.0) * 2.0 * (X / s) * std::atan(X / s);
+    const std::string text = R"(
+[camera]
+position = [2, 0.5, 0]
+look_at = [0, 0, 0]
+[[lights]]
+type = "quad"
+center = [0, 1.3, 0]
+u = [0.5, 0, 0]
+v = [0, 0, 0.5]
+radiance = 2
+[[shapes]]
+type = "quad"
+center = [0, 0, 0]
+u = [3, 0, 0]
+v = [0, 0, 3]
+reflectance = 0.5
+)";
+    // The photon map with final_gather (no surface map) takes the same NEE + bounce at the floor.
+    for (const char* integrator_name : {"render.integrator=path", "render.integrator=photon_map"}) {
+        for (bool mis : {true, false}) {
+            const RunConfig config = RunConfig::build(parse_config(
+                text, "floor.toml", ".", {mis ? "render.mis=true" : "render.mis=false", integrator_name, "photons.final_gather=true"}));
+            const auto integrator = config.create_integrator();
+            const RayEstimate e = estimate(*integrator, Ray{Vec3(2, 0.5, 0), Vec3(-2, -0.5, 0).normalized()}, 40000, 3);
+            EXPECT_NEAR(e.mean, expected, 4.0 * e.se) << integrator_name << " mis " << mis;
+            EXPECT_LT(e.se, 0.01 * expected) << integrator_name << " mis " << mis;   // decisive against a 2x double count
+        }
+    }
+}
+
+TEST(AreaLightRender, ScatteringMediumInAnEnclosureOfQuadLightsIsAFurnace) {
+    // Six inward-facing quads of radiance L close a box around a non-absorbing medium: a black
+    // body, so the radiance is L everywhere (the volume white furnace with area lights instead of
+    // the sky). Checks NEE, the MIS weights in media and the transmittance of the walk's hits.
+    std::string text = R"(
+[camera]
+position = [0, 0, 0.95]
+look_at = [0, 0, 0]
+[[media]]
+type = "homogeneous"
+shape = "sphere"
+radius = 0.8
+sigma_t_scale = 2.0
+albedo = 1.0
+g = 0.5
+)";
+    // center, u, v with u x v pointing into the box; half edges 1.001 so that the faces overlap.
+    const char* faces[6][3] = {{"[0, 1, 0]", "[1.001, 0, 0]", "[0, 0, 1.001]"},  {"[0, -1, 0]", "[0, 0, 1.001]", "[1.001, 0, 0]"},
+                               {"[1, 0, 0]", "[0, 0, 1.001]", "[0, 1.001, 0]"},  {"[-1, 0, 0]", "[0, 1.001, 0]", "[0, 0, 1.001]"},
+                               {"[0, 0, 1]", "[0, 1.001, 0]", "[1.001, 0, 0]"},  {"[0, 0, -1]", "[1.001, 0, 0]", "[0, 1.001, 0]"}};
+    for (const auto& f : faces)
+        text += std::string("[[lights]]\ntype = 'quad'\nradiance = 1.5\ncenter = ") + f[0] + "\nu = " + f[1] + "\nv = " + f[2] + "\n";
+    for (bool mis : {true, false}) {
+        const RunConfig config = RunConfig::build(parse_config(text, "enclosure.toml", ".", {mis ? "render.mis=true" : "render.mis=false"}));
+        const auto integrator = config.create_integrator();
+        for (const Vec3& dir : {Vec3(0, 0, -1), Vec3(0.3, 0.2, -1).normalized()}) {
+            const RayEstimate e = estimate(*integrator, Ray{Vec3(0, 0, 0.95), dir}, 20000, 5);
+            EXPECT_NEAR(e.mean, 1.5, 4.0 * e.se) << "mis " << mis;
+            EXPECT_LT(e.se, 0.01 * 1.5) << "mis " << mis;   // decisive: a 4% loss or excess is > 4 SE away
+            EXPECT_GT(e.se, 0.0);
+        }
+    }
+}
+
+TEST(AreaLightRender, EnvironmentFurnaceWithAndWithoutMis) {
+    // A non-absorbing sphere under a constant sky of radiance 1.5 is invisible: 1.5 on every ray.
+    // With MIS the sky found by escaping paths after a scattering event is weighted against the
+    // sky's NEE pdf 1 / 4 pi; without, only NEE counts it.
+    const std::string text = R"(
+[camera]
+position = [0, 0, 5]
+look_at = [0, 0, 0]
+[[lights]]
+type = "environment"
+radiance = 1.5
+[[media]]
+type = "homogeneous"
+shape = "sphere"
+radius = 1.0
+sigma_t_scale = 2.0
+albedo = 1.0
+g = 0.6
+)";
+    for (bool mis : {true, false}) {
+        const RunConfig config = RunConfig::build(parse_config(text, "furnace.toml", ".", {mis ? "render.mis=true" : "render.mis=false"}));
+        const auto integrator = config.create_integrator();
+        const RayEstimate e = estimate(*integrator, Ray{Vec3(0.2, 0.1, 5), Vec3(0, 0, -1)}, 20000, 11);
+        EXPECT_NEAR(e.mean, 1.5, 4.0 * e.se) << "mis " << mis;
+        EXPECT_LT(e.se, 0.01 * 1.5) << "mis " << mis;
+    }
+}
