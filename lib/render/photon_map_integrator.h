@@ -34,6 +34,10 @@
 // estimator and k as the volume map). With "nee" the surface map holds only photons that scattered
 // before (off a medium or a surface), with "photon_map" every hit, as for the volume map.
 // Without a surface map (final_gather = true) surfaces behave as described above.
+//
+// Emission: the camera sees area lights and the sky directly. After a final-gather bounce, NEE and
+// the bounce are MIS-weighted like the path tracer's (render.mis, transport/mis.h); after a path
+// continued in a medium (max_radius_mfp) NEE weighs 1 and the emission the path meets counts 0.
 #include <memory>
 #include <optional>
 
