@@ -27,8 +27,13 @@
 //   |                        |             | ratio-tracked transmittance (every ray gathers, also in  |
 //   |                        |             | thin media)                                              |
 //   |                        |             | No mean-free-path bound: in dense media it is biased low |
-//   |                        |             | (counted: photons.march_wide_queries, and a warning)     |
+//   |                        |             | (counted: photons.march_wide_queries, and a warning).    |
+//   |                        |             | "auto": per camera segment, "march" where the media's    |
+//   |                        |             | majorant optical depth along it is at most               |
+//   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
+//   |                        |             | geometry alone, so the mixture stays unbiased)           |
 //   | gather_queries         | 4           | points per segment for "march"                           |
+//   | march_max_optical_depth| 2           | the "auto" threshold                                     |
 //   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
 //   |                        |             | counting from render.first_pass) uses                    |
 //   |                        |             | k_i = max(k_floor, round(k i^(alpha-1))), the kNN form of |
@@ -50,7 +55,7 @@ class Params;
 enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point };
 enum class PhotonAllocationRule { importance, power };
-enum class GatherMode { collision, march };
+enum class GatherMode { collision, march, automatic };
 enum class KSchedule { fixed, shrink };
 
 struct PhotonMapSettings {
@@ -67,6 +72,7 @@ struct PhotonMapSettings {
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::collision;
     int gather_queries = 4;
+    double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
     double alpha = 2.0 / 3.0;
     int k_floor = 4;
