@@ -18,16 +18,16 @@
 //   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x    |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
 //   |                        |             | fewer than k photons within: the camera path continues   |
-//   |                        |             | (photon/bounded_radius.h; gather = "collision"); 0: off  |
+//   |                        |             | (photon/bounded_radius.h); 0: off                        |
 //   | allocation             | "importance"| photons per light: "importance" (pilot: power landing    |
 //   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
 //   | gather                 | "collision" | camera side: "collision": one estimate where the camera  |
 //   |                        |             | ray collides; "march": gather_queries stratified points  |
-//   |                        |             | along every segment in the media, each weighted by its   |
-//   |                        |             | ratio-tracked transmittance (every ray gathers, also in  |
-//   |                        |             | thin media)                                              |
-//   |                        |             | No mean-free-path bound: in dense media it is biased low |
-//   |                        |             | (counted: photons.march_wide_queries, and a warning).    |
+//   |                        |             | along every segment in the media (the majorant's free    |
+//   |                        |             | flight), each weighted by its ratio-tracked              |
+//   |                        |             | transmittance (every ray gathers, also in thin media);   |
+//   |                        |             | a point whose ball exceeds max_radius_mfp takes NEE and  |
+//   |                        |             | a continued path (counted: photons.march_wide_queries).  |
 //   |                        |             | "auto": per camera segment, "march" where the media's    |
 //   |                        |             | majorant optical depth along it is at most               |
 //   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
