@@ -4,6 +4,8 @@
 
 #include <tbb/task_arena.h>
 
+#include <iostream>
+
 #include "photon/photon_tracer.h"
 #include "render/run_config.h"
 
@@ -124,6 +126,8 @@ intensity = 2
         // Photons go to the lights by power; the point light's are exact, the map's mean carries
         // rel_sd / sqrt(its photon count), which bounds the total's relative error from above.
         const double tol = 4.0 * rel_sd / std::sqrt(double(s.count) * 0.5);
+        std::cout << "emitted / power " << luminance(r.energy.emitted) / luminance(scene->total_light_power())
+                  << " (tolerance " << tol << "), imbalance " << r.energy.relative_imbalance() << "\n";
         EXPECT_NEAR(luminance(r.energy.emitted) / luminance(scene->total_light_power()), 1.0, tol) << medium;
         EXPECT_LT(tol, 0.05);
         EXPECT_GT(r.photons.size(), 0u);

@@ -293,6 +293,12 @@ TEST_F(EnvironmentMap, BadInputsAreOneClearError) {
     m = message("file = 'text.exr'\n");
     expect_has(m, "lights.0.file");
     expect_has(m, "not an OpenEXR file");
+    // An empty (zero-byte) file.
+    { std::ofstream(dir_ / "empty.exr"); }
+    m = message("file = 'empty.exr'\n");
+    expect_has(m, "lights.0.file");
+    expect_has(m, "empty.exr");
+    expect_has(m, "not an OpenEXR file");
     // Negative, NaN and infinite pixels: the file, the pixel and the rule.
     for (float bad : {-0.5f, std::nanf(""), std::numeric_limits<float>::infinity()}) {
         Image im(4, 2);
