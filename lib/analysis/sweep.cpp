@@ -321,75 +321,84 @@ struct PointStats {
     RepeatError err;
 };
 
-}  // namespace
-
-std::string write_sweep_report(const fs::path& out, const std::vector<double>& budgets_in, const std::string& title,
-                               const std::set<std::string>& only) {
-    // Every row in the folder, once.
+// Every row of the folder's runs*.csv once, and the columns the report reads.
+struct RunTable {
     std::vector<std::string> header;
     std::vector<Row> rows;
+    size_t run = 0, point = 0, method = 0, spp = 0, offset = 0, trace = 0, total = 0, build = 0, render = 0,
+           stored = 0, image = 0, ref = 0;
+    std::vector<std::string> axes;   // the axis columns, between stream_offset and trace_s
+};
+
+RunTable read_run_table(const fs::path& out, const std::set<std::string>& only) {
+    RunTable t;
     std::set<std::string> seen;
     for (const auto& f : run_csvs(out)) {
-        const CsvTable t = read_csv(f);
-        if (header.empty()) header = t.header;
-        else if (t.header != header) throw FileError(f.string() + ": its header differs from the other runs*.csv in " + out.string());
-        const int h = t.column("hash");
-        for (const auto& r : t.rows)
-            if ((only.empty() || only.count(r[size_t(h)])) && seen.insert(r[size_t(h)]).second) rows.push_back({r, out});
+        const CsvTable csv = read_csv(f);
+        if (t.header.empty()) t.header = csv.header;
+        else if (csv.header != t.header) throw FileError(f.string() + ": its header differs from the other runs*.csv in " + out.string());
+        const int h = csv.column("hash");
+        for (const auto& r : csv.rows)
+            if ((only.empty() || only.count(r[size_t(h)])) && seen.insert(r[size_t(h)]).second) t.rows.push_back({r, out});
     }
-    if (header.empty()) throw FileError(out.string() + ": no runs*.csv to report on");
+    if (t.header.empty()) throw FileError(out.string() + ": no runs*.csv to report on");
     auto col = [&](const char* name) {
-        const auto it = std::find(header.begin(), header.end(), name);
-        if (it == header.end()) throw FileError(out.string() + ": runs.csv has no column '" + name + "'");
-        return size_t(it - header.begin());
+        const auto it = std::find(t.header.begin(), t.header.end(), name);
+        if (it == t.header.end()) throw FileError(out.string() + ": runs.csv has no column '" + name + "'");
+        return size_t(it - t.header.begin());
     };
-    const size_t c_run = col("run"), c_point = col("point"), c_method = col("method"), c_spp = col("spp"),
-                 c_offset = col("stream_offset"), c_trace = col("trace_s"), c_total = col("total_s"),
-                 c_build = col("build_s"), c_render = col("render_s"), c_stored = col("photons_stored"),
-                 c_image = col("image"), c_ref = col("reference");
-    std::vector<std::string> axes(header.begin() + long(c_offset) + 1, header.begin() + long(c_trace));
+    t.run = col("run"), t.point = col("point"), t.method = col("method"), t.spp = col("spp");
+    t.offset = col("stream_offset"), t.trace = col("trace_s"), t.total = col("total_s"), t.build = col("build_s");
+    t.render = col("render_s"), t.stored = col("photons_stored"), t.image = col("image"), t.ref = col("reference");
+    t.axes.assign(t.header.begin() + long(t.offset) + 1, t.header.begin() + long(t.trace));
+    return t;
+}
 
-    std::map<std::string, PointStats> by_point;
-    for (const auto& r : rows) {
-        PointStats& p = by_point[r.f[c_point]];
-        const size_t run = size_t(std::stoull(r.f[c_run]));
+// The rows grouped by configuration (point), grouped by method in order of first appearance and
+// in plan order within a method.
+std::vector<PointStats*> group_points(const RunTable& t, std::map<std::string, PointStats>& by_point) {
+    for (const auto& r : t.rows) {
+        PointStats& p = by_point[r.f[t.point]];
+        const size_t run = size_t(std::stoull(r.f[t.run]));
         if (p.rows.empty() || run < p.first_run) p.first_run = run;
         if (p.rows.empty()) {
-            p.point = r.f[c_point];
-            p.method = r.f[c_method];
-            p.spp = r.f[c_spp];
-            p.scene = r.f[c_ref];   // the reference identifies the scene
-            p.values.assign(r.f.begin() + long(c_offset) + 1, r.f.begin() + long(c_trace));
+            p.point = r.f[t.point];
+            p.method = r.f[t.method];
+            p.spp = r.f[t.spp];
+            p.scene = r.f[t.ref];   // the reference identifies the scene
+            p.values.assign(r.f.begin() + long(t.offset) + 1, r.f.begin() + long(t.trace));
         }
         p.rows.push_back(&r);
     }
     std::vector<PointStats*> points;
     for (auto& [k, p] : by_point) points.push_back(&p);
     std::sort(points.begin(), points.end(), [](auto* a, auto* b) { return a->first_run < b->first_run; });
-    {   // grouped by method (in order of first appearance), plan order within a method
-        std::vector<std::string> order;
-        for (auto* p : points)
-            if (std::find(order.begin(), order.end(), p->method) == order.end()) order.push_back(p->method);
-        auto rank = [&](const PointStats* p) { return std::find(order.begin(), order.end(), p->method) - order.begin(); };
-        std::stable_sort(points.begin(), points.end(), [&](auto* a, auto* b) { return rank(a) < rank(b); });
-    }
+    std::vector<std::string> order;
+    for (auto* p : points)
+        if (std::find(order.begin(), order.end(), p->method) == order.end()) order.push_back(p->method);
+    auto rank = [&](const PointStats* p) { return std::find(order.begin(), order.end(), p->method) - order.begin(); };
+    std::stable_sort(points.begin(), points.end(), [&](auto* a, auto* b) { return rank(a) < rank(b); });
+    return points;
+}
 
+// Mean timings and the error over repeats of every point against its reference; returns the
+// number of non-finite pixels seen.
+size_t measure_points(const fs::path& out, const RunTable& t, const std::vector<PointStats*>& points) {
+    auto in_out = [&](const std::string& col) { return fs::path(col).is_absolute() ? fs::path(col) : out / col; };
     std::map<std::string, Image> refs;
     size_t nonfinite_total = 0;
     for (PointStats* p : points) {
-        const std::string ref_col = p->rows[0]->f[c_ref];
-        const fs::path ref_path = fs::path(ref_col).is_absolute() ? fs::path(ref_col) : out / ref_col;
+        const fs::path ref_path = in_out(p->rows[0]->f[t.ref]);
         if (!refs.count(ref_path.string())) refs[ref_path.string()] = read_exr(ref_path);
         std::vector<Image> images;
         images.reserve(p->rows.size());
         for (const Row* r : p->rows) {
-            const fs::path ip = fs::path(r->f[c_image]).is_absolute() ? fs::path(r->f[c_image]) : out / r->f[c_image];
-            images.push_back(read_exr(ip));
-            p->trace += to_double(r->f[c_trace]);
-            p->build += to_double(r->f[c_build]);
-            p->render += to_double(r->f[c_render]);
-            p->total += to_double(r->f[c_total]);
-            p->stored += to_double(r->f[c_stored]);
+            images.push_back(read_exr(in_out(r->f[t.image])));
+            p->trace += to_double(r->f[t.trace]);
+            p->build += to_double(r->f[t.build]);
+            p->render += to_double(r->f[t.render]);
+            p->total += to_double(r->f[t.total]);
+            p->stored += to_double(r->f[t.stored]);
         }
         const double n = double(p->rows.size());
         p->trace /= n, p->build /= n, p->render /= n, p->total /= n, p->stored /= n;
@@ -398,8 +407,10 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
         p->err = repeat_error(ptrs, refs.at(ref_path.string()));
         nonfinite_total += p->err.nonfinite_pixels;
     }
+    return nonfinite_total;
+}
 
-    // points.csv
+void write_points_csv(const fs::path& out, const std::vector<std::string>& axes, const std::vector<PointStats*>& points) {
     std::vector<std::string> ph = {"point", "method", "spp"};
     ph.insert(ph.end(), axes.begin(), axes.end());
     for (const char* c : {"repeats", "trace_s", "build_s", "render_s", "total_s", "photons_stored", "rel_rmse", "rel_mse",
@@ -418,23 +429,14 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
         pcsv += csv_line(f);
     }
     write_text_atomic(out / "points.csv", pcsv);
+}
 
-    // summary.md
-    std::vector<std::string> methods;
-    for (const PointStats* p : points)
-        if (std::find(methods.begin(), methods.end(), p->method) == methods.end()) methods.push_back(p->method);
-    std::vector<size_t> shown;   // axes with a value somewhere (estimator shown as the method)
-    for (size_t a = 0; a < axes.size(); ++a)
-        if (axes[a] != "estimator" && axes[a] != "kernel") shown.push_back(a);   // both are in the method label
-    std::ostringstream md;
-    md << "# Sweep: " << title << "\n\n"
-       << rows.size() << " runs in " << points.size() << " configurations; errors relative to the reference's mean "
-       << "luminance (see README, Parameter sweeps). Times are means over the repeats (trace + build + render, seconds).\n\n";
-    if (nonfinite_total)
-        md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
-           << "metrics. See the nonfinite_pixels column.**\n\n";
+// summary.md's table of every configuration; `shown`: the axes given their own column.
+std::string configurations_md(const std::vector<std::string>& axes, const std::vector<size_t>& shown,
+                              const std::vector<PointStats*>& points) {
     // Spread needs two repeats: with one, say so ("–") instead of printing nan.
     auto or_dash = [](double v, int digits = 3) { return std::isfinite(v) ? sig(v, digits) : std::string("–"); };
+    std::ostringstream md;
     md << "## Configurations\n\n| method |";
     for (size_t a : shown) md << " " << axes[a] << " |";
     md << " spp | R | time s | rel RMSE | rel bias ± SE | rel std | rel bias² | rel var | NaN/Inf |\n|---|";
@@ -448,19 +450,26 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
            << sig(e.rel_bias) << " ± " << or_dash(e.rel_bias_se, 2) << " | " << or_dash(e.rel_std) << " | " << sig(e.rel_bias2)
            << " | " << or_dash(e.rel_variance) << " | " << e.nonfinite_pixels << " |\n";
     }
+    return md.str();
+}
 
-    std::vector<double> budgets = budgets_in;
+// summary.md's equal-time tables: per scene and budget, each method's lowest error within it.
+std::string equal_time_md(const std::vector<std::string>& axes, const std::vector<size_t>& shown,
+                          const std::vector<PointStats*>& points, std::vector<double> budgets) {
     if (budgets.empty() && !points.empty()) {
         double lo = kInfinity, hi = 0;
         for (const PointStats* p : points) lo = std::min(lo, p->total), hi = std::max(hi, p->total);
         if (lo > 0 && hi > 0)
             for (double f : {1.0 / 3.0, 2.0 / 3.0, 1.0}) budgets.push_back(lo * std::pow(hi / lo, f));
     }
+    std::vector<std::string> methods, scenes;
+    for (const PointStats* p : points) {
+        if (std::find(methods.begin(), methods.end(), p->method) == methods.end()) methods.push_back(p->method);
+        if (std::find(scenes.begin(), scenes.end(), p->scene) == scenes.end()) scenes.push_back(p->scene);
+    }
+    std::ostringstream md;
     md << "\n## Equal time\n\nLowest relative RMSE each method reaches within the time budget (mean run time), "
        << "and the configuration that reaches it; one table per scene (each scene has its own reference).\n";
-    std::vector<std::string> scenes;
-    for (const PointStats* p : points)
-        if (std::find(scenes.begin(), scenes.end(), p->scene) == scenes.end()) scenes.push_back(p->scene);
     auto photon_axis = [](const std::string& a) {
         return a == "k" || a == "estimator" || a == "kernel" || a.rfind("photons.", 0) == 0;
     };
@@ -502,6 +511,30 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
             md << "\n";
         }
     }
+    return md.str();
+}
+
+}  // namespace
+
+std::string write_sweep_report(const fs::path& out, const std::vector<double>& budgets, const std::string& title,
+                               const std::set<std::string>& only) {
+    const RunTable table = read_run_table(out, only);
+    std::map<std::string, PointStats> by_point;
+    const std::vector<PointStats*> points = group_points(table, by_point);
+    const size_t nonfinite_total = measure_points(out, table, points);
+    write_points_csv(out, table.axes, points);
+
+    std::vector<size_t> shown;   // axes with their own column (estimator and kernel are in the method label)
+    for (size_t a = 0; a < table.axes.size(); ++a)
+        if (table.axes[a] != "estimator" && table.axes[a] != "kernel") shown.push_back(a);
+    std::ostringstream md;
+    md << "# Sweep: " << title << "\n\n"
+       << table.rows.size() << " runs in " << points.size() << " configurations; errors relative to the reference's mean "
+       << "luminance (see README, Parameter sweeps). Times are means over the repeats (trace + build + render, seconds).\n\n";
+    if (nonfinite_total)
+        md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
+           << "metrics. See the nonfinite_pixels column.**\n\n";
+    md << configurations_md(table.axes, shown, points) << equal_time_md(table.axes, shown, points, budgets);
     md << "\nPlots (tools/plot_sweep.py): error_vs_time.png, error_vs_k.png, bias_vs_k.png.\n";
     write_text_atomic(out / "summary.md", md.str());
     return md.str();

@@ -1,6 +1,6 @@
 #pragma once
 // core/: the bottom layer, depending on nothing else of vpm: math (this file), rng (PCG32
-// streams), sampling, Henyey-Greenstein, progress and timers, errors, build info.
+// streams), sampling, piecewise-constant distributions, Henyey-Greenstein, progress and timers, errors, build info.
 //
 // Basic types shared by all of vpm. Positions and directions are double precision (scenes may
 // sit far from the origin); colours are RGB arrays so that products are component-wise.

@@ -24,11 +24,6 @@ double total_sigma_t(const Scene& scene, const Vec3& x) {
     return sigma_t;
 }
 
-Bounds3 media_bounds(const Scene& scene) {
-    Bounds3 b;
-    for (const auto& m : scene.media) b.extend(m->bounds());
-    return b;
-}
 
 }  // namespace
 
@@ -46,12 +41,12 @@ struct PhotonMapIntegrator::ThreadState {
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
     : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>(scene)) {}
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {}
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
                                          const PhotonMap& volume_map, const PhotonMap* surface_map)
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), media_bounds_(media_bounds(scene)), threads_(std::make_unique<ThreadState>(scene)) {}
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {}
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
@@ -80,12 +75,11 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
              << "(fewer than k photons within photons.max_radius_mfp): " << *stats.continued_paths << "\n";
     uint64_t wide = 0;
     for (const auto& l : threads_->local) wide += l.march_wide;
-    if (settings_.gather == GatherMode::march) {
+    if (settings_.gather != GatherMode::collision) {
         stats.march_wide_queries = wide;
         if (wide > 0 && log)
-            *log << "warning: photons.gather = \"march\": " << wide << " of " << stats.volume_estimates->queries
-                 << " queries used a kNN ball wider than photons.max_radius_mfp = " << settings_.max_radius_mfp
-                 << " mean free paths; in dense media the march is biased low there (the collision gather is not)\n";
+            *log << "march: " << wide << " of " << stats.volume_estimates->queries << " queries had a kNN ball wider than "
+                 << "photons.max_radius_mfp = " << settings_.max_radius_mfp << " mean free paths and took NEE and a continued path instead\n";
     }
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
@@ -112,28 +106,34 @@ EstimatorStats PhotonMapIntegrator::surface_stats() const {
     return total;
 }
 
-Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
+Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const { return trace(camera_ray, 0, rng); }
+
+Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) const {
     const int max_depth = settings_.walk.max_depth;
-    Ray ray = camera_ray;
+    Ray ray = first_ray;
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
-    EmissionWeighting emission = EmissionWeighting::camera();   // transport/mis.h
-    for (int depth = 0;; ++depth) {
+    // transport/mis.h. A path started deeper (first_depth > 0) continues from a march point whose
+    // NEE weighed 1: the emission it meets counts 0.
+    EmissionWeighting emission = first_depth == 0 ? EmissionWeighting::camera() : EmissionWeighting::after(false, first_ray.origin, 0.0);
+    for (int depth = first_depth;; ++depth) {
         const PathVertex v = next_vertex(scene_, ray, rng);
         const MediumEvent& event = v.medium;
         const SurfaceHit& hit = v.hit;
+        const double t_end = v.on_surface ? hit.t : kInfinity;
+        const bool march = marches(ray, t_end);
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
-            if (settings_.gather == GatherMode::march && !(max_depth >= 0 && depth + 1 > max_depth))
-                radiance += throughput * march_in_scattering(ray, kInfinity, rng);
+            if (march && !(max_depth >= 0 && depth + 1 > max_depth))
+                radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng);
             break;
         }
         if (!event && hit.emitter) radiance += throughput * emitted_radiance(hit, ray.dir, emission);   // black: ends below
         if (max_depth >= 0 && depth + 1 > max_depth) break;
-        if (settings_.gather == GatherMode::march) {
+        if (march) {
             // The medium's in-scattering along this segment comes from the march; the collision
             // sampled above only decides whether the path reaches the surface behind (probability T).
-            radiance += throughput * march_in_scattering(ray, v.on_surface ? hit.t : kInfinity, rng);
+            radiance += throughput * march_in_scattering(ray, t_end, depth, rng);
             if (event) break;
         }
         if (event) {
@@ -194,50 +194,96 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
     return radiance;
 }
 
-Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, Rng& rng) const {
-    double t0, t1;
-    if (!media_bounds_.intersect(ray, t_end, t0, t1) || !(t1 > t0) || !std::isfinite(t1 - t0)) return Rgb::Zero();
+bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
+    switch (settings_.gather) {
+        case GatherMode::collision: return false;
+        case GatherMode::march: return true;
+        case GatherMode::automatic: break;
+    }
+    // Thin along this segment: every ray gathers at a few points. Thick: the collision gather puts
+    // its one query where the light is (within a few mean free paths of the entry) and bounds its
+    // ball in mean free paths; a uniform march would spread its queries over the dark interior.
+    double depth = 0.0;
+    for (const auto& m : scene_.media) depth += m->majorant_optical_depth(ray, t_end);
+    return depth <= settings_.march_max_optical_depth;
+}
+
+Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const {
+    // Per medium, n stratified points with the free-flight density of its majorant mu,
+    // p(t) = mu(t) exp(-tau_mu(t)) / P with P = 1 - exp(-tau_mu(t_end)): the points go where the
+    // medium is (empty majorant pieces get none), and the weight T sigma_s / (n p) is the constant
+    // albedo P / n where the majorant is exact (homogeneous media) and stays within e^tau_mu of it
+    // elsewhere, which photons.gather = "auto" keeps small by marching thin segments only.
     const int n = settings_.gather_queries;
-    const double dt = (t1 - t0) / n;
-    const bool nee = settings_.direct == DirectLighting::nee;
+    // Not thread-local buffers: a march point's continued path may march again (recursion).
+    std::vector<double> tau(static_cast<size_t>(n));
+    std::vector<std::pair<double, double>> points;   // (t, majorant at t)
+    points.reserve(size_t(n));
     Rgb sum = Rgb::Zero();
-    double transmittance = 1.0, t_prev = 0.0;
-    for (int j = 0; j < n; ++j) {
-        const double t = t0 + (j + rng.uniform()) * dt;   // stratified, jittered
-        // T(0, t) as a product of independent ratio-tracking estimates over consecutive pieces.
-        for (const auto& m : scene_.media) transmittance *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
-        t_prev = t;
-        if (transmittance == 0.0) break;
-        const Vec3 x = ray.at(t);
-        double sigma_t = 0.0, dominant = 0.0, g = 0.0;
-        Rgb sigma_s = Rgb::Zero();
-        for (const auto& m : scene_.media) {
-            const double st = m->sigma_t(x);
-            sigma_t += st;
-            sigma_s += m->albedo() * st;
-            if (st > dominant) {
-                dominant = st;
-                g = m->g();
-            }
+    for (const auto& medium : scene_.media) {
+        double total = 0.0;
+        medium->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
+            total += mu * (tb - ta);
+            return true;
+        });
+        if (!(total > 0.0)) continue;
+        const double mass = -std::expm1(-total);   // P
+        for (int j = 0; j < n; ++j) tau[size_t(j)] = -std::log1p(-mass * (j + rng.uniform()) / n);   // increasing
+        points.clear();
+        double reached = 0.0;   // majorant optical depth at the start of the piece
+        medium->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
+            const double end = reached + mu * (tb - ta);
+            while (points.size() < size_t(n) && tau[points.size()] < end)
+                points.emplace_back(std::min(tb, ta + (tau[points.size()] - reached) / mu), mu);
+            reached = end;
+            return points.size() < size_t(n);
+        });
+        double transmittance = 1.0, t_prev = 0.0;
+        for (size_t j = 0; j < points.size(); ++j) {
+            const auto [t, mu] = points[j];
+            // T(0, t) as a product of independent ratio-tracking estimates over consecutive pieces.
+            for (const auto& m : scene_.media) transmittance *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
+            t_prev = t;
+            if (transmittance == 0.0) break;
+            const Vec3 x = ray.at(t);
+            const double sigma_t_here = medium->sigma_t(x);
+            if (!(sigma_t_here > 0.0) || (medium->albedo() == 0.0).all()) continue;
+            const double survival = std::exp(-tau[j]);   // exp(-tau_mu(t)) = 1 - u_j
+            const Rgb weight = (transmittance * mass / (n * mu * survival) * sigma_t_here) * medium->albedo();
+            sum += weight * incident_at_march_point(x, ray.dir, medium->g(), total_sigma_t(scene_, x), weight, depth, rng);
         }
-        if (!(sigma_t > 0.0) || (sigma_s == 0.0).all()) continue;
-        Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
-        if (nee) in += direct_light_in_medium(scene_, x, ray.dir, g, rng);
-        if (!map_->empty()) {
-            auto& local = threads_->local.local();
-            const Estimate<Rgb> s = estimate_in_scattering(*map_, x, -ray.dir, g, settings_.estimator, k_,
-                                                           max_radius_, local.buffers, &local.stats);
-            const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0
-                                    ? threads_->ball.mean(x, s.radius)
-                                    : 0.0;
-            in += s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
-            // The march has no path to continue where the ball spans many mean free paths (the
-            // collision gather's bound, photon/bounded_radius.h): count those queries, they are biased low.
-            if (settings_.max_radius_mfp > 0.0 && s.radius * sigma_t > settings_.max_radius_mfp) ++local.march_wide;
-        }
-        sum += (transmittance * dt) * sigma_s * in;
     }
     return sum;
+}
+
+Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t,
+                                                 const Rgb& weight, int depth, Rng& rng) const {
+    const bool nee = settings_.direct == DirectLighting::nee;
+    Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
+    if (nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
+    auto& local = threads_->local.local();
+    Estimate<Rgb> s;
+    if (!map_->empty())
+        s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats);
+    // The collision gather's bound (photon/bounded_radius.h) here: a ball spanning many mean free
+    // paths averages the lit skin of a dense medium with its dark inside (biased low), so such a
+    // point takes the light a path would find instead: NEE and one phase-sampled continuation,
+    // both unbiased for the same incident radiance (the choice depends on x and the map only).
+    const bool wide = settings_.max_radius_mfp > 0.0 && (map_->empty() || s.radius * sigma_t > settings_.max_radius_mfp);
+    if (wide) {
+        ++local.march_wide;
+        if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
+        // Roulette on the point's weight: where it is small, so is the chance of paying for a path.
+        const double q = std::min(1.0, weight.maxCoeff());
+        if (rng.uniform() < q) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            in += trace(Ray{x, hg_sample(dir, g, u1, u2)}, depth + 1, rng) / q;
+        }
+        return in;
+    }
+    if (map_->empty()) return in;
+    const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
+    return in + s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
 }
 
 namespace {

@@ -84,12 +84,20 @@ private:
     const PhotonMap* surface_map_;
     double max_radius_;
     size_t k_;   // this pass's k (photons.schedule)
-    Bounds3 media_bounds_;
     std::unique_ptr<ThreadState> threads_;
 
+    // The camera path's radiance from `ray` on, after `first_depth` scattering events.
+    Rgb trace(const Ray& ray, int first_depth, Rng& rng) const;
     // gather = "march": the in-scattered radiance along `ray` over the media inside (0, t_end),
     // from gather_queries stratified points, each weighted by a ratio-tracked transmittance.
-    Rgb march_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
+    // A point whose kNN ball is wider than max_radius_mfp mean free paths gets NEE and a continued
+    // path (scattering event number depth + 1) instead of its biased estimate.
+    Rgb march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const;
+    // The phase-weighted incident radiance at march point x (weight: the point's, for roulette).
+    Rgb incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight,
+                                int depth, Rng& rng) const;
+    // Whether the camera segment `ray` up to t_end gathers by the march (photons.gather).
+    bool marches(const Ray& ray, double t_end) const;
 };
 
 // The registry's reader: [photons] and the walk keys of [render].

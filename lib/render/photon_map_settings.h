@@ -18,17 +18,22 @@
 //   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x    |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
 //   |                        |             | fewer than k photons within: the camera path continues   |
-//   |                        |             | (photon/bounded_radius.h; gather = "collision"); 0: off  |
+//   |                        |             | (photon/bounded_radius.h); 0: off                        |
 //   | allocation             | "importance"| photons per light: "importance" (pilot: power landing    |
 //   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
 //   | gather                 | "collision" | camera side: "collision": one estimate where the camera  |
 //   |                        |             | ray collides; "march": gather_queries stratified points  |
-//   |                        |             | along every segment in the media, each weighted by its   |
-//   |                        |             | ratio-tracked transmittance (every ray gathers, also in  |
-//   |                        |             | thin media)                                              |
-//   |                        |             | No mean-free-path bound: in dense media it is biased low |
-//   |                        |             | (counted: photons.march_wide_queries, and a warning)     |
+//   |                        |             | along every segment in the media (the majorant's free    |
+//   |                        |             | flight), each weighted by its ratio-tracked              |
+//   |                        |             | transmittance (every ray gathers, also in thin media);   |
+//   |                        |             | a point whose ball exceeds max_radius_mfp takes NEE and  |
+//   |                        |             | a continued path (counted: photons.march_wide_queries).  |
+//   |                        |             | "auto": per camera segment, "march" where the media's    |
+//   |                        |             | majorant optical depth along it is at most               |
+//   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
+//   |                        |             | geometry alone, so the mixture stays unbiased)           |
 //   | gather_queries         | 4           | points per segment for "march"                           |
+//   | march_max_optical_depth| 2           | the "auto" threshold                                     |
 //   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
 //   |                        |             | counting from render.first_pass) uses                    |
 //   |                        |             | k_i = max(k_floor, round(k i^(alpha-1))), the kNN form of |
@@ -50,7 +55,7 @@ class Params;
 enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point };
 enum class PhotonAllocationRule { importance, power };
-enum class GatherMode { collision, march };
+enum class GatherMode { collision, march, automatic };
 enum class KSchedule { fixed, shrink };
 
 struct PhotonMapSettings {
@@ -67,6 +72,7 @@ struct PhotonMapSettings {
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::collision;
     int gather_queries = 4;
+    double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
     double alpha = 2.0 / 3.0;
     int k_floor = 4;

@@ -25,6 +25,8 @@ public:
     const Bounds3& box() const { return box_; }
     // Area of the box's silhouette seen along unit d.
     double projected_area(const Vec3& d) const;
+    // Areas of the faces perpendicular to x, y and z (projected_area weighs them by |d_i|).
+    const Vec3& face_area() const { return face_area_; }
     // Mean of projected_area over uniform directions: surface area / 4.
     double mean_projected_area() const { return 0.25 * area_; }
     // Origin of a ray along d, uniform over the silhouette, just outside the box.

@@ -160,6 +160,13 @@ double GridMedium::transmittance(const Ray& ray, double tmax, Rng& rng, Tracking
     return tracking::transmittance(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, stats);
 }
 
+void GridMedium::majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const {
+    if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty()) return;
+    TrilinearRayField(grid_, world_to_index_, ray).walk(0.0, tmax, [&](const auto& s) {
+        return s.majorant > 0.0 ? visit(s.ta, s.tb, scale_ * s.majorant) : true;
+    });
+}
+
 std::string GridMedium::describe() const {
     std::ostringstream s;
     s.precision(6);

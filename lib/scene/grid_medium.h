@@ -43,6 +43,7 @@ public:
         return transmittance(ray, tmax, rng, nullptr);
     }
     double sigma_t(const Vec3& p) const override { return scale_ * grid_.density(world_to_index_ * p); }
+    void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;
     std::string describe() const override;
 
     // Same as above, adding the work done to *stats when non-null.

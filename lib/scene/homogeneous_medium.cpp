@@ -47,6 +47,11 @@ double HomogeneousMedium::transmittance(const Ray& ray, double tmax, Rng&) const
     return std::exp(-sigma_t_ * (t1 - t0));
 }
 
+void HomogeneousMedium::majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const {
+    double t0, t1;
+    if (sigma_t_ > 0.0 && clip(ray, tmax, t0, t1)) visit(t0, t1, sigma_t_);
+}
+
 double HomogeneousMedium::sigma_t(const Vec3& p) const {
     const bool inside = shape_ == Shape::box ? bounds_.contains(p) : (p - center_).squaredNorm() <= radius_ * radius_;
     return inside ? sigma_t_ : 0.0;

@@ -23,6 +23,7 @@ public:
     double sample_free_flight(const Ray& ray, double tmax, Rng& rng) const override;
     double transmittance(const Ray& ray, double tmax, Rng& rng) const override;
     double sigma_t(const Vec3& p) const override;
+    void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;   // exact here
     std::string describe() const override;
 
     // The parameter interval of the ray inside the shape, clipped to [0, tmax].

@@ -8,7 +8,7 @@
 //   "directional" directional_light.cpp    direction, irradiance
 //   "quad"        quad_light.cpp           center, u, v, radiance, two_sided
 //   "sphere"      sphere_light.cpp         center, radius, radiance
-//   "environment" environment_light.cpp    radiance
+//   "environment" environment_light.cpp    radiance, or file (lat-long EXR), scale, rotate_y
 //
 // Adding a light type: one file with its Light class and factory, and one line in the table in
 // light_registry.cpp (with its declaration beside it).

@@ -5,6 +5,7 @@
 // Free-flight sampling and transmittance are the only ways integrators touch sigma_t along a
 // ray, so each medium can use its closed form (homogeneous) or delta / ratio tracking against
 // a majorant (grids). Both are unbiased; nothing marches exp(-tau) with a fixed step.
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -30,6 +31,23 @@ public:
 
     // Extinction at a point (1 / world length).
     virtual double sigma_t(const Vec3& p) const = 0;
+
+    // The majorant along [0, tmax]: visit(ta, tb, majorant) for consecutive pieces in order of t,
+    // each with majorant >= sigma_t on it (pieces with majorant 0 may be left out); stops when visit
+    // returns false. Deterministic and cheap, so integrators can pick estimators and place points
+    // per ray segment from geometry alone and stay unbiased.
+    using MajorantVisitor = std::function<bool(double ta, double tb, double majorant)>;
+    virtual void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const = 0;
+
+    // An upper bound on the optical depth along [0, tmax]: the integral of the majorant pieces.
+    double majorant_optical_depth(const Ray& ray, double tmax) const {
+        double depth = 0.0;
+        majorant_pieces(ray, tmax, [&](double ta, double tb, double majorant) {
+            depth += majorant * (tb - ta);
+            return true;
+        });
+        return depth;
+    }
 
     const Rgb& albedo() const { return albedo_; }
     double g() const { return g_; }

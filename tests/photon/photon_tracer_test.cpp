@@ -4,8 +4,12 @@
 
 #include <tbb/task_arena.h>
 
+#include <iostream>
+
 #include "photon/photon_tracer.h"
 #include "render/run_config.h"
+
+#include "../support/sample_statistics.h"
 
 using namespace vpm;
 
@@ -85,6 +89,49 @@ TEST(PhotonTracer, NeeModeStoresOnlyScatteredLight) {
     s.store_direct = true;
     const auto all = trace_photons(*scene, s);
     EXPECT_EQ(all.photons.size(), all.collisions);
+}
+
+TEST(PhotonTracer, EnvironmentMapEnergyBalancesAndEmitsItsPower) {
+    // The sun-and-sky map of configs/plume_sky.toml with a point light beside it: every photon's
+    // power is emitted, absorbed, escaped or truncated, and the emitted total is the lights' power
+    // within the standard error of the map's photon weights (measured from the light itself).
+    for (const std::string& medium : {kHomogeneous, kGrid}) {
+        const std::string text = R"(
+[camera]
+position = [0, 0, 5]
+look_at = [0, 0, 0]
+[[lights]]
+type = "environment"
+file = "../media/sky.exr"
+rotate_y = 40
+scale = [1.5, 1, 0.8]
+[[lights]]
+type = "point"
+position = [0, 3, 0]
+intensity = 2
+[[media]]
+)" + medium + "albedo = 0.7\n";
+        auto scene = RunConfig::build(parse_config(text, "sky_photons.toml", VPM_SOURCE_DIR "/configs")).scene;
+        const Light& sky = *scene->lights[0];
+        // Relative standard deviation of one map photon's power (luminance), by sampling the light.
+        Rng rng(77, 1);
+        test::Sample one;
+        for (int i = 0; i < 20000; ++i) one.add(luminance(sky.sample_emission(rng).power) / luminance(sky.power()));
+        const double rel_sd = one.se() * std::sqrt(double(one.n));
+        PhotonTraceSettings s;
+        s.count = 40000;
+        s.progress = false;
+        const PhotonTraceResult r = trace_photons(*scene, s);
+        EXPECT_LT(r.energy.relative_imbalance(), 1e-6) << medium;
+        // Photons go to the lights by power; the point light's are exact, the map's mean carries
+        // rel_sd / sqrt(its photon count), which bounds the total's relative error from above.
+        const double tol = 4.0 * rel_sd / std::sqrt(double(s.count) * 0.5);
+        std::cout << "emitted / power " << luminance(r.energy.emitted) / luminance(scene->total_light_power())
+                  << " (tolerance " << tol << "), imbalance " << r.energy.relative_imbalance() << "\n";
+        EXPECT_NEAR(luminance(r.energy.emitted) / luminance(scene->total_light_power()), 1.0, tol) << medium;
+        EXPECT_LT(tol, 0.05);
+        EXPECT_GT(r.photons.size(), 0u);
+    }
 }
 
 TEST(PhotonTracer, EnergyBalancesWithAreaLights) {

@@ -27,6 +27,8 @@ TEST(CliErrors, BadCommandLinesGiveOneLineAndExitCode2) {
         {"bench nope", "vpm bench: error: "},
         {"bench equal-time --size 12", "vpm bench: error: "},
         {"make-media --bogus", "vpm make-media: error: "},
+        {"make-sky --width 1", "vpm make-sky: error: "},
+        {"make-sky --out sky.png", "vpm make-sky: error: "},
         {"merge", "vpm merge: error: "},
         {"no-such-command", "vpm: error: "},
         {"", "vpm: error: "},

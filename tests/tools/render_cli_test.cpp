@@ -125,7 +125,7 @@ TEST(RenderCli, BadConfigFailsWithOneLineAndNoOutput) {
 TEST(RenderCli, HelpOnEverySubcommand) {
     TempDir t;
     std::string err;
-    for (const char* cmd : {"render", "study", "make-media"})
+    for (const char* cmd : {"render", "study", "make-media", "make-sky"})
         EXPECT_EQ(run_vpm(std::string(cmd) + " --help", t.path, err), 0) << cmd << ": " << err;
     EXPECT_EQ(run_vpm("--help", t.path, err), 0);
     EXPECT_EQ(run_vpm("nonsense", t.path, err), 2);
