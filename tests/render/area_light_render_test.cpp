@@ -232,3 +232,14 @@ g = 0.6
         EXPECT_LT(e.se, 0.01 * 1.5) << "mis " << mis;
     }
 }
+
+TEST(AreaLightRender, MisOnAndOffAgreeUnderTheEnvironmentMap) {
+    // The plume under the sun-and-sky map (configs/plume_sky.toml), path-traced: escaping paths
+    // weighted against the map's luminance pdf (MIS on) or not counted after a vertex (off).
+    const std::vector<std::string> small = {"render.width=16", "render.height=16", "render.spp=16", "render.integrator=path"};
+    std::vector<std::string> on = small, off = small;
+    on.insert(on.end(), {"render.mis=true", "render.seed=9"});
+    off.insert(off.end(), {"render.mis=false", "render.seed=10"});
+    const std::string path = VPM_SOURCE_DIR "/configs/plume_sky.toml";
+    expect_same_mean(brightness(path, on, 8), brightness(path, off, 8), 4.0, 0.0, "environment map, MIS on vs off");
+}
