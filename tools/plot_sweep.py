@@ -9,7 +9,7 @@ writes OUT_DIR/error_vs_time.png  relative RMSE against mean run time, log-log: 
        OUT_DIR/bias_vs_k.png      relative bias (+- standard error) against k with the k/(k-1)
                                    prediction: 1/(k-1) if all radiance came from photons, and
                                    f/(k-1) with the photon share f fitted to the classic points
-One panel per scene (combination of the non-photon axes, e.g. media.0.g), at most 9.
+One panel per scene (combination of the non-photon axes other than time budgets, e.g. media.0.g), at most 9.
 """
 import csv
 import json
@@ -40,6 +40,11 @@ def photon_axis(a):
     return a in ("k", "estimator", "kernel") or a.startswith("photons.")
 
 
+def budget_axis(a):
+    """Time budgets are where a run lands on the time axis, not a different scene."""
+    return a in ("time_limit", "render.time_limit")
+
+
 def scene_name(out):
     """The base scene's file name from sweep.json, for the panel title of a sweep with no scene axis."""
     try:
@@ -50,7 +55,7 @@ def scene_name(out):
 
 
 def panels(rows, axes, name="all runs"):
-    scene_axes = [a for a in axes if not photon_axis(a)]
+    scene_axes = [a for a in axes if not photon_axis(a) and not budget_axis(a)]
     groups = {}
     for r in rows:
         key = tuple(r[a] for a in scene_axes)
