@@ -40,7 +40,7 @@ std::string run_hash(const toml::table& resolved, uint64_t seed, uint64_t stream
 
 std::string scene_hash(const toml::table& resolved) {
     return hash_hex(to_toml_string(without(
-        resolved, {"output", "threads", "integrator", "spp", "seed", "max_depth", "rr_depth", "exposure", "passes",
+        resolved, {"output", "threads", "integrator", "spp", "seed", "max_depth", "rr_depth", "mis", "exposure", "passes",
                    "time_limit", "first_pass"},
         true)));
 }

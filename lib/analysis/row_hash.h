@@ -21,7 +21,9 @@ std::string hash_hex(const std::string& bytes);
 std::string run_config_text(const toml::table& resolved);
 // Hash identifying one run: run_config_text + seed + stream offset.
 std::string run_hash(const toml::table& resolved, uint64_t seed, uint64_t stream_offset);
-// Hash of the scene alone (see above), for the reference cache.
+// Hash of the scene alone (see above), for the reference cache: without the [render] keys that pick
+// how the image is estimated (integrator, samples, seed, passes, budgets, roulette, MIS) rather than
+// what it converges to, so one path-traced reference serves every method.
 std::string scene_hash(const toml::table& resolved);
 
 }  // namespace vpm
