@@ -21,7 +21,7 @@
 //   |                        |             | (photon/bounded_radius.h); 0: off                        |
 //   | allocation             | "importance"| photons per light: "importance" (pilot: power landing    |
 //   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
-//   | gather                 | "collision" | camera side: "collision": one estimate where the camera  |
+//   | gather                 | "auto"      | camera side: "collision": one estimate where the camera  |
 //   |                        |             | ray collides; "march": gather_queries stratified points  |
 //   |                        |             | along every segment in the media (the majorant's free    |
 //   |                        |             | flight), each weighted by its ratio-tracked              |
@@ -70,7 +70,7 @@ struct PhotonMapSettings {
     ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
     double max_radius_mfp = 2.0;
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
-    GatherMode gather = GatherMode::collision;
+    GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
