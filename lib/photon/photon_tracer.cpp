@@ -114,7 +114,11 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             if (event) {
                 const Vec3 x = ray.at(event.t);
                 ++out.collisions;
-                if (s.store_direct || scattered) out.photons.push_back(PhotonInput{x, ray.dir, power});
+                if (s.store_direct || scattered) {
+                    if (s.store_probability >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power});
+                    else if (rng.uniform() < s.store_probability)
+                        out.photons.push_back(PhotonInput{x, ray.dir, power / s.store_probability});
+                }
                 alive = roulette(power, event.medium->albedo(), rng);
                 if (alive) {
                     const double u1 = rng.uniform(), u2 = rng.uniform();

@@ -46,6 +46,9 @@ struct PhotonTraceSettings {
     uint64_t stream_offset = 0;   // independent photon maps with the same seed
     bool store_direct = true;
     bool store_surface = false;   // also fill surface_photons (Lambertian surface hits)
+    // Each volume collision that would be stored is kept with this probability, its power divided
+    // by it (unbiased thinning): fewer, less clustered photons per walk in dense, bright media.
+    double store_probability = 1.0;
     int max_bounces = 1000;       // collisions + surface bounces per path before truncation
     bool progress = true;
     // Called after each chunk; may throw (vpm::Error) to stop the pass, e.g. when the projected

@@ -33,6 +33,8 @@
 //   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
 //   |                        |             | geometry alone, so the mixture stays unbiased)           |
 //   | gather_queries         | 4           | points per segment for "march"                           |
+//   | store_probability      | 1           | each volume collision stored with this probability and   |
+//   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
 //   | march_max_optical_depth| 2           | the "auto" threshold                                     |
 //   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
 //   |                        |             | counting from render.first_pass) uses                    |
@@ -72,6 +74,7 @@ struct PhotonMapSettings {
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
+    double store_probability = 1.0;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
     double alpha = 2.0 / 3.0;
