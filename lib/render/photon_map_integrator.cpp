@@ -73,9 +73,9 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     if (log)
         *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
              << "(fewer than k photons within photons.max_radius_mfp): " << *stats.continued_paths << "\n";
-    uint64_t wide = 0;
-    for (const auto& l : threads_->local) wide += l.march_wide;
     if (settings_.gather != GatherMode::collision) {
+        uint64_t wide = 0;
+        for (const auto& l : threads_->local) wide += l.march_wide;
         stats.march_wide_queries = wide;
         if (wide > 0 && log)
             *log << "march: " << wide << " of " << stats.volume_estimates->queries << " queries had a kNN ball wider than "
@@ -201,11 +201,20 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
         case GatherMode::automatic: break;
     }
     // Thin along this segment: every ray gathers at a few points. Thick: the collision gather puts
-    // its one query where the light is (within a few mean free paths of the entry) and bounds its
-    // ball in mean free paths; a uniform march would spread its queries over the dark interior.
+    // its one query where the light is and bounds its ball in mean free paths, while the march's
+    // weights grow with the majorant's looseness (up to e^tau_mu) and its points, all a few mean free
+    // paths apart, would mostly take continued paths. The walk stops once the threshold is passed,
+    // so thick segments, the collision gather's, pay for a few majorant pieces only.
+    const double limit = settings_.march_max_optical_depth;
     double depth = 0.0;
-    for (const auto& m : scene_.media) depth += m->majorant_optical_depth(ray, t_end);
-    return depth <= settings_.march_max_optical_depth;
+    for (const auto& m : scene_.media) {
+        m->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
+            depth += mu * (tb - ta);
+            return depth <= limit;
+        });
+        if (depth > limit) return false;
+    }
+    return true;
 }
 
 Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const {
@@ -219,10 +228,16 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int d
     std::vector<double> tau(static_cast<size_t>(n));
     std::vector<std::pair<double, double>> points;   // (t, majorant at t)
     points.reserve(size_t(n));
+    struct Piece {
+        double ta, tb, mu;
+    };
+    std::vector<Piece> pieces;   // the medium's majorant along the segment, walked once
     Rgb sum = Rgb::Zero();
     for (const auto& medium : scene_.media) {
+        pieces.clear();
         double total = 0.0;
         medium->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
+            pieces.push_back({ta, tb, mu});
             total += mu * (tb - ta);
             return true;
         });
@@ -231,13 +246,13 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int d
         for (int j = 0; j < n; ++j) tau[size_t(j)] = -std::log1p(-mass * (j + rng.uniform()) / n);   // increasing
         points.clear();
         double reached = 0.0;   // majorant optical depth at the start of the piece
-        medium->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
-            const double end = reached + mu * (tb - ta);
+        for (const Piece& p : pieces) {
+            const double end = reached + p.mu * (p.tb - p.ta);
             while (points.size() < size_t(n) && tau[points.size()] < end)
-                points.emplace_back(std::min(tb, ta + (tau[points.size()] - reached) / mu), mu);
+                points.emplace_back(std::min(p.tb, p.ta + (tau[points.size()] - reached) / p.mu), p.mu);
             reached = end;
-            return points.size() < size_t(n);
-        });
+            if (points.size() == size_t(n)) break;
+        }
         double transmittance = 1.0, t_prev = 0.0;
         for (size_t j = 0; j < points.size(); ++j) {
             const auto [t, mu] = points[j];
