@@ -309,7 +309,6 @@ namespace {
 
 struct Row {
     std::vector<std::string> f;
-    fs::path base;   // folder the paths are relative to
 };
 
 struct PointStats {
@@ -339,7 +338,7 @@ RunTable read_run_table(const fs::path& out, const std::set<std::string>& only) 
         else if (csv.header != t.header) throw FileError(f.string() + ": its header differs from the other runs*.csv in " + out.string());
         const int h = csv.column("hash");
         for (const auto& r : csv.rows)
-            if ((only.empty() || only.count(r[size_t(h)])) && seen.insert(r[size_t(h)]).second) t.rows.push_back({r, out});
+            if ((only.empty() || only.count(r[size_t(h)])) && seen.insert(r[size_t(h)]).second) t.rows.push_back({r});
     }
     if (t.header.empty()) throw FileError(out.string() + ": no runs*.csv to report on");
     auto col = [&](const char* name) {
