@@ -8,19 +8,14 @@
 #include "render/run_config.h"
 #include "scene/light_registry.h"
 
+#include "../support/light_from_config.h"
 #include "../support/sample_statistics.h"
 
 using namespace vpm;
 
 namespace {
 
-std::unique_ptr<Light> light_from(const std::string& text) {
-    auto doc = parse_config(text, "light.toml", ".");
-    toml::table resolved;
-    Params root(doc, &resolved);
-    auto tables = root.tables("lights");
-    return make_light(tables.at(0));
-}
+using test::light_from;
 
 const char* kSphere = "[[lights]]\ntype='sphere'\ncenter=[0.5,2,-1]\nradius=0.7\nradiance=[3,2,1]\n";
 const char* kQuad = "[[lights]]\ntype='quad'\ncenter=[0,1.3,0]\nu=[0.5,0,0.1]\nv=[0,0,0.4]\nradiance=2\n";

@@ -4,19 +4,14 @@
 #include "core/error.h"
 #include "scene/light_registry.h"
 
+#include "../support/light_from_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;
 
 namespace {
 
-std::unique_ptr<Light> light_from(const std::string& text) {
-    auto doc = parse_config(text, "light.toml", ".");
-    toml::table resolved;
-    Params root(doc, &resolved);
-    auto tables = root.tables("lights");
-    return make_light(tables.at(0));
-}
+using test::light_from;
 
 // Monte Carlo irradiance at x on a surface with normal n, from NEE samples.
 void irradiance(const Light& light, const Vec3& x, const Vec3& n, int samples, double& mean, double& se) {
