@@ -77,6 +77,17 @@ TEST(RunConfig, PhotonSettingsAreTyped) {
     EXPECT_EQ(s.search_radius(), kInfinity);
 }
 
+TEST(RunConfig, GatherAndThinningKeysNameTheKeyAndTheAllowedValues) {
+    // The gathers of issue 14 and photon thinning: one clear error each, naming the key and what is allowed.
+    const std::string gather = error_of({"photons.gather=\"beam\""});
+    for (const char* part : {"photons.gather", "auto", "collision", "march"}) EXPECT_NE(gather.find(part), std::string::npos) << gather;
+    for (const char* bad : {"photons.store_probability=0", "photons.store_probability=1.5", "photons.store_probability=-0.1"})
+        EXPECT_NE(error_of({bad}).find("photons.store_probability"), std::string::npos) << bad;
+    EXPECT_NE(error_of({"photons.march_max_optical_depth=-1"}).find("photons.march_max_optical_depth"), std::string::npos);
+    EXPECT_EQ(error_of({"photons.store_probability=1", "photons.march_max_optical_depth=0"}), "");
+    EXPECT_EQ(photon_map_settings(build()).gather, GatherMode::automatic);   // the default (BENCHMARKS section 5)
+}
+
 TEST(RunConfig, KBelowTheEstimatorsMinimumNamesTheEstimator) {
     const std::string msg = error_of({"photons.estimator=\"mse_optimal\"", "photons.k=2"});
     EXPECT_NE(msg.find("photons.k: the mse_optimal estimator needs k >= 3"), std::string::npos) << msg;
