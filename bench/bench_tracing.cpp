@@ -13,7 +13,7 @@
 //                           thinning by the sub-block majorants), voxel cells integrated in
 //                           closed form, lookups + cells ("evals": each reads one 8-voxel
 //                           stencil) and majorant-walk DDA steps. T = 0: the current
-//                           tracker (lib/scene/majorant_tracking.h); T = 1: the tracker before
+//                           tracker (lib/scene/media/majorant_tracking.h); T = 1: the tracker before
 //                           issue 12 (delta tracking against the 8^3-block majorants only), kept
 //                           here as the baseline so before/after run interleaved in one process.
 //   BM_DensityLookup/M      DensityGrid::density on the plume: M = 0 random points of the box,
@@ -35,7 +35,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/photon_tracer.h"
-#include "scene/grid_medium.h"
+#include "scene/media/grid_medium.h"
 #include "render/run_config.h"
 
 using namespace vpm;

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "scene/params.h"
+#include "config/params.h"
 #include "render/run_config.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

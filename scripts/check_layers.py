@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks that every #include between vpm's source folders points down the layers.
 
-    core < scene < transport < photon < render < analysis < tools
+    core < config < io < scene < transport < photon < render < analysis < tools
 
 A file in lib/<folder>/ (or tools/, bench/, fuzz/) may include headers of its own folder and of
 folders below it, never above. Because the order is strict, a folder-level cycle is impossible
@@ -13,7 +13,7 @@ import pathlib
 import re
 import sys
 
-LAYERS = ["core", "scene", "transport", "photon", "render", "analysis", "tools"]
+LAYERS = ["core", "config", "io", "scene", "transport", "photon", "render", "analysis", "tools"]
 RANK = {name: i for i, name in enumerate(LAYERS)}
 # Front ends outside lib/ sit on top of everything.
 TOP_FOLDERS = {"tools": "tools", "bench": "tools", "fuzz": "tools"}

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "scene/params.h"
+#include "config/params.h"
 
 namespace vpm {
 

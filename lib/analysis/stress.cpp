@@ -11,8 +11,8 @@
 #include "photon/estimators.h"
 #include "photon/photon_map.h"
 #include "render/run.h"
-#include "scene/density_grid.h"
-#include "scene/vdb_io.h"
+#include "core/density_grid.h"
+#include "io/vdb_io.h"
 
 namespace vpm {
 

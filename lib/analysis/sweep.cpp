@@ -24,7 +24,7 @@
 #include "render/run.h"
 #include "render/run_outputs.h"
 #include "render/run_record.h"
-#include "scene/params.h"
+#include "config/params.h"
 
 namespace fs = std::filesystem;
 

@@ -10,8 +10,8 @@
 
 #include "analysis/row_hash.h"
 #include "core/error.h"
-#include "scene/config_file.h"
-#include "scene/params.h"
+#include "config/config_file.h"
+#include "config/params.h"
 #include "render/photon_map_integrator.h"
 #include "render/run_config.h"
 

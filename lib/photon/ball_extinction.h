@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "core/math.h"
-#include "scene/medium.h"
+#include "scene/media/medium.h"
 
 namespace vpm {
 

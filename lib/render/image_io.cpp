@@ -22,7 +22,7 @@
 
 #include "core/error.h"
 #include "render/staged_file.h"
-#include "scene/exr_read.h"
+#include "io/exr_read.h"
 
 namespace fs = std::filesystem;
 

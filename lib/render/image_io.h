@@ -14,7 +14,7 @@
 namespace vpm {
 
 // OpenEXR, RGB 32-bit float, ZIP (lossless) compression. Throws FileError naming the path.
-// read_exr is scene/exr_read.h's reader (any EXR with R, G and B channels, HALF/UINT converted to
+// read_exr is io/exr_read.h's reader (any EXR with R, G and B channels, HALF/UINT converted to
 // float, a data window that need not start at (0, 0)) returning an Image.
 void write_exr(const std::filesystem::path& path, const Image& image);
 StagedFile stage_exr(const std::filesystem::path& path, const Image& image);

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "render/integrator.h"
-#include "scene/params.h"
+#include "config/params.h"
 
 namespace vpm {
 

@@ -9,7 +9,7 @@
 #include "core/sampling.h"
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
-#include "scene/params.h"
+#include "config/params.h"
 #include "transport/direct_light.h"
 #include "transport/mis.h"
 #include "transport/walk_steps.h"

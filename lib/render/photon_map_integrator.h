@@ -44,7 +44,7 @@
 #include "photon/estimators.h"
 #include "photon/photon_map.h"
 #include "render/integrator.h"
-#include "render/photon_map_settings.h"
+#include "photon/photon_map_settings.h"
 #include "render/photon_pass.h"
 #include "render/run_config.h"
 #include "scene/scene.h"

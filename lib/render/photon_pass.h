@@ -8,7 +8,7 @@
 #include "photon/photon_allocation.h"
 #include "photon/photon_map.h"
 #include "render/integrator.h"
-#include "render/photon_map_settings.h"
+#include "photon/photon_map_settings.h"
 #include "render/run_stats.h"
 #include "scene/scene.h"
 

@@ -1,7 +1,7 @@
 #include "render/render_settings.h"
 
 #include "core/progress.h"
-#include "scene/params.h"
+#include "config/params.h"
 
 namespace vpm {
 

@@ -9,7 +9,7 @@
 #include "render/integrator.h"
 #include "render/integrator_registry.h"
 #include "render/render_settings.h"
-#include "scene/params.h"
+#include "config/params.h"
 #include "scene/scene.h"
 
 namespace vpm {

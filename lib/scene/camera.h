@@ -4,7 +4,7 @@
 #include <string>
 
 #include "core/math.h"
-#include "scene/params.h"
+#include "config/params.h"
 
 namespace vpm {
 

@@ -1,7 +1,7 @@
 #include "scene/scene.h"
 
-#include "scene/light_registry.h"
-#include "scene/medium_registry.h"
+#include "scene/lights/light_registry.h"
+#include "scene/media/medium_registry.h"
 
 namespace vpm {
 

@@ -1,8 +1,8 @@
 #pragma once
 // scene/: what is seen. A Scene is the camera, the lights, the media and the surfaces of a
 // config; how it is measured (film, integrator and its passes) belongs to render/. Lights and
-// media are created by name through their registries (scene/light_registry.h,
-// scene/medium_registry.h); surfaces are Embree geometry (scene/surfaces.h); Params reads every
+// media are created by name through their registries (scene/lights/light_registry.h,
+// scene/media/medium_registry.h); surfaces are Embree geometry (scene/surfaces/surfaces.h); Params reads every
 // config table and reports unknown keys.
 //
 // Only what the config uses is built: no Embree device without [[shapes]], no OpenVDB grid
@@ -17,10 +17,10 @@
 #include "core/math.h"
 #include "core/rng.h"
 #include "scene/camera.h"
-#include "scene/light.h"
-#include "scene/medium.h"
-#include "scene/params.h"
-#include "scene/surfaces.h"
+#include "scene/lights/light.h"
+#include "scene/media/medium.h"
+#include "config/params.h"
+#include "scene/surfaces/surfaces.h"
 
 namespace vpm {
 

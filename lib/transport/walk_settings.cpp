@@ -1,6 +1,6 @@
 #include "transport/walk_settings.h"
 
-#include "scene/params.h"
+#include "config/params.h"
 
 namespace vpm {
 

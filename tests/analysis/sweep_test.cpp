@@ -17,7 +17,7 @@
 #include "analysis/sweep_csv.h"
 #include "analysis/sweep_plan.h"
 #include "core/error.h"
-#include "scene/params.h"
+#include "config/params.h"
 #include "render/run_config.h"
 
 namespace fs = std::filesystem;

@@ -10,8 +10,8 @@
 
 #include "core/error.h"
 #include "render/run_config.h"
-#include "scene/config_file.h"
-#include "scene/params.h"
+#include "config/config_file.h"
+#include "config/params.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;

@@ -7,7 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
-#include "render/photon_map_settings.h"
+#include "photon/photon_map_settings.h"
 #include "render/run.h"
 #include "../support/render_statistics.h"
 

@@ -6,7 +6,7 @@
 #include "core/error.h"
 #include "core/sampling.h"
 #include "render/run_config.h"
-#include "scene/light_registry.h"
+#include "scene/lights/light_registry.h"
 
 #include "../support/light_from_config.h"
 #include "../support/sample_statistics.h"

@@ -10,9 +10,9 @@
 
 #include "core/error.h"
 #include "render/image_io.h"
-#include "scene/emission_bounds.h"
-#include "scene/latlong_map.h"
-#include "scene/light_registry.h"
+#include "scene/lights/emission_bounds.h"
+#include "scene/lights/latlong_map.h"
+#include "scene/lights/light_registry.h"
 
 #include "../support/chi_square.h"
 #include "../support/io_test_util.h"

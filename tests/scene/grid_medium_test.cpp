@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "core/error.h"
-#include "scene/grid_medium.h"
-#include "scene/params.h"
-#include "scene/transform_params.h"
-#include "scene/vdb_io.h"
+#include "scene/media/grid_medium.h"
+#include "config/params.h"
+#include "config/transform_params.h"
+#include "io/vdb_io.h"
 
 using namespace vpm;
 

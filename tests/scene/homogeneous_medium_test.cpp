@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "scene/homogeneous_medium.h"
+#include "scene/media/homogeneous_medium.h"
 
 using namespace vpm;
 

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "scene/light_registry.h"
+#include "scene/lights/light_registry.h"
 
 #include "../support/light_from_config.h"
 #include "../support/render_statistics.h"

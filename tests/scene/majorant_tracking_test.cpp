@@ -1,4 +1,4 @@
-// Tracking in grid media (lib/scene/majorant_tracking.h over DensityGrid's two-level majorant walk):
+// Tracking in grid media (lib/scene/media/majorant_tracking.h over DensityGrid's two-level majorant walk):
 // the closed-form pieces (Bernstein cubic, trilinear field along a line), the majorant walk
 // (every lookup under its segment's and its sub-block's majorant), free-flight distributions and transmittance
 // against the closed-form optical depth of a trilinear field, agreement with the tracker before
@@ -12,11 +12,11 @@
 
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "scene/density_grid.h"
-#include "scene/grid_medium.h"
-#include "scene/homogeneous_medium.h"
-#include "scene/majorant_tracking.h"
-#include "scene/vdb_io.h"
+#include "core/density_grid.h"
+#include "scene/media/grid_medium.h"
+#include "scene/media/homogeneous_medium.h"
+#include "scene/media/majorant_tracking.h"
+#include "io/vdb_io.h"
 #include "../support/sample_statistics.h"
 
 using namespace vpm;

@@ -7,8 +7,8 @@
 #include <set>
 
 #include "core/error.h"
-#include "scene/light_registry.h"
-#include "scene/medium_registry.h"
+#include "scene/lights/light_registry.h"
+#include "scene/media/medium_registry.h"
 
 using namespace vpm;
 

@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "core/error.h"
-#include "scene/surfaces.h"
+#include "scene/surfaces/surfaces.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;

@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include "scene/light_registry.h"
-#include "scene/params.h"
+#include "scene/lights/light_registry.h"
+#include "config/params.h"
 
 namespace vpm::test {
 

@@ -1,7 +1,7 @@
 // Bad input at the process level (issue 6): `vpm render` on each class of bad input exits
 // non-zero with exactly one line on stderr naming the file and the key or line, and leaves no
 // output behind (an existing output file stays intact). The library-level messages are tested in
-// tests/scene/config_test.cpp, tests/scene/vdb_io_test.cpp and tests/scene/mesh_io_test.cpp;
+// tests/config/config_test.cpp, tests/io/vdb_io_test.cpp and tests/io/mesh_io_test.cpp;
 // these tests check what the user sees from the command line.
 #include <gtest/gtest.h>
 
@@ -14,8 +14,8 @@
 #include <limits>
 #include <sstream>
 
-#include "scene/density_grid.h"
-#include "scene/vdb_io.h"
+#include "core/density_grid.h"
+#include "io/vdb_io.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;

@@ -1,13 +1,13 @@
 // `vpm make-sky`: writes a lat-long EXR of the requested size whose sun disc lies where the map
-// convention (scene/latlong_map.h) and --sun-elevation / --sun-azimuth put it, and which loads as
+// convention (scene/lights/latlong_map.h) and --sun-elevation / --sun-azimuth put it, and which loads as
 // an environment light that sees the sun there.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "render/image_io.h"
-#include "scene/latlong_map.h"
-#include "scene/light_registry.h"
+#include "scene/lights/latlong_map.h"
+#include "scene/lights/light_registry.h"
 
 #include "../support/vpm_process.h"
 

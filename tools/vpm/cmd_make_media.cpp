@@ -16,9 +16,9 @@
 
 #include "core/error.h"
 #include "core/rng.h"
-#include "scene/density_grid.h"
+#include "core/density_grid.h"
 #include "render/staged_file.h"
-#include "scene/vdb_io.h"
+#include "io/vdb_io.h"
 
 namespace vpm {
 

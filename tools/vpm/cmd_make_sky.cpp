@@ -1,5 +1,5 @@
 // `vpm make-sky [--out FILE.exr] [options]`: writes a small procedural sun-and-sky environment map
-// in the lat-long layout of scene/latlong_map.h (the file media/sky.exr is made by the defaults).
+// in the lat-long layout of scene/lights/latlong_map.h (the file media/sky.exr is made by the defaults).
 // Not a physical sky model: a zenith-to-horizon gradient, a glow around the sun, a dim ground, and
 // a sun disc (much larger than the real one, so that a 128 x 64 map resolves it), anti-aliased by
 // 8 x 8 samples per texel. Deterministic.
@@ -18,7 +18,7 @@
 #include "render/image.h"
 #include "render/image_io.h"
 #include "render/staged_file.h"
-#include "scene/latlong_map.h"
+#include "scene/lights/latlong_map.h"
 
 namespace vpm {
 

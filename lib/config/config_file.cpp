@@ -1,0 +1,192 @@
+#include "config/config_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace fs = std::filesystem;
+
+namespace vpm {
+
+std::string read_config_text(const std::string& path, const std::string& what) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (!fs::exists(st)) throw FileError(path + ": cannot open " + what + ": no such file");
+    if (fs::is_directory(st)) throw FileError(path + ": cannot read " + what + ": it is a folder, not a file");
+    if (!fs::is_regular_file(st)) throw FileError(path + ": cannot read " + what + ": not a regular file");
+    const auto size = fs::file_size(path, ec);
+    if (!ec && size > kMaxConfigBytes)
+        throw FileError(path + ": " + what + " is " + std::to_string(size) + " bytes; the limit is " +
+                        std::to_string(kMaxConfigBytes) + " (1 MiB)");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw FileError(path + ": cannot open " + what);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw FileError(path + ": cannot read " + what);
+    return text.str();
+}
+
+void check_toml_shape(const std::string& text, const std::string& name) {
+    if (text.size() > kMaxConfigBytes)
+        throw ConfigError(name + ": " + std::to_string(text.size()) + " bytes; the limit is " +
+                          std::to_string(kMaxConfigBytes) + " (1 MiB)");
+    size_t line = 1;
+    auto too_deep = [&](size_t depth) {
+        if (depth > size_t(kMaxConfigNesting))
+            throw ConfigError(name + ":" + std::to_string(line) + ": nesting deeper than " +
+                              std::to_string(kMaxConfigNesting) +
+                              " levels (table headers, dotted keys, arrays and inline tables); a scene needs a handful");
+    };
+    std::vector<char> brackets;   // open '[' and '{' of values
+    bool at_key = true;           // reading a key (line start, inside an inline table)
+    bool line_start = true;       // only blanks so far on this line
+    size_t key_parts = 1;
+    const size_t n = text.size();
+    for (size_t i = 0; i < n; ++i) {
+        const char c = text[i];
+        if (c == '\n') {
+            ++line;
+            line_start = true;
+            if (brackets.empty()) {
+                at_key = true;
+                key_parts = 1;
+            }
+            continue;
+        }
+        if (c == ' ' || c == '\t' || c == '\r') continue;
+        const bool first = line_start;
+        line_start = false;
+        if (c == '#') {   // comment to the end of the line
+            while (i + 1 < n && text[i + 1] != '\n') ++i;
+            continue;
+        }
+        if (c == '"' || c == '\'') {   // strings, also """ and ''' multi-line ones
+            const bool triple = i + 2 < n && text[i + 1] == c && text[i + 2] == c;
+            i += triple ? 3 : 1;
+            for (; i < n; ++i) {
+                if (text[i] == '\n') ++line;
+                if (c == '"' && text[i] == '\\') { ++i; if (i < n && text[i] == '\n') ++line; continue; }
+                if (text[i] != c) continue;
+                if (!triple) break;
+                if (i + 2 < n && text[i + 1] == c && text[i + 2] == c) { i += 2; break; }
+            }
+            continue;
+        }
+        if (first && brackets.empty() && c == '[') {   // [table] or [[array.of.tables]]
+            size_t depth = i + 1 < n && text[i + 1] == '[' ? 2 : 1;
+            for (++i; i < n && text[i] != ']' && text[i] != '\n'; ++i) {
+                if (text[i] == '.') ++depth;
+                if (text[i] == '"' || text[i] == '\'') {   // quoted key part
+                    const char q = text[i];
+                    for (++i; i < n && text[i] != q && text[i] != '\n'; ++i)
+                        if (q == '"' && text[i] == '\\') ++i;
+                }
+            }
+            too_deep(depth);
+            while (i + 1 < n && text[i + 1] == ']') ++i;
+            continue;
+        }
+        if (at_key) {
+            if (c == '.') too_deep(brackets.size() + ++key_parts);
+            else if (c == '=') { at_key = false; key_parts = 1; }
+            else if (c == '}' && !brackets.empty()) { brackets.pop_back(); at_key = false; }   // {}
+            continue;
+        }
+        if (c == '[' || c == '{') {
+            brackets.push_back(c);
+            too_deep(brackets.size());
+            if (c == '{') { at_key = true; key_parts = 1; }
+        } else if ((c == ']' || c == '}') && !brackets.empty()) {
+            brackets.pop_back();
+        } else if (c == ',' && !brackets.empty() && brackets.back() == '{') {
+            at_key = true;
+            key_parts = 1;
+        }
+    }
+}
+
+toml::table parse_toml_checked(const std::string& text, const std::string& name) {
+    check_toml_shape(text, name);
+    try {
+        return toml::parse(text, name);
+    } catch (const toml::parse_error& e) {
+        throw ConfigError(name + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " +
+                          std::string(e.description()));
+    }
+}
+
+}  // namespace vpm
+
+namespace vpm {
+
+namespace {
+
+toml::array json_array_to_toml(const nlohmann::json& j, const std::string& name, int depth);
+
+toml::table json_object_to_toml(const nlohmann::json& j, const std::string& name, int depth);
+
+void check_json_depth(int depth, const std::string& name) {
+    if (depth > kMaxConfigNesting)
+        throw ConfigError(name + ": nesting deeper than " + std::to_string(kMaxConfigNesting) + " levels");
+}
+
+template <class Insert>
+void json_value_to_toml(const nlohmann::json& v, const std::string& name, int depth, Insert&& insert) {
+    switch (v.type()) {
+        case nlohmann::json::value_t::object: insert(json_object_to_toml(v, name, depth + 1)); break;
+        case nlohmann::json::value_t::array: insert(json_array_to_toml(v, name, depth + 1)); break;
+        case nlohmann::json::value_t::string: insert(v.get<std::string>()); break;
+        case nlohmann::json::value_t::boolean: insert(v.get<bool>()); break;
+        case nlohmann::json::value_t::number_integer: insert(v.get<int64_t>()); break;
+        case nlohmann::json::value_t::number_unsigned: insert(int64_t(v.get<uint64_t>())); break;
+        case nlohmann::json::value_t::number_float: insert(v.get<double>()); break;
+        default: throw ConfigError(name + ": a null or binary value has no TOML equivalent");
+    }
+}
+
+toml::array json_array_to_toml(const nlohmann::json& j, const std::string& name, int depth) {
+    check_json_depth(depth, name);
+    toml::array a;
+    for (const auto& v : j) json_value_to_toml(v, name, depth, [&](auto&& x) { a.push_back(std::move(x)); });
+    return a;
+}
+
+toml::table json_object_to_toml(const nlohmann::json& j, const std::string& name, int depth) {
+    check_json_depth(depth, name);
+    toml::table t;
+    for (const auto& item : j.items()) {   // not a structured binding: C++17 lambdas cannot capture one
+        const std::string& key = item.key();
+        json_value_to_toml(item.value(), name, depth, [&](auto&& x) { t.insert_or_assign(key, std::move(x)); });
+    }
+    return t;
+}
+
+}  // namespace
+
+bool looks_like_json(const std::string& text) {
+    const size_t i = text.find_first_not_of(" \t\r\n");
+    return i != std::string::npos && text[i] == '{';
+}
+
+toml::table config_from_json(const std::string& text, const std::string& name) {
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {   // syntax errors, and numbers out of range (found by fuzzing)
+        throw ConfigError(name + ": JSON syntax error: " + e.what());
+    }
+    if (!j.is_object()) throw ConfigError(name + ": expected a JSON object");
+    if (j.contains("config")) {   // a run sidecar: its resolved config
+        if (!j["config"].is_object()) throw ConfigError(name + ": config: expected an object");
+        return json_object_to_toml(j["config"], name, 0);
+    }
+    return json_object_to_toml(j, name, 0);
+}
+
+}  // namespace vpm

@@ -1,0 +1,53 @@
+// type = "directional": direction (travel direction), irradiance (W/m^2); parallel light. Photons
+// start on the silhouette of the bounds of what can be lit (scene/lights/emission_bounds.h), and only the
+// light crossing it is emitted.
+#include <sstream>
+
+#include "core/sampling.h"
+#include "scene/lights/light_registry.h"
+#include "config/params.h"
+#include "scene/lights/emission_bounds.h"
+
+namespace vpm {
+
+namespace {
+
+class DirectionalLight : public Light {
+public:
+    DirectionalLight(const Vec3& direction, const Rgb& irradiance) : dir_(direction), irradiance_(irradiance) {}
+
+    bool sample_incident(const Vec3&, Rng&, LightSample& out) const override {
+        out.wi = -dir_;
+        out.distance = kInfinity;
+        out.weight = irradiance_;
+        return true;
+    }
+    EmissionSample sample_emission(Rng& rng) const override {
+        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+        return {Ray{bounds_.sample_origin(dir_, u1, u2, u3), dir_}, power()};
+    }
+    // Only the light crossing the silhouette of what can be lit (emission_bounds.h).
+    Rgb power() const override { return irradiance_ * bounds_.projected_area(dir_); }
+    void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
+    std::string describe() const override {
+        std::ostringstream s;
+        s << "directional light along (" << dir_.transpose() << "), irradiance " << format_rgb(irradiance_);
+        return s.str();
+    }
+
+private:
+    Vec3 dir_;
+    Rgb irradiance_;
+    EmissionBounds bounds_;
+};
+
+}  // namespace
+
+std::unique_ptr<Light> make_directional_light(Params& p) {
+    const Range non_negative = Range::at_least(0.0);
+    const Vec3 direction = p.vec3("direction");
+    if (direction.norm() == 0.0) p.fail("direction", "must be a non-zero vector");
+    return std::make_unique<DirectionalLight>(direction.normalized(), p.rgb("irradiance", non_negative));
+}
+
+}  // namespace vpm

@@ -1,0 +1,43 @@
+#include "scene/lights/light_registry.h"
+
+#include <sstream>
+
+namespace vpm {
+
+std::unique_ptr<Light> make_point_light(Params&);
+std::unique_ptr<Light> make_spot_light(Params&);
+std::unique_ptr<Light> make_directional_light(Params&);
+std::unique_ptr<Light> make_quad_light(Params&);
+std::unique_ptr<Light> make_sphere_light(Params&);
+std::unique_ptr<Light> make_environment_light(Params&);
+
+const std::vector<LightType>& light_types() {
+    static const std::vector<LightType> types = {
+        {"point", make_point_light},
+        {"spot", make_spot_light},
+        {"directional", make_directional_light},
+        {"quad", make_quad_light},
+        {"sphere", make_sphere_light},
+        {"environment", make_environment_light},
+    };
+    return types;
+}
+
+std::unique_ptr<Light> make_light(Params& p) {
+    std::vector<std::string> names;
+    for (const LightType& t : light_types()) names.push_back(t.name);
+    const std::string type = p.choice("type", names);
+    std::unique_ptr<Light> light;
+    for (const LightType& t : light_types())
+        if (type == t.name) light = t.create(p);
+    p.finish();
+    return light;
+}
+
+std::string format_rgb(const Rgb& c) {
+    std::ostringstream s;
+    s << "[" << c[0] << ", " << c[1] << ", " << c[2] << "]";
+    return s.str();
+}
+
+}  // namespace vpm

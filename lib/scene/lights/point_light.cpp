@@ -1,0 +1,54 @@
+// type = "point": position, intensity (W/sr, rgb); shines uniformly in all directions and emits
+// photons only toward what can be lit (scene/lights/emission_cone.h).
+#include <sstream>
+
+#include "core/sampling.h"
+#include "scene/lights/emission_cone.h"
+#include "scene/lights/light_registry.h"
+#include "config/params.h"
+
+namespace vpm {
+
+namespace {
+
+class PointLight : public Light {
+public:
+    PointLight(const Vec3& position, const Rgb& intensity) : position_(position), intensity_(intensity) {}
+
+    bool sample_incident(const Vec3& x, Rng&, LightSample& out) const override {
+        const Vec3 d = position_ - x;
+        const double dist2 = d.squaredNorm();
+        if (dist2 == 0.0) return false;
+        out.distance = std::sqrt(dist2);
+        out.wi = d / out.distance;
+        out.weight = intensity_ / dist2;
+        return true;
+    }
+    EmissionSample sample_emission(Rng& rng) const override {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        return {Ray{position_, cone_.sample(u1, u2)}, power()};
+    }
+    // The power that can reach the scene's box (all of it from inside the box's sphere).
+    Rgb power() const override { return intensity_ * cone_.solid_angle(); }
+    void set_scene_bounds(const Bounds3& b) override { cone_ = EmissionCone::towards(position_, b); }
+    std::string describe() const override {
+        std::ostringstream s;
+        s << "point light at (" << position_.transpose() << "), intensity " << format_rgb(intensity_);
+        return s.str();
+    }
+
+private:
+    Vec3 position_;
+    Rgb intensity_;
+    EmissionCone cone_;
+};
+
+}  // namespace
+
+std::unique_ptr<Light> make_point_light(Params& p) {
+    const Range non_negative = Range::at_least(0.0);
+    const Vec3 position = p.vec3("position");
+    return std::make_unique<PointLight>(position, p.rgb("intensity", non_negative));
+}
+
+}  // namespace vpm

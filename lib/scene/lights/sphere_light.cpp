@@ -1,0 +1,117 @@
+// type = "sphere": center, radius (> 0), radiance; a Lambertian emitter over the outside of a
+// sphere. It is geometry (light.h): rays that meet it from outside see its radiance and stop there;
+// inside it is dark (it emits outwards only, as its photons leave it, so points inside receive
+// nothing and a camera inside sees black). Next-event estimation samples the cone of directions
+// the sphere subtends from the point (uniform in solid angle, pdf 1 / (2 pi (1 - cos theta_max))),
+// which is exact in direction and wastes no sample on the far side. pbrt falls back to area
+// sampling for points inside; here nothing inside is lit, so no fallback is needed.
+#include <sstream>
+
+#include "core/sampling.h"
+#include "scene/lights/light_registry.h"
+#include "config/params.h"
+
+namespace vpm {
+
+namespace {
+
+class SphereLight : public Light {
+public:
+    SphereLight(const Vec3& center, double radius, const Rgb& radiance)
+        : center_(center), radius_(radius), radiance_(radiance) {}
+
+    bool sample_incident(const Vec3& x, Rng& rng, LightSample& out) const override {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        double dist, one_minus_cos_max;
+        if (!cone(x, dist, one_minus_cos_max)) return false;
+        // Uniform in the cone; 1 - cos theta is kept apart from cos theta so that a small, far
+        // sphere (1 - cos theta_max ~ r^2 / 2 d^2) keeps its precision.
+        const double one_minus_cos = u1 * one_minus_cos_max;
+        const double cos_theta = 1.0 - one_minus_cos;
+        const double sin2 = std::max(0.0, one_minus_cos * (2.0 - one_minus_cos));
+        const double phi = 2.0 * kPi * u2;
+        const double sin_theta = std::sqrt(sin2);
+        const Vec3 axis = (center_ - x) / dist;
+        out.wi = Frame(axis).to_world(Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta)).normalized();
+        // Near intersection of the sampled direction with the sphere (at the rim the root is 0).
+        out.distance = std::max(0.0, dist * cos_theta - std::sqrt(std::max(0.0, radius_ * radius_ - dist * dist * sin2)));
+        out.pdf = 1.0 / (2.0 * kPi * one_minus_cos_max);
+        out.weight = radiance_ / out.pdf;
+        return true;
+    }
+    double pdf_incident(const Vec3& x, const Vec3& wi) const override {
+        double dist, one_minus_cos_max;
+        if (!cone(x, dist, one_minus_cos_max)) return 0.0;
+        EmitterHit h;
+        if (!intersect(Ray{x, wi}, kInfinity, h)) return 0.0;
+        return 1.0 / (2.0 * kPi * one_minus_cos_max);
+    }
+    bool intersect(const Ray& ray, double tmax, EmitterHit& hit) const override {
+        const Vec3 oc = ray.origin - center_;
+        const double b = oc.dot(ray.dir);
+        // r^2 - (distance of the line from the centre)^2, without the cancellation of b^2 - c.
+        const double disc = radius_ * radius_ - (oc - b * ray.dir).squaredNorm();
+        if (disc < 0.0) return false;
+        const double c = oc.squaredNorm() - radius_ * radius_;
+        const double q = -b - std::copysign(std::sqrt(disc), b);
+        double t0 = q, t1 = q != 0.0 ? c / q : 0.0;
+        if (t0 > t1) std::swap(t0, t1);
+        // Photons leave from a point on the sphere: the root at ~0 is that point, not a hit.
+        const double eps = 1e-9 * (oc.norm() + radius_);
+        const double t = t0 > eps ? t0 : t1;
+        if (!(t > eps) || !(t < tmax)) return false;
+        const Vec3 n = (ray.at(t) - center_).normalized();
+        const bool outside = n.dot(ray.dir) < 0.0;
+        hit.t = t;
+        hit.normal = outside ? n : Vec3(-n);
+        hit.radiance = outside ? radiance_ : Rgb::Zero();
+        return true;
+    }
+    // Uniform point on the sphere, cosine-distributed direction outwards: power L pi A.
+    EmissionSample sample_emission(Rng& rng) const override {
+        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform();
+        const Vec3 n = sample_uniform_sphere(u1, u2);
+        const Vec3 dir = Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
+        return {Ray{center_ + radius_ * n, dir}, power()};
+    }
+    Rgb power() const override { return radiance_ * (kPi * area()); }
+    Bounds3 bounds() const override {
+        Bounds3 b;
+        b.extend(Vec3(center_ - Vec3::Constant(radius_)));
+        b.extend(Vec3(center_ + Vec3::Constant(radius_)));
+        return b;
+    }
+    std::string describe() const override {
+        std::ostringstream s;
+        s << "sphere light at (" << center_.transpose() << "), radius " << radius_ << ", radiance " << format_rgb(radiance_);
+        return s.str();
+    }
+
+private:
+    double area() const { return 4.0 * kPi * radius_ * radius_; }
+    // The cone the sphere subtends from x: distance to the centre and 1 - cos theta_max (computed
+    // as sin^2 / (1 + cos) against cancellation). False when x is inside or on the sphere.
+    bool cone(const Vec3& x, double& dist, double& one_minus_cos_max) const {
+        const double d2 = (center_ - x).squaredNorm();
+        if (!(d2 > radius_ * radius_)) return false;
+        dist = std::sqrt(d2);
+        const double sin2_max = radius_ * radius_ / d2;
+        one_minus_cos_max = sin2_max / (1.0 + std::sqrt(std::max(0.0, 1.0 - sin2_max)));
+        return one_minus_cos_max > 0.0;
+    }
+
+    Vec3 center_;
+    double radius_;
+    Rgb radiance_;
+};
+
+}  // namespace
+
+std::unique_ptr<Light> make_sphere_light(Params& p) {
+    const Vec3 center = p.vec3("center");
+    const double radius = p.real("radius", Range::positive());
+    const Rgb radiance = p.rgb("radiance", Range::at_least(0.0));
+    return std::make_unique<SphereLight>(center, radius, radiance);
+}
+
+}  // namespace vpm

@@ -1,0 +1,44 @@
+#pragma once
+// A homogeneous medium filling a box or a sphere. Free flights and transmittance in closed form.
+//
+//   type = "homogeneous"
+//   shape = "box" (min, max) | "sphere" (center, radius > 0)
+//   sigma_t_scale >= 0   extinction (1/length); the density inside the shape is 1
+//   albedo in [0, 1] (rgb)   g in (-1, 1)
+#include <memory>
+
+#include "scene/media/medium.h"
+#include "config/params.h"
+
+namespace vpm {
+
+class HomogeneousMedium : public Medium {
+public:
+    enum class Shape { box, sphere };
+    // Box: a = min, b = max. Sphere: a = center, radius.
+    static HomogeneousMedium box(const Vec3& lo, const Vec3& hi, double sigma_t, const Rgb& albedo, double g);
+    static HomogeneousMedium sphere(const Vec3& center, double radius, double sigma_t, const Rgb& albedo, double g);
+
+    Bounds3 bounds() const override { return bounds_; }
+    double sample_free_flight(const Ray& ray, double tmax, Rng& rng) const override;
+    double transmittance(const Ray& ray, double tmax, Rng& rng) const override;
+    double sigma_t(const Vec3& p) const override;
+    void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;   // exact here
+    std::string describe() const override;
+
+    // The parameter interval of the ray inside the shape, clipped to [0, tmax].
+    bool clip(const Ray& ray, double tmax, double& t0, double& t1) const;
+
+private:
+    HomogeneousMedium(Shape shape, const Bounds3& bounds, const Vec3& center, double radius, double sigma_t,
+                      const Rgb& albedo, double g);
+    Shape shape_;
+    Bounds3 bounds_;
+    Vec3 center_;
+    double radius_;
+    double sigma_t_;
+};
+
+std::unique_ptr<Medium> make_homogeneous_medium(Params& p);
+
+}  // namespace vpm

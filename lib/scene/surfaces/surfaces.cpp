@@ -1,0 +1,331 @@
+// Opaque surfaces in one Embree 3 scene. This is the only file of vpm that includes Embree.
+//
+// Parameters of one [[shapes]] entry
+// ---------------------------------------------------------------------------------------------
+//  key          type / default           meaning
+//  type         "mesh" | "quad" | "box"  required
+//  material     "lambertian" | "black"   default "lambertian"; black = reflectance 0 (an occluder)
+//  reflectance  number or [r,g,b] in [0,1], default 0.5; lambertian only (an error with black)
+//  transform    table, optional          object-to-world, see below
+//  type = "mesh":  file    path to .obj or .ply, relative to the config file
+//  type = "quad":  center  [x,y,z]       required; the parallelogram's centre
+//                  u, v    [x,y,z]       required; HALF edge vectors: corners are center +- u +- v
+//                                        (so a 2 x 2 square is u = [1,0,0], v = [0,1,0])
+//  type = "box":   min, max [x,y,z]      required; axis-aligned in object space, min < max
+//  [shapes.transform]: scale     number or [sx,sy,sz], default 1; no zero component
+//                      rotate    [ax,ay,az,degrees], default [1,0,0,0]; axis need not be unit
+//                      translate [x,y,z], default [0,0,0]
+//                      applied in that order: p_world = T * R * S * p_object
+//
+// Precision. Geometry is kept in double precision here; Embree sees float vertices relative to
+// the centre of the scene's bounds (so scenes far from the origin lose nothing), and ray origins
+// are shifted by the same centre in double before rounding. Embree's float hit distance is then
+// refined in double against the plane of the hit triangle, and the normal is computed in double.
+// Self-intersection: every query ignores hits at t <= epsilon, with
+// epsilon = 1e-6 * (half the largest extent of the scene's bounds), judged by the refined double
+// distance: a float hit on the very surface a grazing ray starts from (float error / cos can
+// exceed any fixed epsilon) refines to t ~ 0 and is skipped, and the ray traced on.
+// Keep scenes free of single shapes vastly larger than the region of interest (a 1e4-wide
+// ground plane under a unit medium makes epsilon 0.005). Measured: 1e-7 still passes the
+// surface-start test, 1e-9 starts to fail it.
+#include "scene/surfaces/surfaces.h"
+
+#include <atomic>
+#include <cfloat>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include <embree3/rtcore.h>
+
+#include "core/error.h"
+#include "io/mesh_io.h"
+#include "config/transform_params.h"
+
+namespace vpm {
+namespace {
+
+std::atomic<size_t> g_devices_created{0};
+
+struct ErrorLog {
+    std::mutex mutex;
+    std::string first;
+    size_t count = 0;
+};
+
+void embree_error(void* user, RTCError code, const char* str) {
+    auto* log = static_cast<ErrorLog*>(user);
+    std::lock_guard<std::mutex> lock(log->mutex);
+    if (log->count++ == 0) log->first = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (str ? str : "");
+}
+
+struct Geometry {
+    std::string type;
+    std::vector<Vec3> vertices;   // world space, double
+    std::vector<std::array<uint32_t, 3>> triangles;
+    Rgb reflectance = Rgb::Zero();
+};
+
+Geometry read_shape(Params& p) {
+    Geometry g;
+    g.type = p.choice("type", {"mesh", "quad", "box"});
+    TriangleMesh mesh;
+    if (g.type == "mesh") {
+        mesh = load_mesh(p.path("file").string());
+    } else if (g.type == "quad") {
+        const Vec3 c = p.vec3("center"), u = p.vec3("u"), v = p.vec3("v");
+        if (!(u.cross(v).norm() > 0.0)) p.fail("v", "u and v must be non-zero and not parallel");
+        mesh.vertices = {c - u - v, c + u - v, c + u + v, c - u + v};
+        mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+    } else {
+        const Vec3 lo = p.vec3("min"), hi = p.vec3("max");
+        if (!(lo.array() < hi.array()).all()) p.fail("max", "must exceed min in every axis");
+        for (int i = 0; i < 8; ++i)
+            mesh.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+        // Outward winding (normals are recomputed and flipped per query anyway).
+        const uint32_t faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                      {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+        for (const auto& f : faces) {
+            mesh.triangles.push_back({f[0], f[1], f[2]});
+            mesh.triangles.push_back({f[0], f[2], f[3]});
+        }
+    }
+    if (p.has("transform")) {
+        Params tp = p.table("transform");
+        const Eigen::Affine3d m = read_transform(tp);
+        tp.finish();
+        for (Vec3& v : mesh.vertices) v = m * v;
+    }
+    const std::string material = p.choice("material", "lambertian", {"lambertian", "black"});
+    g.reflectance = material == "black" ? Rgb::Zero() : p.rgb("reflectance", Rgb::Constant(0.5), Range::closed(0, 1));
+    p.finish();
+    g.vertices = std::move(mesh.vertices);
+    g.triangles = std::move(mesh.triangles);
+    return g;
+}
+
+class EmbreeSurfaces final : public Surfaces {
+public:
+    explicit EmbreeSurfaces(std::vector<Geometry> geoms) : geoms_(std::move(geoms)) {
+        for (const Geometry& g : geoms_) {
+            for (const Vec3& v : g.vertices) bounds_.extend(v);
+            triangles_ += g.triangles.size();
+            ++counts_[g.type];
+        }
+        if (geoms_.empty()) return;   // no shapes: no Embree device
+        center_ = 0.5 * (bounds_.lo + bounds_.hi);
+        const double half = 0.5 * (bounds_.hi - bounds_.lo).maxCoeff();
+        eps_ = 1e-6 * std::max(half, 1e-9);
+        far_ = 1e6 * std::max(half, 1e-9);
+
+        device_ = rtcNewDevice(nullptr);
+        if (!device_)
+            throw Error("cannot create an Embree device (error " +
+                        std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+        ++g_devices_created;
+        rtcSetDeviceErrorFunction(device_, embree_error, &log_);
+        scene_ = rtcNewScene(device_);
+        rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+        for (size_t id = 0; id < geoms_.size(); ++id) {
+            const Geometry& g = geoms_[id];
+            RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+            auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+                geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), g.vertices.size()));
+            auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+                geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), g.triangles.size()));
+            if (!vb || !ib) {
+                rtcReleaseGeometry(geom);
+                fail_on_error("allocating geometry buffers");
+            }
+            for (size_t i = 0; i < g.vertices.size(); ++i)
+                for (int c = 0; c < 3; ++c) vb[3 * i + c] = static_cast<float>(g.vertices[i][c] - center_[c]);
+            for (size_t i = 0; i < g.triangles.size(); ++i)
+                for (int c = 0; c < 3; ++c) ib[3 * i + c] = g.triangles[i][c];
+            rtcCommitGeometry(geom);
+            rtcAttachGeometryByID(scene_, geom, static_cast<unsigned>(id));
+            rtcReleaseGeometry(geom);
+        }
+        rtcCommitScene(scene_);
+        fail_on_error("building the scene");
+    }
+
+    ~EmbreeSurfaces() override {
+        if (scene_) rtcReleaseScene(scene_);
+        if (device_) rtcReleaseDevice(device_);
+    }
+
+    bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const override {
+        if (!scene_ || !(tmax > eps_)) return false;
+        if (is_far(ray)) {
+            Ray near;
+            double shift;
+            if (!move_near(ray, tmax, near, shift)) return false;
+            if (!intersect(near, tmax - shift, hit)) return false;
+            hit.t += shift;   // hit.position is near's, accurate
+            return true;
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        RTCRayHit rh;
+        setup(ray, tmax, rh.ray);
+        // A hit that the double-precision plane test puts at t <= epsilon is the surface the ray
+        // starts on, found by Embree's float test at a grazing angle: skip it and trace on.
+        for (int attempt = 0; attempt < 4; ++attempt) {
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(scene_, &ctx, &rh);
+            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+
+            const Geometry& g = geoms_[rh.hit.geomID];
+            const auto& tri = g.triangles[rh.hit.primID];
+            const Vec3& a = g.vertices[tri[0]];
+            Vec3 n = (g.vertices[tri[1]] - a).cross(g.vertices[tri[2]] - a);
+            const double len = n.norm();
+            if (len > 0.0 && std::isfinite(len)) n /= len;
+            else n = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();   // degenerate in double
+            double t = rh.ray.tfar;
+            const double cos = n.dot(ray.dir);
+            if (std::abs(cos) > 1e-12) {   // refine the float distance against the double plane
+                const double tr = n.dot(a - ray.origin) / cos;
+                if (tr >= tmax) return false;   // Embree's float tfar let it in; nothing is closer
+                if (tr <= eps_) {
+                    rh.ray.tnear = std::nextafter(rh.ray.tfar, INFINITY);
+                    rh.ray.tfar = float_tmax(tmax);
+                    if (!(rh.ray.tnear < rh.ray.tfar)) return false;
+                    continue;
+                }
+                t = tr;
+            }
+            hit.t = t;
+            hit.position = ray.at(t);
+            hit.normal = cos > 0.0 ? Vec3(-n) : n;
+            hit.reflectance = g.reflectance;
+            return true;
+        }
+        return false;
+    }
+
+    // Embree's any-hit query; its positives are confirmed by intersect() so that the two agree
+    // (a grazing self-hit must not shadow). Unoccluded rays, the common case, cost one query.
+    bool occluded(const Ray& ray, double tmax) const override {
+        if (!scene_ || !(tmax > eps_)) return false;
+        if (is_far(ray)) {
+            Ray near;
+            double shift;
+            return move_near(ray, tmax, near, shift) && occluded(near, tmax - shift);
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        RTCRay r;
+        setup(ray, tmax, r);
+        rtcOccluded1(scene_, &ctx, &r);
+        if (!(r.tfar < 0.0f)) return false;   // tfar is set to -inf on a hit
+        SurfaceHit h;
+        return intersect(ray, tmax, h);
+    }
+
+    Bounds3 bounds() const override { return bounds_; }
+    size_t triangle_count() const override { return triangles_; }
+
+    std::string describe() const override {
+        std::ostringstream s;
+        s << "surfaces: " << geoms_.size() << " shape" << (geoms_.size() == 1 ? "" : "s");
+        if (!counts_.empty()) {
+            s << " (";
+            bool first = true;
+            for (const auto& [type, n] : counts_) {
+                s << (first ? "" : ", ") << n << " " << type;
+                first = false;
+            }
+            s << ")";
+        }
+        s << ", " << triangles_ << " triangles";
+        if (!geoms_.empty()) {
+            s << ", bounds [" << bounds_.lo.x() << ", " << bounds_.lo.y() << ", " << bounds_.lo.z() << "] to ["
+              << bounds_.hi.x() << ", " << bounds_.hi.y() << ", " << bounds_.hi.z() << "], ray epsilon " << eps_
+              << ", Embree " << RTC_VERSION_STRING;
+        } else {
+            s << ", no Embree device";
+        }
+        return s.str();
+    }
+
+private:
+    // Rays that start far from the surfaces (more than 1e6 x their half extent: photons emitted
+    // around a medium of 1e32 units, paths inside it) would reach Embree with float origins
+    // beyond its valid range (|org| <= ~1.8e18, asserted by the library) or with no precision
+    // left. They are first advanced in double to just outside the surfaces' bounds (backed off by
+    // the bounds' size, so no surface is within epsilon of the new origin) and traced from there.
+    // The new origin is rounded like any point at that distance (relative 1e-16), nothing more.
+    // Each step shrinks the distance by ~1e15, so at most a few steps are taken.
+    bool is_far(const Ray& ray) const { return !((ray.origin - center_).cwiseAbs().maxCoeff() <= far_); }
+    bool move_near(const Ray& ray, double tmax, Ray& near, double& shift) const {
+        double t0, t1;
+        if (!bounds_.intersect(ray, tmax, t0, t1)) return false;
+        // Also back off by several units of rounding of t0 (the new origin is computed from it),
+        // so that it lies before the bounds; if it is still far, intersect() repeats the step.
+        const double back = 2.0 * (bounds_.hi - bounds_.lo).norm() + 4.0 * eps_ + 16.0 * DBL_EPSILON * t0;
+        shift = std::max(0.0, t0 - back);
+        near = Ray{ray.at(shift), ray.dir};
+        return tmax - shift > eps_;
+    }
+
+    void setup(const Ray& ray, double tmax, RTCRay& r) const {
+        r.org_x = static_cast<float>(ray.origin.x() - center_.x());
+        r.org_y = static_cast<float>(ray.origin.y() - center_.y());
+        r.org_z = static_cast<float>(ray.origin.z() - center_.z());
+        r.dir_x = static_cast<float>(ray.dir.x());
+        r.dir_y = static_cast<float>(ray.dir.y());
+        r.dir_z = static_cast<float>(ray.dir.z());
+        r.tnear = static_cast<float>(eps_);
+        r.tfar = float_tmax(tmax);
+        r.time = 0.0f;
+        r.mask = 0xFFFFFFFFu;
+        r.id = 0;
+        r.flags = 0;
+    }
+
+    static float float_tmax(double tmax) {
+        float tf = tmax >= static_cast<double>(FLT_MAX) ? INFINITY : static_cast<float>(tmax);
+        if (static_cast<double>(tf) > tmax) tf = std::nextafter(tf, 0.0f);   // never beyond tmax
+        return tf;
+    }
+
+    void fail_on_error(const std::string& what) {
+        const RTCError code = rtcGetDeviceError(device_);
+        std::lock_guard<std::mutex> lock(log_.mutex);
+        if (log_.count == 0 && code == RTC_ERROR_NONE) return;
+        std::string msg = log_.count ? log_.first : "Embree error " + std::to_string(static_cast<int>(code));
+        if (scene_) rtcReleaseScene(scene_);
+        if (device_) rtcReleaseDevice(device_);
+        scene_ = nullptr;
+        device_ = nullptr;
+        throw Error("surfaces: " + what + ": " + msg);
+    }
+
+    std::vector<Geometry> geoms_;
+    std::map<std::string, size_t> counts_;
+    Bounds3 bounds_;
+    size_t triangles_ = 0;
+    Vec3 center_ = Vec3::Zero();
+    double eps_ = 0.0;
+    double far_ = 0.0;   // see is_far
+    ErrorLog log_;
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Surfaces> Surfaces::create(std::vector<Params>& shapes) {
+    std::vector<Geometry> geoms;
+    geoms.reserve(shapes.size());
+    for (Params& p : shapes) geoms.push_back(read_shape(p));   // all config errors before Embree
+    return std::make_unique<EmbreeSurfaces>(std::move(geoms));
+}
+
+size_t Surfaces::devices_created() { return g_devices_created.load(); }
+
+}  // namespace vpm

@@ -1,0 +1,47 @@
+#pragma once
+// The scene's opaque surfaces (triangle meshes from OBJ/PLY, quads, boxes) in one Embree 3
+// scene. Only surfaces.cpp includes Embree; the rest of vpm sees this interface.
+// Materials: Lambertian with an RGB reflectance in [0, 1], or black (reflectance 0: an occluder).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "config/params.h"
+
+namespace vpm {
+
+class Light;
+
+struct SurfaceHit {
+    double t = kInfinity;
+    Vec3 position = Vec3::Zero();
+    Vec3 normal = Vec3::UnitZ();   // unit geometric normal, flipped to face the incoming ray
+    Rgb reflectance = Rgb::Zero(); // Lambertian albedo; zero for black
+    // Set by Scene::intersect when the hit is an area light (black, so paths end there): the light
+    // and the radiance it sends back along the ray.
+    const Light* emitter = nullptr;
+    Rgb emitted = Rgb::Zero();
+};
+
+class Surfaces {
+public:
+    // Builds one Embree device and scene from the [[shapes]] entries. Each entry's Params is
+    // read fully (unknown keys are reported by finish()). Throws ConfigError / FileError, or
+    // Error when Embree fails. An empty list gives an empty Surfaces and builds no device.
+    // The keys of each shape type are documented at the top of surfaces.cpp.
+    static std::unique_ptr<Surfaces> create(std::vector<Params>& shapes);
+    // Number of Embree devices created in this process so far (for "built only what is used").
+    static size_t devices_created();
+    virtual ~Surfaces() = default;
+
+    // Closest hit in (epsilon, tmax); false when none.
+    virtual bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const = 0;
+    // Any hit in (epsilon, tmax).
+    virtual bool occluded(const Ray& ray, double tmax) const = 0;
+    virtual Bounds3 bounds() const = 0;
+    virtual size_t triangle_count() const = 0;
+    virtual std::string describe() const = 0;
+};
+
+}  // namespace vpm
