@@ -7,6 +7,11 @@
 #include <numeric>
 #include <string>
 
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
+
 #include "core/error.h"
 
 namespace vpm {
@@ -116,11 +121,80 @@ uint64_t spread_bits(uint64_t v) {
 
 }  // namespace
 
+// nanoflann 1.4's buildIndex is serial. This builds the same tree (nanoflann's own middleSplit_,
+// node layout and leaf boxes, so queries visit the same nodes) with the two halves of every split
+// of more than kParallelFrom points built as parallel tasks; nodes come from per-thread pools
+// that live as long as the tree. Which thread builds a node changes nothing in it: the tree is the
+// same on any thread count.
 struct PhotonMap::Index {
     RecordAdaptor adaptor;
     Tree tree;
+    tbb::enumerable_thread_specific<nanoflann::PooledAllocator> pools;
+    static constexpr size_t kParallelFrom = 1 << 15;
+
     Index(const Photon* data, size_t n, size_t leaf)
-        : adaptor{data, n}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(leaf)) {}
+        : adaptor{data, n},
+          tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(leaf, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex)) {
+        tree.vAcc.resize(n);
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t i = r.begin(); i < r.end(); ++i) tree.vAcc[i] = uint32_t(i);
+        });
+        tree.m_size = tree.m_size_at_index_build = n;
+        if (n == 0) return;
+        for (int a = 0; a < 3; ++a) tree.root_bbox[size_t(a)].low = tree.root_bbox[size_t(a)].high = data[0].p[a];
+        for (size_t i = 1; i < n; ++i)
+            for (int a = 0; a < 3; ++a) {
+                tree.root_bbox[size_t(a)].low = std::min(tree.root_bbox[size_t(a)].low, data[i].p[a]);
+                tree.root_bbox[size_t(a)].high = std::max(tree.root_bbox[size_t(a)].high, data[i].p[a]);
+            }
+        tree.root_node = divide(0, n, tree.root_bbox);
+    }
+
+    // nanoflann's divideTree, with the pool per thread and the halves of large nodes in parallel.
+    Tree::NodePtr divide(size_t left, size_t right, Tree::BoundingBox& bbox) {
+        Tree::NodePtr node = pools.local().allocate<Tree::Node>();
+        if (right - left <= tree.m_leaf_max_size) {
+            node->child1 = node->child2 = nullptr;
+            node->node_type.lr.left = left;
+            node->node_type.lr.right = right;
+            for (int a = 0; a < 3; ++a) bbox[size_t(a)].low = bbox[size_t(a)].high = adaptor.kdtree_get_pt(tree.vAcc[left], size_t(a));
+            for (size_t k = left + 1; k < right; ++k)
+                for (int a = 0; a < 3; ++a) {
+                    const float v = adaptor.kdtree_get_pt(tree.vAcc[k], size_t(a));
+                    if (bbox[size_t(a)].low > v) bbox[size_t(a)].low = v;
+                    if (bbox[size_t(a)].high < v) bbox[size_t(a)].high = v;
+                }
+            return node;
+        }
+        Tree::Offset idx;
+        Tree::Dimension cutfeat;
+        float cutval;
+        tree.middleSplit_(tree, left, right - left, idx, cutfeat, cutval, bbox);
+        node->node_type.sub.divfeat = cutfeat;
+        Tree::BoundingBox left_bbox(bbox), right_bbox(bbox);
+        left_bbox[size_t(cutfeat)].high = cutval;
+        right_bbox[size_t(cutfeat)].low = cutval;
+        if (right - left >= kParallelFrom) {
+            tbb::parallel_invoke([&] { node->child1 = divide(left, left + idx, left_bbox); },
+                                 [&] { node->child2 = divide(left + idx, right, right_bbox); });
+        } else {
+            node->child1 = divide(left, left + idx, left_bbox);
+            node->child2 = divide(left + idx, right, right_bbox);
+        }
+        node->node_type.sub.divlow = left_bbox[size_t(cutfeat)].high;
+        node->node_type.sub.divhigh = right_bbox[size_t(cutfeat)].low;
+        for (int a = 0; a < 3; ++a) {
+            bbox[size_t(a)].low = std::min(left_bbox[size_t(a)].low, right_bbox[size_t(a)].low);
+            bbox[size_t(a)].high = std::max(left_bbox[size_t(a)].high, right_bbox[size_t(a)].high);
+        }
+        return node;
+    }
+
+    size_t bytes() const {
+        size_t b = tree.vAcc.size() * sizeof(uint32_t);
+        for (const auto& p : pools) b += p.usedMemory + p.wastedMemory;
+        return b;
+    }
 };
 
 PhotonMap::PhotonMap() = default;
@@ -147,29 +221,35 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
 
     // Morton order over the bounds for cache coherence of leaves and of neighbouring queries.
     const Vec3 extent = (bounds_.hi - bounds_.lo).cwiseMax(Vec3::Constant(1e-300));
+    // Keys (code, index) are distinct, so the parallel sort gives the one sorted order.
     std::vector<std::pair<uint64_t, uint32_t>> keys(in.size());
-    for (size_t i = 0; i < in.size(); ++i) {
-        const Vec3 t = ((in[i].position - bounds_.lo).array() / extent.array()).matrix();
-        uint64_t code = 0;
-        for (int a = 0; a < 3; ++a) {
-            const double q = std::min(std::max(t[a], 0.0), 1.0) * 2097151.0;
-            code |= spread_bits(static_cast<uint64_t>(q)) << a;
+    const tbb::blocked_range<size_t> all(0, in.size(), 1 << 14);
+    tbb::parallel_for(all, [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i < range.end(); ++i) {
+            const Vec3 t = ((in[i].position - bounds_.lo).array() / extent.array()).matrix();
+            uint64_t code = 0;
+            for (int a = 0; a < 3; ++a) {
+                const double q = std::min(std::max(t[a], 0.0), 1.0) * 2097151.0;
+                code |= spread_bits(static_cast<uint64_t>(q)) << a;
+            }
+            keys[i] = {code, static_cast<uint32_t>(i)};
         }
-        keys[i] = {code, static_cast<uint32_t>(i)};
-    }
-    std::sort(keys.begin(), keys.end());
+    });
+    tbb::parallel_sort(keys.begin(), keys.end());
 
     photons_.resize(in.size());
-    for (size_t j = 0; j < in.size(); ++j) {
-        const PhotonInput& p = in[keys[j].second];
-        Photon& r = photons_[j];
-        const Vec3 rel = p.position - centre_;
-        for (int a = 0; a < 3; ++a) r.p[a] = static_cast<float>(rel[a]);
-        encode_direction(p.direction, r.dir);
-        const int16_t e = power_exponent(p.power);   // per photon: any dynamic range in one map
-        encode_power(p.power, std::ldexp(1.0, -e), r.power);
-        r.reserved = exponent_bits(e);
-    }
+    tbb::parallel_for(all, [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t j = range.begin(); j < range.end(); ++j) {
+            const PhotonInput& p = in[keys[j].second];
+            Photon& r = photons_[j];
+            const Vec3 rel = p.position - centre_;
+            for (int a = 0; a < 3; ++a) r.p[a] = static_cast<float>(rel[a]);
+            encode_direction(p.direction, r.dir);
+            const int16_t e = power_exponent(p.power);   // per photon: any dynamic range in one map
+            encode_power(p.power, std::ldexp(1.0, -e), r.power);
+            r.reserved = exponent_bits(e);
+        }
+    });
     index_ = std::make_unique<Index>(photons_.data(), photons_.size(), std::max<size_t>(1, leaf_size));
 }
 
@@ -243,7 +323,12 @@ Rgb PhotonMap::total_power() const {
 
 size_t PhotonMap::index_bytes() const {
     if (!index_) return 0;
-    return index_->tree.usedMemory(index_->tree);
+    return index_->bytes();
+}
+
+const std::vector<uint32_t>& PhotonMap::tree_order() const {
+    static const std::vector<uint32_t> none;
+    return index_ ? index_->tree.vAcc : none;
 }
 
 size_t PhotonMap::memory_bytes() const { return photons_.size() * sizeof(Photon) + index_bytes(); }

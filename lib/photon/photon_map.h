@@ -86,6 +86,8 @@ public:
     size_t memory_bytes() const;
     // The kd-tree part of memory_bytes().
     size_t index_bytes() const;
+    // The kd-tree's permutation of stored indices (leaves in order): the build's result, for tests.
+    const std::vector<uint32_t>& tree_order() const;
 
 private:
     struct Index;

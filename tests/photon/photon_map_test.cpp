@@ -3,6 +3,9 @@
 
 #include <algorithm>
 
+#include <nanoflann.hpp>
+#include <tbb/task_arena.h>
+
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "core/error.h"
@@ -139,4 +142,53 @@ TEST(PhotonMap, TotalPowerAndBounds) {
     EXPECT_TRUE(map.total_power().isApprox(Rgb(1, 2, 3), 1e-3));
     EXPECT_TRUE(map.bounds().lo.isApprox(Vec3(0, -99, 0)));
     EXPECT_TRUE(map.bounds().hi.isApprox(Vec3(99, 0, 198)));
+}
+
+namespace {
+
+// A PhotonMap's stored records as a nanoflann dataset (for the serial reference build).
+struct Records {
+    const PhotonMap* map;
+    size_t kdtree_get_point_count() const { return map->size(); }
+    float kdtree_get_pt(uint32_t i, size_t d) const { return map->record(i).p[d]; }
+    template <class B>
+    bool kdtree_get_bbox(B&) const { return false; }
+};
+
+}  // namespace
+
+// The kd-tree is built in parallel (photon_map.cpp); it must be nanoflann's serial tree, the same
+// on any thread count, so that queries (and images) do not depend on the machine.
+TEST(PhotonMap, ParallelBuildIsNanoflannsSerialTreeOnAnyThreadCount) {
+    Rng rng(7, 0);
+    std::vector<PhotonInput> in;
+    std::vector<Vec3> sites;
+    for (int s = 0; s < 50; ++s) sites.push_back(Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 10.0);
+    for (int i = 0; i < 200000; ++i) {   // above the parallel threshold, with coincident photons
+        PhotonInput p;
+        const Vec3& c = sites[rng.uniform_index(50)];
+        p.position = rng.uniform() < 0.2 ? c : c + 0.3 * sample_uniform_ball(rng.uniform(), rng.uniform(), rng.uniform());
+        p.direction = sample_uniform_sphere(rng.uniform(), rng.uniform());
+        p.power = Rgb::Constant(1.0 + rng.uniform());
+        in.push_back(p);
+    }
+    PhotonMap one, four;
+    tbb::task_arena(1).execute([&] { one = PhotonMap(in); });
+    tbb::task_arena(4).execute([&] { four = PhotonMap(in); });
+    ASSERT_EQ(one.size(), in.size());
+    EXPECT_EQ(one.tree_order(), four.tree_order());
+
+    const Records records{&one};
+    using Serial = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Records, float, uint32_t>, Records, 3, uint32_t>;
+    const Serial serial(3, records, nanoflann::KDTreeSingleIndexAdaptorParams(32));
+    EXPECT_EQ(serial.vAcc, one.tree_order());
+
+    NeighbourList a, b;
+    for (int q = 0; q < 200; ++q) {
+        const Vec3 x = sites[size_t(q) % 50] + 0.2 * sample_uniform_ball(rng.uniform(), rng.uniform(), rng.uniform());
+        one.knn(x, 32, kInfinity, a);
+        four.knn(x, 32, kInfinity, b);
+        ASSERT_EQ(a.size(), b.size());
+        for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].index, b[i].index);
+    }
 }
