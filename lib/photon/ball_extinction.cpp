@@ -1,6 +1,7 @@
 #include "photon/ball_extinction.h"
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "core/sampling.h"
@@ -21,6 +22,7 @@ double radical_inverse(uint32_t i, uint32_t base) {
 Vec3 halton3(uint32_t i) { return Vec3(radical_inverse(i, 2), radical_inverse(i, 3), radical_inverse(i, 5)); }
 
 constexpr int kBallPoints = 32;
+constexpr BallRule kBallRule = BallRule::degree5;   // bench_ball_extinction: half the cost of halton32, and a smaller error in the blob and the plume up to 3 voxels
 constexpr uint32_t kClippedPoints = 4096;
 constexpr uint32_t kMassPoints = 65536;
 
@@ -47,6 +49,16 @@ const std::vector<Vec3>& clipped_points() {
     return points;
 }
 
+uint64_t rule_points(BallRule rule) {
+    switch (rule) {
+        case BallRule::halton32: return kBallPoints;
+        case BallRule::degree5: return 15;
+        case BallRule::degree3: return 6;
+        case BallRule::centre: return 1;
+    }
+    return 1;
+}
+
 double box_volume(const Bounds3& b) {
     if (b.empty()) return 0.0;
     const Vec3 e = b.hi - b.lo;
@@ -54,6 +66,40 @@ double box_volume(const Bounds3& b) {
 }
 
 }  // namespace
+
+double ball_mean_by_rule(const Medium& m, const Vec3& x, double r, BallRule rule) {
+    switch (rule) {
+        case BallRule::centre: return m.sigma_t(x);
+        case BallRule::halton32: {
+            double sum = 0.0;
+            for (const Vec3& p : unit_ball_points()) sum += m.sigma_t(x + r * p);
+            return sum / kBallPoints;
+        }
+        case BallRule::degree3: {
+            const double a = r * std::sqrt(0.6);
+            double sum = 0.0;
+            for (int i = 0; i < 3; ++i) {
+                Vec3 d = Vec3::Zero();
+                d[i] = a;
+                sum += m.sigma_t(x + d) + m.sigma_t(x - d);
+            }
+            return sum / 6.0;
+        }
+        case BallRule::degree5: {
+            const double a = r * std::sqrt(2.0 / 3.0), b = 0.5 * r;
+            double axes = 0.0, diagonals = 0.0;
+            for (int i = 0; i < 3; ++i) {
+                Vec3 d = Vec3::Zero();
+                d[i] = a;
+                axes += m.sigma_t(x + d) + m.sigma_t(x - d);
+            }
+            for (int c = 0; c < 8; ++c)
+                diagonals += m.sigma_t(x + Vec3((c & 1) ? b : -b, (c & 2) ? b : -b, (c & 4) ? b : -b));
+            return (11.0 / 70.0) * m.sigma_t(x) + (9.0 / 140.0) * axes + (2.0 / 35.0) * diagonals;
+        }
+    }
+    return m.sigma_t(x);
+}
 
 BallExtinction::BallExtinction(const std::vector<std::unique_ptr<Medium>>& media) {
     for (const auto& m : media) {
@@ -70,7 +116,7 @@ BallExtinction::BallExtinction(const std::vector<std::unique_ptr<Medium>>& media
     }
 }
 
-double BallExtinction::integral(const Vec3& x, double r) const {
+double BallExtinction::integral(const Vec3& x, double r, uint64_t* lookups) const {
     const double volume = (4.0 / 3.0) * kPi * r * r * r;
     const Vec3 half = Vec3::Constant(r);
     Bounds3 cube;
@@ -78,16 +124,24 @@ double BallExtinction::integral(const Vec3& x, double r) const {
     cube.hi = x + half;
     double total = 0.0;
     for (const Entry& e : entries_) {
-        if (e.box.contains(cube.lo) && e.box.contains(cube.hi)) {   // the ball is inside the box
-            double sum = 0.0;
-            for (const Vec3& p : unit_ball_points()) sum += e.medium->sigma_t(x + r * p);
-            total += sum / kBallPoints * volume;
-            continue;
-        }
         // Is the box inside the ball? (farthest corner within r)
         const Vec3 far = (e.box.lo - x).cwiseAbs().cwiseMax((e.box.hi - x).cwiseAbs());
         if (far.squaredNorm() <= r * r) {
             total += e.mass;
+            continue;
+        }
+        double exact = 0.0;
+        if (e.medium->ball_integral(x, r, exact)) {   // closed form (homogeneous shapes, one grid cell)
+            total += exact;
+            if (lookups) *lookups += 1;
+            continue;
+        }
+        // The ball inside the box, or crossing it where sigma_t falls to 0 continuously and the ball
+        // is small against the box (the points outside count 0, with no jump to resolve): the ball rule.
+        const bool inside = e.box.contains(cube.lo) && e.box.contains(cube.hi);
+        if (inside || (e.medium->continuous() && 4.0 * r <= (e.box.hi - e.box.lo).minCoeff())) {
+            total += ball_mean_by_rule(*e.medium, x, r, kBallRule) * volume;
+            if (lookups) *lookups += rule_points(kBallRule);
             continue;
         }
         Bounds3 c;
@@ -102,13 +156,14 @@ double BallExtinction::integral(const Vec3& x, double r) const {
             if ((p - x).squaredNorm() <= r * r) sum += e.medium->sigma_t(p);
         }
         total += sum * vc / kClippedPoints;
+        if (lookups) *lookups += kClippedPoints;
     }
     return total;
 }
 
-double BallExtinction::mean(const Vec3& x, double r) const {
+double BallExtinction::mean(const Vec3& x, double r, uint64_t* lookups) const {
     const double volume = (4.0 / 3.0) * kPi * r * r * r;
-    return volume > 0.0 ? integral(x, r) / volume : 0.0;
+    return volume > 0.0 ? integral(x, r, lookups) / volume : 0.0;
 }
 
 }  // namespace vpm

@@ -26,6 +26,8 @@ GridMedium::GridMedium(DensityGrid grid, double sigma_t_scale, const Rgb& albedo
     : Medium(albedo, g), grid_(std::move(grid)), scale_(sigma_t_scale), file_(std::move(file)) {
     index_to_world_ = config_transform * grid_.index_to_world();
     world_to_index_ = index_to_world_.inverse();
+    const Eigen::Matrix3d m = world_to_index_.linear();
+    axis_aligned_ = m(0, 1) == 0.0 && m(0, 2) == 0.0 && m(1, 0) == 0.0 && m(1, 2) == 0.0 && m(2, 0) == 0.0 && m(2, 1) == 0.0;
     if (!grid_.empty()) {
         const Bounds3& ib = grid_.index_bounds();
         for (int c = 0; c < 8; ++c) {
@@ -34,6 +36,22 @@ GridMedium::GridMedium(DensityGrid grid, double sigma_t_scale, const Rgb& albedo
             world_bounds_.extend(index_to_world_ * corner);
         }
     }
+}
+
+bool GridMedium::ball_integral(const Vec3& x, double r, double& integral) const {
+    // With axis-aligned index axes the ball is an axis-aligned ellipsoid in index space, symmetric
+    // in each axis about its centre c; inside one cell [n, n + 1]^3 the trilinear density is
+    // a + sum b_i u_i + sum c_ij u_i u_j + d u_x u_y u_z in u = p - c, and every term but a
+    // averages to 0 over it. (Rotated grids: the u_i u_j terms do not, so they integrate.)
+    if (!axis_aligned_) return false;
+    const Vec3 c = world_to_index_ * x;
+    const Eigen::Matrix3d m = world_to_index_.linear();
+    for (int a = 0; a < 3; ++a) {
+        const double h = r * std::abs(m(a, a));
+        if (std::floor(c[a] - h) != std::floor(c[a] + h)) return false;
+    }
+    integral = (4.0 / 3.0) * kPi * r * r * r * sigma_t(x);
+    return true;
 }
 
 namespace {

@@ -43,6 +43,8 @@ public:
         return transmittance(ray, tmax, rng, nullptr);
     }
     double sigma_t(const Vec3& p) const override { return scale_ * grid_.density(world_to_index_ * p); }
+    bool ball_integral(const Vec3& x, double r, double& integral) const override;   // the ball inside one voxel cell
+    bool continuous() const override { return true; }   // trilinear, falling to 0 over one voxel outside the data
     void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;
     std::string describe() const override;
 
@@ -60,6 +62,7 @@ private:
     double scale_;
     Eigen::Affine3d index_to_world_, world_to_index_;
     Bounds3 world_bounds_;
+    bool axis_aligned_ = false;   // world_to_index_ maps the world axes onto the index axes (no rotation, no shear)
     std::string file_;
 };
 

@@ -1,5 +1,6 @@
 #include "scene/media/homogeneous_medium.h"
 
+#include <algorithm>
 #include <sstream>
 
 namespace vpm {
@@ -55,6 +56,42 @@ void HomogeneousMedium::majorant_pieces(const Ray& ray, double tmax, const Major
 double HomogeneousMedium::sigma_t(const Vec3& p) const {
     const bool inside = shape_ == Shape::box ? bounds_.contains(p) : (p - center_).squaredNorm() <= radius_ * radius_;
     return inside ? sigma_t_ : 0.0;
+}
+
+bool HomogeneousMedium::ball_integral(const Vec3& x, double r, double& integral) const {
+    const double ball = (4.0 / 3.0) * kPi * r * r * r;
+    if (shape_ == Shape::sphere) {
+        // Volume of the intersection of two balls (radii R, r, centres d apart).
+        const double R = radius_, d = (x - center_).norm();
+        double v;
+        if (d + r <= R) v = ball;
+        else if (d + R <= r) v = (4.0 / 3.0) * kPi * R * R * R;
+        else if (d >= R + r) v = 0.0;
+        else v = kPi * (R + r - d) * (R + r - d) * (d * d + 2.0 * d * r - 3.0 * r * r + 2.0 * d * R + 6.0 * r * R - 3.0 * R * R) / (12.0 * d);
+        integral = sigma_t_ * v;
+        return true;
+    }
+    // Box: the ball minus the caps beyond the faces it crosses, when they are the two faces of one
+    // axis at most (caps of different axes may overlap near edges and corners: not closed here).
+    int crossing_axis = -1;
+    double caps = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        const double below = x[a] - bounds_.lo[a], above = bounds_.hi[a] - x[a];   // signed distances to the faces
+        if (below <= -r || above <= -r) {
+            integral = 0.0;   // the ball is entirely outside this slab
+            return true;
+        }
+        if (below >= r && above >= r) continue;
+        if (crossing_axis >= 0) return false;
+        crossing_axis = a;
+        for (const double dist : {below, above}) {
+            if (dist >= r) continue;
+            const double h = r - dist;   // cap height beyond the face, in (0, 2r)
+            caps += kPi * h * h * (3.0 * r - h) / 3.0;
+        }
+    }
+    integral = sigma_t_ * std::max(0.0, ball - caps);
+    return true;
 }
 
 std::string HomogeneousMedium::describe() const {

@@ -23,6 +23,8 @@ public:
     double sample_free_flight(const Ray& ray, double tmax, Rng& rng) const override;
     double transmittance(const Ray& ray, double tmax, Rng& rng) const override;
     double sigma_t(const Vec3& p) const override;
+    // Inside the shape; a sphere's lens (any overlap); a box crossed through the faces of one axis (caps).
+    bool ball_integral(const Vec3& x, double r, double& integral) const override;
     void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;   // exact here
     std::string describe() const override;
 

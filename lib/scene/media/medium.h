@@ -32,6 +32,21 @@ public:
     // Extinction at a point (1 / world length).
     virtual double sigma_t(const Vec3& p) const = 0;
 
+    // The integral of sigma_t over the ball B(x, r) in closed form, when this medium has one there
+    // (homogeneous: the ball inside the shape, a sphere's lens, a box face's cap; grid: the ball
+    // inside one trilinear cell, whose mean is the centre value since every other term of the
+    // trilinear polynomial is odd about it). False says nothing: the caller integrates
+    // (photons.extinction = "ball", photon/ball_extinction.h).
+    virtual bool ball_integral(const Vec3& x, double r, double& integral) const {
+        (void)x;
+        (void)r;
+        (void)integral;
+        return false;
+    }
+    // sigma_t has no jump anywhere (it falls to 0 continuously at the bounds, like a trilinear
+    // grid), so a quadrature of a ball crossing the bounds needs no clipping.
+    virtual bool continuous() const { return false; }
+
     // The majorant along [0, tmax]: visit(ta, tb, majorant) for consecutive pieces in order of t,
     // each with majorant >= sigma_t on it (pieces with majorant 0 may be left out); stops when visit
     // returns false. Deterministic and cheap, so integrators can pick estimators and place points
