@@ -31,7 +31,13 @@
 //   |                        |             | "auto": per camera segment, "march" where the media's    |
 //   |                        |             | majorant optical depth along it is at most               |
 //   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
-//   |                        |             | geometry alone, so the mixture stays unbiased)           |
+//   |                        |             | geometry alone, so the mixture stays unbiased).          |
+//   |                        |             | "pilot": each pass renders a pilot with collision, march |
+//   |                        |             | and auto and keeps the least variance x cost, the cost   |
+//   |                        |             | from counted work (queries, rays, lookups), not the      |
+//   |                        |             | clock (photon_map_integrator.h: choose_gather). Opt-in:  |
+//   |                        |             | its per-sample variance misses the photon map's own      |
+//   |                        |             | noise (BENCHMARKS.md section 10)                         |
 //   | gather_queries         | 4           | points per segment for "march"                           |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
 //   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
@@ -57,7 +63,7 @@ class Params;
 enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point };
 enum class PhotonAllocationRule { importance, power };
-enum class GatherMode { collision, march, automatic };
+enum class GatherMode { collision, march, automatic, pilot };
 enum class KSchedule { fixed, shrink };
 
 struct PhotonMapSettings {

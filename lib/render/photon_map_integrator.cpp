@@ -1,14 +1,18 @@
 #include "render/photon_map_integrator.h"
 
+#include <algorithm>
 #include <array>
+#include <map>
 #include <ostream>
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include "core/henyey_greenstein.h"
 #include "core/sampling.h"
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
+#include "scene/media/homogeneous_medium.h"
 #include "config/params.h"
 #include "transport/direct_light.h"
 #include "transport/mis.h"
@@ -27,6 +31,17 @@ double total_sigma_t(const Scene& scene, const Vec3& x) {
 
 }  // namespace
 
+// "auto", and "pilot" before its pilot has run (maps built elsewhere and no prepare()): the per-segment threshold.
+PhotonMapIntegrator::Gather initial_gather(GatherMode mode) {
+    switch (mode) {
+        case GatherMode::collision: return PhotonMapIntegrator::Gather::collision;
+        case GatherMode::march: return PhotonMapIntegrator::Gather::march;
+        case GatherMode::automatic:
+        case GatherMode::pilot: break;
+    }
+    return PhotonMapIntegrator::Gather::threshold;
+}
+
 struct PhotonMapIntegrator::ThreadState {
     explicit ThreadState(const Scene& scene) : ball(scene.media) {}
     BallExtinction ball;   // mean sigma_t over kNN balls (photons.extinction = "ball")
@@ -35,24 +50,35 @@ struct PhotonMapIntegrator::ThreadState {
         EstimatorStats stats, surface_stats;
         uint64_t continued = 0;   // camera paths continued past a collision (bounded radius)
         uint64_t march_wide = 0;  // march queries whose kNN ball exceeds max_radius_mfp mean free paths
+        uint64_t rays = 0;        // tracked segments: free flights, shadow rays, march transmittances (pilot cost)
+        uint64_t lookups = 0;     // sigma_t lookups of the ball quadrature (pilot cost)
+        double march_weight_max = 0.0, march_weight_sum = 0.0;   // relative march point weights
+        uint64_t march_points = 0;
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
     : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {}
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {
+    gather_ = initial_gather(settings.gather);
+}
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
                                          const PhotonMap& volume_map, const PhotonMap* surface_map)
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {}
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {
+    gather_ = initial_gather(settings.gather);
+}
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
 void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     k_ = size_t(settings_.k_for_pass(context.pass));
-    if (!owns_maps_) return;
+    if (!owns_maps_) {
+        if (settings_.gather == GatherMode::pilot) choose_gather(context);
+        return;
+    }
     std::ostream* log = context.first_of_run ? context.log : nullptr;
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
     if (scene_.has_media() || surface) {
@@ -63,20 +89,32 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         *log << "photons: no media and no surface map, so no photon pass\n";
     }
     if (!scene_.has_media() && log) *log << "photons: no media, so the volume photon map is empty\n";
+    if (settings_.gather == GatherMode::pilot) choose_gather(context);
     if (scene_.uses_embree() && !surface && log)
         *log << "photons: final_gather = true, so no surface photon map (paths continue through surfaces)\n";
 }
 
 void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     stats.volume_estimates = this->stats();
+    if (pilot_) stats.gather_pilot = pilot_;
     stats.continued_paths = continued_paths();
     if (log)
         *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
              << "(fewer than k photons within photons.max_radius_mfp): " << *stats.continued_paths << "\n";
     if (settings_.gather != GatherMode::collision) {
-        uint64_t wide = 0;
-        for (const auto& l : threads_->local) wide += l.march_wide;
+        uint64_t wide = 0, points = 0;
+        double wmax = 0.0, wsum = 0.0;
+        for (const auto& l : threads_->local) {
+            wide += l.march_wide;
+            points += l.march_points;
+            wmax = std::max(wmax, l.march_weight_max);
+            wsum += l.march_weight_sum;
+        }
         stats.march_wide_queries = wide;
+        if (points > 0) {
+            stats.march_weight_max = wmax;
+            stats.march_weight_mean = wsum / double(points);
+        }
         if (wide > 0 && log)
             *log << "march: " << wide << " of " << stats.volume_estimates->queries << " queries had a kNN ball wider than "
                  << "photons.max_radius_mfp = " << settings_.max_radius_mfp << " mean free paths and took NEE and a continued path instead\n";
@@ -118,6 +156,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
     EmissionWeighting emission = first_depth == 0 ? EmissionWeighting::camera() : EmissionWeighting::after(false, first_ray.origin, 0.0);
     for (int depth = first_depth;; ++depth) {
         const PathVertex v = next_vertex(scene_, ray, rng);
+        ++threads_->local.local().rays;
         const MediumEvent& event = v.medium;
         const SurfaceHit& hit = v.hit;
         const double t_end = v.on_surface ? hit.t : kInfinity;
@@ -141,7 +180,10 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             const Medium& m = *event.medium;
             const Rgb weight = throughput * m.albedo();
             if ((weight == 0.0).all()) break;
-            if (settings_.direct == DirectLighting::nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
+            if (settings_.direct == DirectLighting::nee) {
+                radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
+                ++threads_->local.local().rays;
+            }
             const double sigma_t = total_sigma_t(scene_, x);
             if (sigma_t > 0.0 && !map_->empty()) {
                 auto& local = threads_->local.local();
@@ -169,7 +211,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                     }
                 }
                 // The ball can miss every quadrature point's smoke only if it is tiny; then use the point.
-                const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
+                const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius, &local.lookups) : 0.0;
                 radiance += weight * s.value / (ball > 0.0 ? ball : sigma_t);
             }
             break;
@@ -195,10 +237,10 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
 }
 
 bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
-    switch (settings_.gather) {
-        case GatherMode::collision: return false;
-        case GatherMode::march: return true;
-        case GatherMode::automatic: break;
+    switch (gather_) {
+        case Gather::collision: return false;
+        case Gather::march: return true;
+        case Gather::threshold: break;
     }
     // Thin along this segment: every ray gathers at a few points. Thick: the collision gather puts
     // its one query where the light is and bounds its ball in mean free paths, while the march's
@@ -258,13 +300,21 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int d
             const auto [t, mu] = points[j];
             // T(0, t) as a product of independent ratio-tracking estimates over consecutive pieces.
             for (const auto& m : scene_.media) transmittance *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
+            threads_->local.local().rays += scene_.media.size();
             t_prev = t;
             if (transmittance == 0.0) break;
             const Vec3 x = ray.at(t);
             const double sigma_t_here = medium->sigma_t(x);
             if (!(sigma_t_here > 0.0) || (medium->albedo() == 0.0).all()) continue;
             const double survival = std::exp(-tau[j]);   // exp(-tau_mu(t)) = 1 - u_j
-            const Rgb weight = (transmittance * mass / (n * mu * survival) * sigma_t_here) * medium->albedo();
+            const double relative = transmittance * sigma_t_here / (mu * survival);   // 1 where the majorant is exact
+            {
+                auto& local = threads_->local.local();
+                local.march_weight_max = std::max(local.march_weight_max, relative);
+                local.march_weight_sum += relative;
+                ++local.march_points;
+            }
+            const Rgb weight = (relative * mass / n) * medium->albedo();
             sum += weight * incident_at_march_point(x, ray.dir, medium->g(), total_sigma_t(scene_, x), weight, depth, rng);
         }
     }
@@ -275,8 +325,11 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
                                                  const Rgb& weight, int depth, Rng& rng) const {
     const bool nee = settings_.direct == DirectLighting::nee;
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
-    if (nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
     auto& local = threads_->local.local();
+    if (nee) {
+        in += direct_light_in_medium(scene_, x, dir, g, rng);
+        ++local.rays;
+    }
     Estimate<Rgb> s;
     if (!map_->empty())
         s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats);
@@ -288,6 +341,7 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     if (wide) {
         ++local.march_wide;
         if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
+        ++local.rays;
         // Roulette on the point's weight: where it is small, so is the chance of paying for a path.
         const double q = std::min(1.0, weight.maxCoeff());
         if (rng.uniform() < q) {
@@ -297,8 +351,104 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         return in;
     }
     if (map_->empty()) return in;
-    const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
+    const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius, &local.lookups) : 0.0;
     return in + s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
+}
+
+void PhotonMapIntegrator::choose_gather(const PassContext& context) {
+    // Work units per counted operation, in nanoseconds of this machine's single-thread figures
+    // (BENCHMARKS.md section 1 and 3): a kNN query 700 + 280 k (bench_photon_map: 2.9 us at k = 8,
+    // 8.3 at k = 32, 37 at k = 128), a tracked segment 1000 in grids (about one real collision
+    // of delta tracking plus the DDA) and 100 in homogeneous media (closed forms), a sigma_t
+    // lookup of the ball quadrature 50. Only their ratios matter, and only between candidates
+    // whose variance x cost differ by less than the error of these weights.
+    bool grids = false;
+    for (const auto& m : scene_.media) grids = grids || !dynamic_cast<const HomogeneousMedium*>(m.get());
+    const double w_query = 700.0 + 280.0 * double(k_), w_ray = grids ? 1000.0 : 100.0, w_lookup = 50.0;
+    constexpr int kSide = 8, kSamples = 16;
+    constexpr int kRays = kSide * kSide;
+    const Gather candidates[] = {Gather::collision, Gather::march, Gather::threshold};
+    GatherPilotStats pilot = pilot_ ? *pilot_ : GatherPilotStats{};
+    pilot.candidates = {"collision", "march", "auto"};
+    pilot.variance.assign(3, 0.0);
+    pilot.cost.assign(3, 0.0);
+
+    // The pilot's queries are not the run's: its counters are put back afterwards.
+    struct Counts {
+        EstimatorStats stats, surface_stats;
+        uint64_t continued, march_wide, rays, lookups;
+        double weight_max, weight_sum;
+        uint64_t points;
+    };
+    std::map<const ThreadState::Local*, Counts> saved;
+    for (auto& l : threads_->local)
+        saved[&l] = {l.stats, l.surface_stats, l.continued, l.march_wide, l.rays, l.lookups, l.march_weight_max, l.march_weight_sum, l.march_points};
+    auto totals = [&](uint64_t& queries, uint64_t& rays, uint64_t& lookups) {
+        queries = rays = lookups = 0;
+        for (const auto& l : threads_->local) {
+            queries += l.stats.queries + l.surface_stats.queries;
+            rays += l.rays;
+            lookups += l.lookups;
+        }
+    };
+    const Camera& camera = scene_.camera;
+    const uint64_t seed = mix64(context.seed ^ 0x70696c6f74ULL);   // streams apart from the camera pass's
+    std::vector<double> variance(kRays);
+    int chosen = 0;
+    for (int c = 0; c < 3; ++c) {
+        gather_ = candidates[c];
+        uint64_t q0, r0, l0, q1, r1, l1;
+        totals(q0, r0, l0);
+        tbb::parallel_for(0, kRays, [&](int j) {
+            Rng rng(seed, context.stream_offset * uint64_t(kRays) + uint64_t(j));
+            double mean = 0.0, m2 = 0.0;
+            for (int s = 0; s < kSamples; ++s) {
+                const double x = (j % kSide + rng.uniform()) / kSide * camera.width();
+                const double y = (j / kSide + rng.uniform()) / kSide * camera.height();
+                const Rgb l = trace(camera.generate_ray(x, y), 0, rng);
+                const double v = all_finite(l) ? 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2] : 0.0;
+                const double d = v - mean;
+                mean += d / (s + 1);
+                m2 += d * (v - mean);
+            }
+            variance[size_t(j)] = m2 / (kSamples - 1);
+        });
+        totals(q1, r1, l1);
+        double v = 0.0;
+        for (double x : variance) v += x;
+        pilot.variance[size_t(c)] = v / kRays;
+        pilot.cost[size_t(c)] = (w_query * double(q1 - q0) + w_ray * double(r1 - r0) + w_lookup * double(l1 - l0)) / (kRays * kSamples);
+    }
+    // Least variance x cost; with no variance anywhere (nothing lit in view), least cost.
+    for (int c = 1; c < 3; ++c) {
+        const double a = pilot.variance[size_t(c)] * pilot.cost[size_t(c)];
+        const double b = pilot.variance[size_t(chosen)] * pilot.cost[size_t(chosen)];
+        if (a < b || (a == b && pilot.cost[size_t(c)] < pilot.cost[size_t(chosen)])) chosen = c;
+    }
+    gather_ = candidates[chosen];
+    pilot.chosen = pilot.candidates[size_t(chosen)];
+    pilot.chosen_per_pass.push_back(chosen);
+    pilot_ = pilot;
+    for (auto& l : threads_->local) {
+        const auto it = saved.find(&l);
+        const Counts k = it != saved.end() ? it->second : Counts{};
+        l.stats = k.stats;
+        l.surface_stats = k.surface_stats;
+        l.continued = k.continued;
+        l.march_wide = k.march_wide;
+        l.rays = k.rays;
+        l.lookups = k.lookups;
+        l.march_weight_max = k.weight_max;
+        l.march_weight_sum = k.weight_sum;
+        l.march_points = k.points;
+    }
+    if (context.log && context.first_of_run) {
+        *context.log << "gather: the pilot chose \"" << pilot.chosen << "\" (pilot, " << kRays << " rays x " << kSamples
+                     << " samples: variance x cost";
+        for (int c = 0; c < 3; ++c)
+            *context.log << (c ? ", " : " ") << pilot.candidates[size_t(c)] << " " << pilot.variance[size_t(c)] * pilot.cost[size_t(c)];
+        *context.log << ")\n";
+    }
 }
 
 namespace {

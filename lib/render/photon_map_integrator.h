@@ -15,8 +15,8 @@
 // light reaching the medium via walls is found at the next medium collision. The estimator's
 // bias is then the only bias in the image.
 //
-// photons.extinction = "ball" (the default) divides by the mean sigma_t over the kNN ball (a fixed
-// 32-point quadrature of the ball) instead of sigma_t(x). S averages sigma_t L over that ball, so
+// photons.extinction = "ball" (the default) divides by the mean sigma_t over the kNN ball (closed
+// forms where a medium has one, else a 15-point degree-5 rule: photon/ball_extinction.h) instead of sigma_t(x). S averages sigma_t L over that ball, so
 // the ratio is consistent like the point version and identical inside a homogeneous medium, but it
 // does not blow up where a ball reaches from a thin plume edge (sigma_t(x) ~ 0) into dense smoke, and
 // it cancels the part of the ball that lies outside the medium (boundary bias). The line integral
@@ -47,6 +47,7 @@
 #include "photon/photon_map_settings.h"
 #include "render/photon_pass.h"
 #include "render/run_config.h"
+#include "render/run_stats.h"
 #include "scene/scene.h"
 
 namespace vpm {
@@ -65,6 +66,11 @@ public:
     Rgb radiance(const Ray& ray, Rng& rng) const override;
     void collect(RunStats& stats, std::ostream* log) const override;
     std::string name() const override { return "photon_map"; }
+    // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
+    // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
+    enum class Gather { collision, march, threshold };
+    Gather gather() const { return gather_; }
+    const std::optional<GatherPilotStats>& gather_pilot() const { return pilot_; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
     EstimatorStats stats() const;
     // Camera paths continued past a collision whose mean-free-path-bounded ball held fewer than
@@ -96,8 +102,16 @@ private:
     // The phase-weighted incident radiance at march point x (weight: the point's, for roulette).
     Rgb incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight,
                                 int depth, Rng& rng) const;
-    // Whether the camera segment `ray` up to t_end gathers by the march (photons.gather).
+    // Whether the camera segment `ray` up to t_end gathers by the march (gather_, below).
     bool marches(const Ray& ray, double t_end) const;
+
+    Gather gather_ = Gather::collision;
+    std::optional<GatherPilotStats> pilot_;
+    // gather = "pilot": renders a pilot (8 x 8 camera rays spread over the image, 16 samples each,
+    // streams of their own) with each candidate and keeps the one with the least variance x cost,
+    // the cost from deterministic counts (kNN queries, rays, ball-quadrature lookups). Same choice
+    // on any machine, thread count and scale.
+    void choose_gather(const PassContext& context);
 };
 
 // The registry's reader: [photons] and the walk keys of [render].

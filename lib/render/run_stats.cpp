@@ -145,6 +145,15 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     }
     if (stats.continued_paths) record.set("photons.continued_paths", *stats.continued_paths);
     if (stats.march_wide_queries) record.set("photons.march_wide_queries", *stats.march_wide_queries);
+    if (stats.march_weight_max) record.set("photons.march_weight_max", *stats.march_weight_max);
+    if (stats.march_weight_mean) record.set("photons.march_weight_mean", *stats.march_weight_mean);
+    if (const auto& g = stats.gather_pilot) {
+        record.set("photons.gather_pilot.chosen", g->chosen);
+        record.set("photons.gather_pilot.candidates", nlohmann::json(g->candidates));
+        record.set("photons.gather_pilot.variance", nlohmann::json(g->variance));
+        record.set("photons.gather_pilot.cost", nlohmann::json(g->cost));
+        record.set("photons.gather_pilot.chosen_per_pass", nlohmann::json(g->chosen_per_pass));
+    }
     if (stats.volume_estimates) write_estimates("photons.estimate_cases.", *stats.volume_estimates, record);
     if (stats.surface_estimates) write_estimates("photons.surface_estimate_cases.", *stats.surface_estimates, record);
 }

@@ -67,6 +67,15 @@ struct PassStats {
     double image_mean = 0.0;   // mean over pixels and channels of this pass's image alone
 };
 
+// photons.gather = "pilot": what each pass's pilot measured (PhotonMapIntegrator::choose_gather) and chose.
+struct GatherPilotStats {
+    std::vector<std::string> candidates;   // "collision", "march", "auto"
+    std::vector<double> variance;          // mean per-sample variance of the luminance over the pilot rays
+    std::vector<double> cost;              // deterministic work units per sample
+    std::string chosen;                    // the last pass's choice
+    std::vector<int> chosen_per_pass;      // index into candidates, per pass
+};
+
 struct RunStats {
     std::vector<PhaseStats> phases;
     std::vector<PassStats> passes;
@@ -77,6 +86,10 @@ struct RunStats {
     std::optional<EstimatorStats> surface_estimates;   // surface photon map queries (when any)
     std::optional<uint64_t> continued_paths;           // photon map: camera paths continued (bounded radius)
     std::optional<uint64_t> march_wide_queries;        // gather = "march": queries beyond max_radius_mfp
+    std::optional<GatherPilotStats> gather_pilot;      // gather = "pilot"
+    // March points' weights relative to their value where the majorant is exact (T sigma_t /
+    // (mu e^-tau_mu) = 1 in homogeneous media): the largest and the mean, over the camera pass.
+    std::optional<double> march_weight_max, march_weight_mean;
 
     // Adds `seconds` to a phase (phases repeat once per pass), with the peak resident memory now.
     void phase(const std::string& name, double seconds);
