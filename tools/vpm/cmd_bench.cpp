@@ -13,16 +13,22 @@
 // Relative RMSE = sqrt( sum over pixels and channels (x - ref)^2 / sum ref^2 ).
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <thread>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "analysis/scene_matrix.h"
 #include "arguments.h"
+#include "data_files.h"
 #include "command.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -179,11 +185,77 @@ int run_equal_time(int argc, char** argv) {
     return 0;
 }
 
+
+// vpm bench matrix: the scene matrix of issue 20 (lib/analysis/scene_matrix.h).
+int run_matrix(int argc, char** argv) {
+    CLI::App app("The scene matrix: homogeneous box and sphere, the Gaussian blob and the plume across optical\n"
+                 "thickness, albedo, g, lights and scale; per cell the path tracer, the photon map's defaults and\n"
+                 "each gather forced, at equal time, against cached path-traced references. Writes OUT/MATRIX.md,\n"
+                 "OUT/matrix.csv and OUT/matrix.png (tools/plot_matrix.py, when matplotlib is there).",
+                 "vpm bench matrix");
+    std::string out = "out/matrix", only, media = vpm::cli::data_file("media").string();
+    vpm::MatrixOptions o;
+    bool quick = false, no_plot = false;
+    int threads = 0;
+    double budget = -1, reference = -1;
+    app.add_option("--out", out, "Folder for scenes/, references/ (the cache), MATRIX.md, matrix.csv")->capture_default_str();
+    app.add_flag("--quick", quick, "4 cells (one scaled), 32x32, 1 s per method, 4 s references: about a minute");
+    app.add_option("--budget", budget, "Seconds per method and cell (default 4; --quick 1)")->check(CLI::Range(0.01, 3600.0));
+    app.add_option("--reference-seconds", reference, "Path tracer seconds per reference (default 30; --quick 4)")
+        ->check(CLI::Range(0.01, 1e6));
+    app.add_option("--size", o.size, "Image width = height (default 64; --quick 32)")->check(CLI::Range(4, 4096));
+    app.add_option("--threads", threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
+    app.add_option("--only", only, "Run only cells whose id (e.g. box-tau10-a0.9-g0-point-s1) or group contains TEXT");
+    app.add_option("--media", media, "Folder with blob.vdb and plume.vdb")->capture_default_str()->check(CLI::ExistingDirectory);
+    app.add_flag("--no-plot", no_plot, "Do not run tools/plot_matrix.py");
+    if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    o.quick = quick;
+    o.budget = budget > 0 ? budget : (quick ? 1.0 : 4.0);
+    o.reference_seconds = reference > 0 ? reference : (quick ? 4.0 : 30.0);
+    if (quick && app.count("--size") == 0) o.size = 32;
+    o.media = media;
+    o.out = out;
+    o.log = &std::cerr;
+    if (!only.empty())
+        o.filter = [only](const vpm::MatrixCell& c) { return c.id().find(only) != std::string::npos || c.group.find(only) != std::string::npos; };
+    vpm::prepare_output_folder(out);   // before the work
+    const fs::path md = fs::path(out) / "MATRIX.md", csv = fs::path(out) / "matrix.csv";
+    vpm::check_output_file(md);
+    vpm::check_output_file(csv);
+    const int n_threads = threads > 0 ? threads : tbb::info::default_concurrency();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
+
+    char host[256] = "unknown";
+    gethostname(host, sizeof host - 1);
+    std::ostringstream machine;
+    machine << host << ", " << n_threads << " of " << std::thread::hardware_concurrency() << " threads";
+    std::string command = "vpm bench matrix";
+    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+    auto write = [&](const vpm::MatrixReport& r) {   // after every cell: a stopped run keeps what it finished
+        vpm::write_text_atomic(md, r.to_markdown(command, machine.str()));
+        vpm::write_text_atomic(csv, r.to_csv());
+    };
+    const vpm::MatrixReport report = vpm::run_scene_matrix(o, write);
+    write(report);
+    std::cerr << "wrote " << md.string() << " and " << csv.string() << " (" << report.rows.size() << " cells, "
+              << report.seconds << " s; references rendered " << report.references_rendered << ", reused "
+              << report.references_reused << ")\n";
+    const fs::path script = vpm::cli::data_file("tools/plot_matrix.py");
+    if (!no_plot) {
+        if (!fs::exists("/usr/bin/python3") || !fs::exists(script)) {
+            std::cerr << "matrix: plot skipped (/usr/bin/python3 or " << script.string() << " missing)\n";
+        } else if (std::system(("/usr/bin/python3 '" + script.string() + "' '" + csv.string() + "'").c_str()) != 0) {
+            std::cerr << "matrix: plotting failed (is python3-matplotlib installed?); the tables are written\n";
+        }
+    }
+    return 0;
+}
+
 int run_bench(int argc, char** argv) {
-    if (argc < 2) throw vpm::cli::UsageError("no mode given (allowed: equal-time; see vpm bench --help)");
+    if (argc < 2) throw vpm::cli::UsageError("no mode given (allowed: equal-time, matrix; see vpm bench --help)");
     if (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
         std::printf("usage: vpm bench MODE [options]\n\nmodes:\n  equal-time   photon map vs path tracer error at "
-                    "equal wall time (vpm bench equal-time --help)\n\nSpeed benchmarks are the bench_* programs "
+                    "equal wall time (vpm bench equal-time --help)\n  matrix       the scene matrix: photon map vs path tracer across media, lights and scales (vpm bench matrix --help)\n\nSpeed benchmarks are the bench_* programs "
                     "(BENCHMARKS.md).\n");
         return 0;
     }
@@ -193,9 +265,10 @@ int run_bench(int argc, char** argv) {
     args.push_back(name.data());
     for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
     if (mode == "equal-time") return run_equal_time(int(args.size()), args.data());
-    throw vpm::cli::UsageError("unknown mode '" + mode + "' (allowed: equal-time)");
+    if (mode == "matrix") return run_matrix(int(args.size()), args.data());
+    throw vpm::cli::UsageError("unknown mode '" + mode + "' (allowed: equal-time, matrix)");
 }
 
 }  // namespace
 
-VPM_REGISTER_COMMAND({"bench", "benchmark modes: equal-time error of photon map vs path tracer", run_bench});
+VPM_REGISTER_COMMAND({"bench", "benchmark modes: equal-time error of photon map vs path tracer, the scene matrix", run_bench});
