@@ -98,8 +98,10 @@ TEST(PhotonMapRender, PathTracerAgreesWithTheFurnace) {
 }
 
 TEST(PhotonMapRender, BallExtinctionEqualsPointInsideAHomogeneousMedium) {
-    // Every kNN ball near the furnace's centre lies inside the sphere, where sigma_t is constant:
-    // the two normalisations must give the same image.
+    // A kNN ball inside the sphere, where sigma_t is constant, gives the two normalisations the same
+    // value. The few collisions within a kNN radius of the sphere's surface (radius 6) have balls
+    // reaching out of it, where "ball" now takes the exact lens volume (Medium::ball_integral; the
+    // 32-point rule before issue 20 happened to put no point outside): 5e-6 relative here.
     const RunConfig config = furnace();
     PhotonMapSettings ps = photon_map_settings(config);
     PhotonTraceSettings ts;
@@ -110,6 +112,6 @@ TEST(PhotonMapRender, BallExtinctionEqualsPointInsideAHomogeneousMedium) {
     const double point = image_mean(config, ps, map, 5);
     ps.extinction = ExtinctionNormalisation::ball;
     const double ball = image_mean(config, ps, map, 5);
-    EXPECT_NEAR(ball, point, 1e-9 * point);
+    EXPECT_NEAR(ball, point, 1e-4 * point);
     EXPECT_GT(point, 0.0);
 }
