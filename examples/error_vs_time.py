@@ -2,7 +2,7 @@
 
 A path-traced reference first, then equal-time runs (render.time_limit: passes until the budget)
 of the photon map and the path tracer, each compared with it by relative RMSE (sweeps' metric).
-Run from the repository root: python3 examples/error_vs_time.py [reference spp]
+Run from the repository root: PYTHONPATH=build/python python3 examples/error_vs_time.py [reference spp]
 """
 import sys
 
@@ -24,10 +24,11 @@ reference_spp = int(sys.argv[1]) if len(sys.argv) > 1 else 1024
 reference = vpm.render(vpm.load_config("configs/default.toml", overrides=dict(SIZE, **{
     "render.spp": reference_spp, "render.seed": 1000})), progress=False).image
 print(f"reference: path tracer, {reference_spp} spp")
-print("budget_s  method       seconds  rel_rmse")
-for budget in [0.5, 1.0, 2.0, 4.0]:
+print("budget_s  method       passes  seconds  rel_rmse")
+for budget in [1.0, 2.0, 4.0, 8.0]:   # a run takes at least one pass (one photon pass)
     for name, path in [("photon_map", "configs/default_photon_map.toml"), ("path", "configs/default.toml")]:
         config = vpm.load_config(path, overrides=dict(SIZE, **{"render.spp": 4, "render.time_limit": budget}))
         result = vpm.render(config, progress=False)
         seconds = sum(p["seconds"] for p in result.stats["phases"].values())
-        print(f"{budget:8.1f}  {name:11s} {seconds:8.2f}  {rel_rmse(result.image, reference):.4f}")
+        passes = result.stats["passes"]["count"]
+        print(f"{budget:8.1f}  {name:11s} {passes:6d} {seconds:8.2f}  {rel_rmse(result.image, reference):.4f}")
