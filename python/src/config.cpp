@@ -2,6 +2,8 @@
 // exactly the code `vpm render` uses, so validation and messages are the tool's.
 #include "config.h"
 
+#include <sstream>
+
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 

@@ -43,7 +43,7 @@ void call_native(const std::function<void(const std::atomic<bool>& interrupted)>
         std::unique_lock<std::mutex> lock(mutex);
         while (!finished) {
             finished_cv.wait_for(lock, std::chrono::milliseconds(50));
-            if (finished || signal) continue;
+            if (finished || signal) continue;   // after the first signal: wait for the work to wind down
             lock.unlock();
             {
                 py::gil_scoped_acquire acquire;

@@ -78,6 +78,7 @@ PyPhotonMap from_arrays(const py::handle& positions, const py::handle& powers, c
 }
 
 PyPhotonMap trace(const Config& config, uint64_t stream_offset, std::optional<int> threads, bool progress, bool log) {
+    if (threads && *threads < 0) throw Error("threads: expected 0 (all cores) or more, got " + std::to_string(*threads));
     const RunConfig& rc = *config.run;
     const PhotonMapSettings& settings = photon_map_settings(rc);
     const bool surface = rc.scene->uses_embree() && !settings.final_gather;
@@ -97,7 +98,7 @@ PyPhotonMap trace(const Config& config, uint64_t stream_offset, std::optional<in
             if (rc.scene->has_media() || surface)
                 maps = run_photon_pass(*rc.scene, settings, context, surface, stats, allocation);
         },
-        threads && *threads > 0 ? *threads : (rc.render.threads > 0 ? rc.render.threads : 0));
+        threads ? *threads : rc.render.threads);   // 0: all cores
     RunRecord record;
     write_run_stats(stats, record);
     PyPhotonMap out;
