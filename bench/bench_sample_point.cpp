@@ -37,11 +37,18 @@ int main(int argc, char** argv) {
         }
         const PhotonMap map(photons);
         const Vec3 dir = sample_uniform_sphere(rng.uniform(), rng.uniform());
+        // Radii only for photons that can reach the segment (within 0.2 + 2 r_k of the centre; the
+        // same search photon_radii does for every photon, restricted to save time).
+        NeighbourList list;
         for (size_t ki = 0; ki < ks.size(); ++ki) {
-            const std::vector<double> radii = photon_radii(map, ks[ki]);
-            std::vector<SamplePoint> near;   // only photons that can reach the segment
-            for (size_t i = 0; i < map.size(); ++i)
-                if (map.position(i).norm() < 0.5 * length + radii[i]) near.push_back({map.position(i), radii[i], 1.0});
+            const double reach = 0.5 * length + 2.0 * std::cbrt(double(ks[ki]) / rho / (4.0 / 3.0 * kPi));
+            std::vector<SamplePoint> near;
+            for (size_t i = 0; i < map.size(); ++i) {
+                if (map.position(i).norm() > reach) continue;
+                map.knn(map.position(i), ks[ki] + 1, kInfinity, list);
+                if (map.position(i).norm() < 0.5 * length + list.max_distance())
+                    near.push_back({map.position(i), list.max_distance(), 1.0});
+            }
             for (size_t kk = 0; kk < kernels.size(); ++kk) {
                 const double v[2] = {sample_point_density(Vec3::Zero(), near, kernels[kk]) / rho,
                                      beam_line_density(-0.5 * length * dir, dir, length, near, kernels[kk]) / (rho * length)};
