@@ -6,19 +6,20 @@
 set -euo pipefail
 old=$1 new=$2 out=${3:-$(mktemp -d)}
 root=$(cd "$(dirname "$0")/.." && pwd)
+mkdir -p "$out/old" "$out/new"
 small=(--threads 2 --quiet --set render.width=24 --set render.height=24 --set render.spp=2
        --set render.time_limit=0 --set photons.count=20000)
-differ=0 same=0
+differ=0 same=0 skipped=0
 for config in "$root"/configs/*.toml "$root"/configs/stress/*.toml; do
   name=$(basename "$config" .toml)
   for side in old new; do
     bin=$old; [ "$side" = new ] && bin=$new
     if ! (cd "$root" && "$bin" render "$config" "${small[@]}" -o "$out/$side/$name.exr" 2>"$out/$side-$name.log"); then
-      echo "skip  $name ($side: $(tail -n1 "$out/$side-$name.log"))"; continue 2
+      skipped=$((skipped + 1)); echo "skip  $name ($side: $(tail -n1 "$out/$side-$name.log"))"; continue 2
     fi
   done
   if cmp -s "$out/old/$name.exr" "$out/new/$name.exr"; then same=$((same + 1)); echo "same  $name"
   else differ=$((differ + 1)); echo "DIFF  $name"; fi
 done
-echo "images_identical: $same identical, $differ different (outputs in $out)"
+echo "images_identical: $same identical, $differ different, $skipped not rendered (outputs in $out)"
 [ "$differ" -eq 0 ]
