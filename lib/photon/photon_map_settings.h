@@ -37,7 +37,7 @@
 //   |                        |             | from counted work (queries, rays, lookups), not the      |
 //   |                        |             | clock (photon_map_integrator.h: choose_gather). Opt-in:  |
 //   |                        |             | its per-sample variance misses the photon map's own      |
-//   |                        |             | noise (BENCHMARKS.md section 10)                         |
+//   |                        |             | noise (BENCHMARKS.md section 11)                         |
 //   | gather_queries         | 4           | points per segment for "march"                           |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
 //   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
