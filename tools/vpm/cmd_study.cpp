@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -32,7 +33,7 @@ std::vector<T> parse_list(const std::string& text, const char* what) {
     std::stringstream ss(text);
     std::string item;
     while (std::getline(ss, item, ',')) {
-        if (item.empty()) continue;
+        if (item.empty()) throw cli::UsageError(std::string(what) + ": '" + text + "' has an empty item (a comma too many)");
         try {
             size_t pos = 0;
             const long long v = std::stoll(item, &pos);
@@ -88,12 +89,34 @@ int run_study(int argc, char** argv) {
             opt.scenarios.clear();
             std::stringstream ss(scenarios);
             std::string item;
-            while (std::getline(ss, item, ','))
-                if (!item.empty()) opt.scenarios.push_back(parse_scenario(item));
+            while (std::getline(ss, item, ',')) {
+                if (item.empty()) throw cli::UsageError("--scenarios: '" + scenarios + "' has an empty item (a comma too many)");
+                StudyScenario sc;
+                try {
+                    sc = parse_scenario(item);
+                } catch (const Error& e) {
+                    throw cli::UsageError(std::string("--scenarios: ") + e.what());
+                }
+                if (std::find(opt.scenarios.begin(), opt.scenarios.end(), sc) != opt.scenarios.end())
+                    throw cli::UsageError("--scenarios: '" + item + "' is listed twice");
+                opt.scenarios.push_back(sc);
+            }
         }
+        for (size_t i = 0; i < opt.dims.size(); ++i)
+            for (size_t j = 0; j < i; ++j)
+                if (opt.dims[i] == opt.dims[j]) throw cli::UsageError("--dims: " + std::to_string(opt.dims[i]) + " is listed twice");
         std::unique_ptr<tbb::global_control> gc;
         if (threads > 0)
             gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+        // Every option is checked (memory included) before the output folder is touched; a bad value
+        // is a bad command line (exit 2), like one CLI11 refuses.
+        try {
+            validate_study_options(opt);
+        } catch (const cli::UsageError&) {
+            throw;
+        } catch (const Error& e) {
+            throw cli::UsageError(e.what());
+        }
         auto log = [quiet](const std::string& s) {
             if (!quiet) std::cerr << s << std::endl;
         };
