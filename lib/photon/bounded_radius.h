@@ -20,7 +20,8 @@
 // rest is path traced. (With classic or mse_optimal the first line is their own, biased, kNN
 // estimate; the split is the same.) The cost: where the map is too coarse for the medium the
 // camera path becomes a path-traced random walk (measured in docs/dense_media.md). When k exceeds the
-// stored count + 1 no ball can hold k - 1 photons: the integrator continues without a query.
+// stored count (an empty map included) no ball can hold k photons: the integrator continues without
+// a query, bound or no bound (render/photon_map_integrator.h).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>

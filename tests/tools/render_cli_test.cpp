@@ -164,3 +164,25 @@ v = [0, 0, -2]
     EXPECT_NE(err.find("no media and no surface map, so no photon pass"), std::string::npos) << err;
     EXPECT_FALSE(read_json(t.path / "g.json")["phases"].contains("trace"));
 }
+
+// Issue 24: photons.k above the stored count on the homogeneous sphere ran for minutes (each march
+// point gathered the whole map). Now a warning names k and the stored count, the map is never
+// queried and camera paths continue instead: a run of well under a second.
+TEST(RenderCli, KAboveTheStoredCountWarnsAndIsBounded) {
+    TempDir dir;
+    std::string err;
+    const int rc = run_vpm("render " + std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml --threads 1 "
+                           "--set render.width=16 --set render.height=16 --set render.spp=4 "
+                           "--set render.integrator=photon_map --set photons.count=20000 --set photons.k=65536 -o " +
+                               (dir.path / "k.exr").string(),
+                           dir.path, err);
+    ASSERT_EQ(rc, 0) << err;
+    EXPECT_NE(err.find("warning: photons.k = 65536 exceeds the "), std::string::npos) << err;
+    std::ifstream in(dir.path / "k.json");
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["photons"]["estimate_cases"]["queries"].get<uint64_t>(), 0u);
+    EXPECT_LT(j["photons"]["stored"].get<uint64_t>(), 65536u);
+    const uint64_t continued = j["photons"]["continued_paths"].get<uint64_t>() +
+                               j["photons"].value("march_wide_queries", uint64_t(0));
+    EXPECT_GT(continued, 0u);
+}
