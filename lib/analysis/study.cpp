@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <unistd.h>
@@ -337,6 +338,10 @@ void validate_study_options(StudyOptions& opt) {
         throw Error("study: --n (" + std::to_string(opt.n) + ") must exceed the largest k (" + std::to_string(kmax) + ")");
     for (int d : opt.dims)
         if (d != 2 && d != 3) throw Error("study: --dims values must be 2 or 3 (got " + std::to_string(d) + ")");
+    const bool map_scenario = std::find(opt.scenarios.begin(), opt.scenarios.end(), StudyScenario::photon_map) != opt.scenarios.end();
+    if (map_scenario && opt.photon_map_size <= kmax)
+        throw Error("study: --photon-map-size (" + std::to_string(opt.photon_map_size) + ") must exceed the largest k (" +
+                    std::to_string(kmax) + ") for the photon_map scenario");
     if (!(std::abs(opt.gradient_slope) < 1.0)) throw Error("study: gradient slope must be in (-1, 1)");
     if (!(opt.boundary_distance >= 0.0 && opt.boundary_distance <= 1.0))
         throw Error("study: boundary distance must be in [0, 1]");
@@ -368,7 +373,12 @@ void check_study_memory(const StudyOptions& opt) {
         if (sample_bytes + thread_bytes <= limit) continue;
         const double points_fit = std::floor(std::max(0.0, limit - sample_bytes) / (threads * point_bytes));
         const double trials_fit = std::floor(std::max(0.0, limit - thread_bytes) / (stride * 8.0));
-        auto count = [](double v) { return std::to_string(uint64_t(v)); };
+        auto count = [](double v) {
+            std::ostringstream c;
+            if (v < 1e15) c << uint64_t(v);
+            else c << std::setprecision(3) << v;
+            return c.str();
+        };
         std::ostringstream s;
         s.precision(3);
         s << "study: the " << scenario_name(sc) << " scenario needs about " << (sample_bytes + thread_bytes) / 1e9

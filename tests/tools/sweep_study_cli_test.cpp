@@ -143,6 +143,10 @@ TEST(StudyCli, BadOptionsAndRunsThatCannotFitAreOneUsageError) {
         {"--scenarios kernels,kernels", "'kernels' is listed twice"},
         {"--scenarios uniform,nope", "--scenarios"},
         {"--trials 1", "--trials must be >= 2"},
+        {"--trials -5", "--trials"},          // wrapped to 2^64 - 5 before
+        {"--seed -1", "--seed"},              // ran the whole default study with seed 2^64 - 1
+        {"--threads -1", "--threads"},
+        {"--scenarios photon_map --k 3 --photon-map-size 3", "--photon-map-size (3) must exceed"},   // exit 1 after the output folder
     };
     for (const auto& [args, needle] : cases) {
         const Outcome o = run_vpm("study --quiet --no-plots --threads 1 " + args + " --out " + quote(out), dir.path);

@@ -69,16 +69,18 @@ int run_study(int argc, char** argv) {
     app.add_option("--dims", dims, "dimensions, comma-separated (2: disc / pi r^2, 3: ball / 4/3 pi r^3)")
         ->capture_default_str();
     app.add_option("--k", ks, "k values, comma-separated (default 2..256 log-spaced)");
-    app.add_option("--trials", opt.trials, "trials per scenario and dimension (photon_map: a quarter, photon_pass: a tenth of them, at least 2)")->capture_default_str();
-    app.add_option("--n", opt.n, "points per trial (must exceed the largest k)")->capture_default_str();
+    // Unsigned options refuse a sign: CLI11 would otherwise wrap "-5" to 2^64 - 5.
+    app.add_option("--trials", opt.trials, "trials per scenario and dimension (photon_map: a quarter, photon_pass: a tenth of them, at least 2)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    app.add_option("--n", opt.n, "points per trial (must exceed the largest k)")->check(CLI::NonNegativeNumber)->capture_default_str();
     app.add_option("--seed", opt.seed, "random seed (results are identical on any thread count)")
-        ->capture_default_str();
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
     app.add_option("--scenarios", scenarios,
                    "comma-separated: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, "
                    "kernels (default: all)");
     app.add_option("--photon-map-size", opt.photon_map_size, "photons per map (photon_map) / photons emitted per map (photon_pass)")
-        ->capture_default_str();
-    app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    app.add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_study.py");
     app.add_flag("-q,--quiet", quiet, "no progress lines");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
