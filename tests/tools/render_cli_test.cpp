@@ -186,3 +186,20 @@ TEST(RenderCli, KAboveTheStoredCountWarnsAndIsBounded) {
                                j["photons"].value("march_wide_queries", uint64_t(0));
     EXPECT_GT(continued, 0u);
 }
+
+// Issue 24: a light of zero power (here a black sky) was blamed on reachability ("none of its light
+// can reach the scene's media or shapes"); the warning now says its power is zero and why it can be.
+TEST(RenderCli, ZeroPowerLightIsNotBlamedOnReachability) {
+    TempDir dir;
+    std::ofstream(dir.path / "dark.toml") << "[render]\nwidth = 4\nheight = 4\nspp = 1\nintegrator = \"photon_map\"\n"
+                                             "[photons]\ncount = 2000\n"
+                                             "[[lights]]\ntype = \"environment\"\nradiance = 0\n"
+                                             "[[lights]]\ntype = \"point\"\nposition = [0, 0, 0]\nintensity = 1\n"
+                                             "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 1\n";
+    std::string err;
+    ASSERT_EQ(run_vpm("render " + (dir.path / "dark.toml").string() + " -o " + (dir.path / "d.exr").string(), dir.path, err), 0)
+        << err;
+    EXPECT_NE(err.find("warning: light 0 (constant environment"), std::string::npos) << err;
+    EXPECT_NE(err.find("its power towards the scene's media and shapes is zero (it emits nothing, or"), std::string::npos) << err;
+    EXPECT_EQ(err.find("none of its light can reach the scene's media or shapes;"), std::string::npos) << err;
+}
