@@ -59,9 +59,9 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
         owned_ = run_photon_pass(scene_, settings_, context, surface, stats, allocation_);
         surface_map_ = surface ? &owned_.surface : nullptr;
-        // k above the stored count: say so once per run (photon/bounded_radius.h, "k above the stored count").
-        const bool volume_short = scene_.has_media() && k_ > map_->size();
-        const bool surface_short = surface_map_ && k_ > surface_map_->size();
+        // k above the stored count: say so once per run (the maps are then not queried).
+        const bool volume_short = scene_.has_media() && volume_map_starved();
+        const bool surface_short = surface_map_ && surface_map_->size() < k_;
         if ((volume_short || surface_short) && !warned_k_ && context.log) {
             warned_k_ = true;
             *context.log << "warning: photons.k = " << k_ << " exceeds the " << (volume_short ? map_->size() : surface_map_->size())
@@ -159,14 +159,13 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                 auto& local = threads_->local.local();
                 const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
                 const bool bounded = radius < max_radius_;   // the mean-free-path bound (photon/bounded_radius.h)
-                // k above the stored count (an empty map included): no ball holds k photons, so no query.
-                const bool too_few = k_ > map_->size();
+                const bool starved = volume_map_starved();
                 Estimate<Rgb> s;
-                if (!too_few)
+                if (!starved)
                     s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius,
                                                local.buffers, &local.stats);
-                if (bounded || too_few) {
-                    const BoundedQuery q = too_few ? BoundedQuery::continue_path : bounded_query(s, k_);
+                if (bounded || starved) {
+                    const BoundedQuery q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
                     if (q == BoundedQuery::zero) break;
                     if (q == BoundedQuery::continue_path) {   // too few photons: scatter and go on
                         ++local.continued;
@@ -187,9 +186,9 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             break;
         }
         if ((hit.reflectance == 0.0).all()) break;
-        // The surface photon map gives the light the path would gather, unless it holds fewer than k
-        // photons (then the path goes on, as with final_gather).
-        if (surface_map_ && k_ <= surface_map_->size()) {
+        // The surface photon map gives the light the path would gather. A map of fewer than k photons
+        // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
+        if (surface_map_ && surface_map_->size() >= k_) {
             if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
             auto& local = threads_->local.local();
             const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
@@ -204,6 +203,14 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
         if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
     }
     return radiance;
+}
+
+bool PhotonMapIntegrator::volume_map_starved() const {
+    // A query needs k photons: a map of fewer than k (empty, thinned by store_probability, a tiny
+    // count, or k above the stored count) has no kNN ball anywhere, bound or no bound. Without the
+    // bound (max_radius_mfp = 0) estimator rule (b) would use the whole map instead, at the cost of
+    // a pass over the map per query (issue 24: k = 65536 over 55,265 photons ran for minutes).
+    return map_->size() < k_;
 }
 
 bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
@@ -289,15 +296,15 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
     if (nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
     auto& local = threads_->local.local();
+    const bool starved = volume_map_starved();
     Estimate<Rgb> s;
-    const bool too_few = k_ > map_->size();   // an empty map included: no ball holds k photons
-    if (!too_few)
+    if (!starved)
         s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats);
     // The collision gather's bound (photon/bounded_radius.h) here: a ball spanning many mean free
     // paths averages the lit skin of a dense medium with its dark inside (biased low), so such a
     // point takes the light a path would find instead: NEE and one phase-sampled continuation,
     // both unbiased for the same incident radiance (the choice depends on x and the map only).
-    const bool wide = too_few || (settings_.max_radius_mfp > 0.0 && s.radius * sigma_t > settings_.max_radius_mfp);
+    const bool wide = starved || (settings_.max_radius_mfp > 0.0 && s.radius * sigma_t > settings_.max_radius_mfp);
     if (wide) {
         ++local.march_wide;
         if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
