@@ -24,9 +24,9 @@ nlohmann::json toml_to_json(const toml::table& table) {
 constexpr uint64_t kPassStreamStride = uint64_t(1) << 20;
 // Pass indices stay ints (render.first_pass, vpm merge): a time limit stops before INT_MAX passes.
 constexpr int64_t kMaxPasses = 2147483647;
-// Camera samples below which a pass is cheaper rendered together with the next ones: a sweep over
+// Camera samples below which a pass is cheaper rendered together with the next ones: one go over
 // the image costs a task launch, a progress bar and a pass over the pixel sums whatever it holds.
-constexpr int64_t kMinSweepSamples = int64_t(1) << 16;
+constexpr int64_t kMinGroupSamples = int64_t(1) << 16;
 
 }  // namespace
 
@@ -40,18 +40,18 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     std::vector<double> means;
     result.stats.first_pass = rs.first_pass;
     const int spp = rs.spp_per_pass();
-    // Passes of an integrator without per-pass state go in groups of at least kMinSweepSamples
-    // camera samples per sweep over the image (render_passes: the same image as one by one).
+    // Passes of an integrator without per-pass state go in groups of at least kMinGroupSamples
+    // camera samples, rendered in one go over the image (render_passes: the same image as one by one).
     const double pass_samples = double(rs.width) * double(rs.height) * double(spp);
     const int64_t group = integrator->stateless_passes()
-                              ? int64_t(std::min(65536.0, std::ceil(double(kMinSweepSamples) / pass_samples)))
+                              ? int64_t(std::min(65536.0, std::ceil(double(kMinGroupSamples) / pass_samples)))
                               : 1;
     const Timer run_timer;
     int64_t done = 0;   // passes rendered
     for (;;) {
-        // How many passes this sweep renders: the configured ones first, then, under a time limit,
+        // How many passes this group renders: the configured ones first, then, under a time limit,
         // as many as the measured time per pass says still fit (at least one: the limit is checked
-        // before a sweep starts). The image depends on the total pass count only.
+        // before a group starts). The image depends on the total pass count only.
         int64_t n = 1;
         if (done < rs.passes) {
             n = std::min<int64_t>(group, rs.passes - done);
@@ -61,7 +61,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
             n = std::max<int64_t>(1, std::min<int64_t>(group, int64_t(std::min(fit, double(group)))));
             n = std::min<int64_t>(n, kMaxPasses - rs.first_pass - done);
         }
-        const Timer sweep_timer;
+        const Timer group_timer;
         const double started = run_timer.seconds();
         const int index = int(rs.first_pass + done);   // the first pass's identity: its streams
         const uint64_t stream = options.stream_offset + uint64_t(index) * kPassStreamStride;
@@ -82,13 +82,13 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         ro.seed = rs.seed;
         ro.progress = options.progress;
         ro.stream_offset = stream;
-        RenderStats sweep;
-        render_passes(config.scene->camera, *integrator, ro, int(n), kPassStreamStride, sum, means, sweep);
-        result.stats.phase("render", sweep.seconds);
-        render.samples += sweep.samples;
-        render.nonfinite_samples += sweep.nonfinite_samples;
-        render.seconds += sweep.seconds;
-        const double seconds = sweep_timer.seconds(), each = seconds / double(n);
+        RenderStats group_render;
+        render_passes(config.scene->camera, *integrator, ro, int(n), kPassStreamStride, sum, means, group_render);
+        result.stats.phase("render", group_render.seconds);
+        render.samples += group_render.samples;
+        render.nonfinite_samples += group_render.nonfinite_samples;
+        render.seconds += group_render.seconds;
+        const double seconds = group_timer.seconds(), each = seconds / double(n);
         double mean_of_means = 0.0;
         for (int64_t g = 0; g < n; ++g) {
             result.stats.add_pass({each, started + each * double(g + 1), spp, means[size_t(g)]});
@@ -96,8 +96,8 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         }
         const int64_t before = done;
         done += n;
-        const SweepStats this_sweep{done, n, spp, seconds, run_timer.seconds(), mean_of_means};
-        if (options.on_sweep) options.on_sweep(this_sweep);
+        const PassGroupStats this_group{done, n, spp, seconds, run_timer.seconds(), mean_of_means};
+        if (options.on_pass_group) options.on_pass_group(this_group);
 
         const double mean_pass = run_timer.seconds() / double(done);
         const bool more = done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
@@ -105,7 +105,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         if (options.on_pass || !more) {
             Image mean(rs.width, rs.height);
             for (size_t i = 0; i < sum.size(); ++i) mean.rgb[i] = float(sum[i] / double(done));   // exact for one pass
-            if (options.on_pass) options.on_pass(mean, this_sweep);
+            if (options.on_pass) options.on_pass(mean, this_group);
             if (!more) result.image = std::move(mean);
         }
         // A line when the count passes 1, 2, 4, 8, ...: a time-limited run may make millions.

@@ -115,7 +115,7 @@ TEST(Passes, TimeLimitRunsMorePassesForBothIntegrators) {
     }
 }
 
-// Issue 24: the path tracer's passes go in sweeps of at least 65536 camera samples (run.cpp,
+// Issue 24: the path tracer's passes go in groups of at least 65536 camera samples (run.cpp,
 // render_passes). The image is exactly the mean of the same passes rendered one per run
 // (render.first_pass), bit for bit, on any thread count.
 TEST(Passes, PassesRenderedTogetherGiveTheImageOfPassesRenderedApart) {

@@ -63,7 +63,7 @@ TEST(RenderPassesCli, ReferenceErrorAfterEveryPass) {
                                                  "rel_mean_error"}));
     for (size_t i = 1; i < rows.size(); ++i) {
         ASSERT_EQ(rows[i].size(), 8u);
-        EXPECT_EQ(rows[i][4], "1");   // photon-map passes are one per sweep (each has its own map)
+        EXPECT_EQ(rows[i][4], "1");   // photon-map passes are one per group (each has its own map)
         EXPECT_EQ(std::stoi(rows[i][0]), int(i));
         EXPECT_EQ(std::stoi(rows[i][1]), int(i));
         EXPECT_GE(std::stod(rows[i][2]), i > 1 ? std::stod(rows[i - 1][2]) : 0.0);
@@ -111,8 +111,8 @@ TEST(RenderPassesCli, BadReferenceIsRefusedBeforeTheWork) {
 
 // Issue 24: render.time_limit made a sidecar entry, a log line and a record per pass without bound
 // (16x16, 4 spp, 2 s: 19,616 passes, 19,625 stderr lines, a 1.26 MB sidecar). Now the path
-// tracer's passes go in sweeps of at least 65536 camera samples, the sidecar keeps the first 256
-// passes and a summary, the log a line per power of two, and OUT.passes.csv a row per sweep.
+// tracer's passes go in groups of at least 65536 camera samples, the sidecar keeps the first 256
+// passes and a summary, the log a line per power of two, and OUT.passes.csv a row per group.
 TEST(RenderPassesCli, TimeLimitKeepsRecordsBounded) {
     const fs::path dir = fs::temp_directory_path() / "vpm_render_passes_cli_time_limit";
     fs::remove_all(dir);
@@ -132,7 +132,7 @@ TEST(RenderPassesCli, TimeLimitKeepsRecordsBounded) {
     EXPECT_GT(j["passes"]["image_mean_mean"].get<double>(), 0.0);
     EXPECT_LT(read_text(dir / "t.json").size(), 64u * 1024u);
     EXPECT_LT(std::count(err.begin(), err.end(), '\n'), 60) << err;   // log2(passes) pass lines and a few more
-    // One row per sweep, of up to 1024 passes here (65536 samples / 64), adding up to the count.
+    // One row per group, of up to 1024 passes here (65536 samples / 64), adding up to the count.
     const auto rows = read_csv(dir / "t.passes.csv");
     ASSERT_GE(rows.size(), 3u);
     uint64_t sum = 0, largest = 0;
@@ -145,7 +145,7 @@ TEST(RenderPassesCli, TimeLimitKeepsRecordsBounded) {
         EXPECT_LE(n, 1024u);
     }
     EXPECT_EQ(sum, passes);
-    EXPECT_EQ(rows[1][4], "1");   // the configured pass alone, then sweeps of up to 1024
+    EXPECT_EQ(rows[1][4], "1");   // the configured pass alone, then groups of up to 1024
     EXPECT_EQ(largest, 1024u);
     EXPECT_EQ(std::stoull(rows.back()[1]), passes);   // 1 spp per pass
     fs::remove_all(dir);

@@ -80,12 +80,12 @@ int run_render(int argc, char** argv) {
     vpm::RunOptions options;
     options.progress = !quiet;
     options.log = log;
-    // One row per sweep (a pass, or passes rendered together: run.h), written to the table's staged
+    // One row per group of passes rendered together (one pass for the photon map: run.h), written to the table's staged
     // temporary as the run goes (a time-limited run may make millions of passes: nothing per pass
     // stays in memory) and committed with the other files.
     std::vector<vpm::StagedFile> staged;
     std::ofstream passes_csv;
-    auto pass_row = [&](const vpm::SweepStats& p) {
+    auto pass_row = [&](const vpm::PassGroupStats& p) {
         passes_csv << p.passes_done << ',' << p.passes_done * p.spp << ',' << p.elapsed << ',' << p.seconds << ','
                    << p.passes << ',' << p.image_mean;
     };
@@ -108,13 +108,13 @@ int run_render(int argc, char** argv) {
         } catch (const vpm::Error& e) {
             throw vpm::Error(reference + ": --reference: " + e.what());
         }
-        options.on_pass = [&, ref](const vpm::Image& mean, const vpm::SweepStats& p) {
+        options.on_pass = [&, ref](const vpm::Image& mean, const vpm::PassGroupStats& p) {
             last_error = vpm::run_error(mean, ref);
             pass_row(p);
             passes_csv << ',' << last_error.rel_rmse << ',' << last_error.rel_mean_error << '\n';
         };
     } else if (passes_table) {
-        options.on_sweep = [&](const vpm::SweepStats& p) {
+        options.on_pass_group = [&](const vpm::PassGroupStats& p) {
             pass_row(p);
             passes_csv << '\n';
         };
