@@ -13,33 +13,11 @@
 namespace vpm {
 
 Image render_image(const Camera& camera, const Integrator& integrator, const RenderOptions& o, RenderStats& stats) {
+    // One pass of render_passes: its sum holds each pixel's value exactly as the float image does.
+    std::vector<double> sum(size_t(o.width) * size_t(o.height) * 3, 0.0), means;
+    render_passes(camera, integrator, o, 1, 0, sum, means, stats);
     Image image(o.width, o.height);
-    std::atomic<uint64_t> nonfinite{0};
-    Progress progress("render", uint64_t(o.height), o.progress);
-    const Timer timer;
-    tbb::parallel_for(tbb::blocked_range<int>(0, o.height, 1), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y != rows.end(); ++y) {
-            for (int x = 0; x < o.width; ++x) {
-                const uint64_t pixel = uint64_t(y) * uint64_t(o.width) + uint64_t(x);
-                Rng rng(o.seed, pixel + o.stream_offset * uint64_t(o.width) * uint64_t(o.height));
-                Rgb sum = Rgb::Zero();
-                uint64_t bad = 0;
-                for (int s = 0; s < o.spp; ++s) {
-                    const double jx = rng.uniform(), jy = rng.uniform();
-                    const Rgb l = integrator.radiance(camera.generate_ray(x + jx, y + jy), rng);
-                    if (all_finite(l)) sum += l;
-                    else ++bad;
-                }
-                image.set(x, y, sum / double(o.spp));
-                if (bad) nonfinite += bad;
-            }
-            progress.advance();
-        }
-    });
-    progress.done();
-    stats.samples = uint64_t(o.width) * uint64_t(o.height) * uint64_t(o.spp);
-    stats.nonfinite_samples = nonfinite.load();
-    stats.seconds = timer.seconds();
+    for (size_t i = 0; i < sum.size(); ++i) image.rgb[i] = float(sum[i]);
     return image;
 }
 
