@@ -6,6 +6,7 @@
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "core/error.h"
 #include "core/progress.h"
@@ -32,6 +33,9 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
     tbb::parallel_for(tbb::blocked_range<int>(0, o.height, 1), [&](const tbb::blocked_range<int>& range) {
         std::vector<double> row(static_cast<size_t>(passes), 0.0);   // this row's sum per pass (written once: no false sharing)
         for (int y = range.begin(); y != range.end(); ++y) {
+            // A cancelled task group (the Python module's Ctrl-C) stops at the next row; the caller
+            // discards the image. A range may hold many rows, so checking between ranges is not enough.
+            if (tbb::is_current_task_group_canceling()) return;
             uint64_t bad = 0;
             std::fill(row.begin(), row.end(), 0.0);
             for (int x = 0; x < o.width; ++x) {

@@ -100,8 +100,9 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         if (options.on_pass_group) options.on_pass_group(this_group);
 
         const double mean_pass = run_timer.seconds() / double(done);
-        const bool more = done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
-                                               done < kMaxPasses - rs.first_pass);
+        const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
+                                                done < kMaxPasses - rs.first_pass)) &&
+                          !(options.cancelled && options.cancelled());
         if (options.on_pass || !more) {
             Image mean(rs.width, rs.height);
             for (size_t i = 0; i < sum.size(); ++i) mean.rgb[i] = float(sum[i] / double(done));   // exact for one pass

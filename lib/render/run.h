@@ -36,6 +36,9 @@ struct RunOptions {
     std::function<void(const Image& mean_so_far, const PassGroupStats& group)> on_pass;
     // Called after every group with its statistics only (cheap: no mean image); may be empty.
     std::function<void(const PassGroupStats& group)> on_pass_group;
+    // Polled after every group of passes; true ends the run there (the Python module's Ctrl-C: the
+    // caller discards that result). May be empty.
+    std::function<bool()> cancelled;
 };
 
 struct RunResult {
