@@ -296,7 +296,7 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
             r.label = method.label;
             RunResult res = m.render(scene, method.sets, 0, o.budget, &r.seconds);
             const RunError e = run_error(res.image, ref.image);
-            r.passes = int(res.stats.passes.size());
+            r.passes = int(res.stats.pass_summary.count);
             r.rel_rmse = e.rel_rmse;
             r.mse = e.rel_rmse * e.rel_rmse - ref.noise;
             r.nonfinite_pixels = e.nonfinite_pixels;

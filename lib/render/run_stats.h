@@ -67,19 +67,35 @@ struct PassStats {
     double image_mean = 0.0;   // mean over pixels and channels of this pass's image alone
 };
 
+// Every pass of a run, summarised in constant memory (a time-limited run may make millions).
+struct PassSummary {
+    uint64_t count = 0;
+    int spp = 0;                      // samples per pixel of each pass
+    double seconds_total = 0.0, seconds_min = 0.0, seconds_max = 0.0;
+    double elapsed = 0.0;             // at the end of the last pass
+    double image_mean_mean = 0.0;     // mean over passes of PassStats::image_mean
+    double image_mean_m2 = 0.0;       // Welford's sum of squared deviations of it
+    void add(const PassStats& p);
+    double image_mean_std() const;    // sample standard deviation over passes (0 for one)
+};
+
 // photons.gather = "pilot": what each pass's pilot measured (PhotonMapIntegrator::choose_gather) and chose.
 struct GatherPilotStats {
     std::vector<std::string> candidates;   // "collision", "march", "auto"
     std::vector<double> variance;          // mean per-sample variance of the luminance over the pilot rays
     std::vector<double> cost;              // deterministic work units per sample
     std::string chosen;                    // the last pass's choice
-    std::vector<int> chosen_per_pass;      // index into candidates, per pass
+    std::vector<uint64_t> chosen_count;    // passes that chose each candidate (bounded however many passes)
 };
 
 struct RunStats {
+    // Passes are bounded in memory and in the sidecar: `passes` holds the first kPassRecords of
+    // them, `pass_summary` all of them (vpm render streams every pass to OUT.passes.csv).
+    static constexpr size_t kPassRecords = 256;
     std::vector<PhaseStats> phases;
-    std::vector<PassStats> passes;
-    int first_pass = 0;   // render.first_pass: passes are first_pass .. first_pass + passes.size() - 1
+    std::vector<PassStats> passes;    // the first kPassRecords passes
+    PassSummary pass_summary;         // every pass
+    int first_pass = 0;   // render.first_pass: passes are first_pass .. first_pass + pass_summary.count - 1
     RenderStats render;
     std::optional<PhotonPassStats> photons;            // integrators with a photon pass
     std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
@@ -91,6 +107,9 @@ struct RunStats {
     // (mu e^-tau_mu) = 1 in homogeneous media): the largest and the mean, over the camera pass.
     std::optional<double> march_weight_max, march_weight_mean;
 
+    // Counts a pass in the summary and keeps its record while fewer than kPassRecords are kept.
+    void add_pass(const PassStats& p);
+    uint64_t pass_count() const { return pass_summary.count; }
     // Adds `seconds` to a phase (phases repeat once per pass), with the peak resident memory now.
     void phase(const std::string& name, double seconds);
     // Counts and energy of a photon pass, summed over passes.
