@@ -143,18 +143,17 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             if ((weight == 0.0).all()) break;
             if (settings_.direct == DirectLighting::nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
             const double sigma_t = total_sigma_t(scene_, x);
-            if (sigma_t > 0.0 && !map_->empty()) {
+            if (sigma_t > 0.0) {
                 auto& local = threads_->local.local();
                 const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
                 const bool bounded = radius < max_radius_;   // the mean-free-path bound (photon/bounded_radius.h)
-                // k above the stored count + 1: no ball can hold k - 1 photons, so no query is needed.
-                const bool too_few = bounded && k_ >= map_->size() + 2;
+                const bool starved = volume_map_starved();
                 Estimate<Rgb> s;
-                if (!too_few)
+                if (!starved)
                     s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius,
                                                local.buffers, &local.stats);
-                if (bounded) {
-                    const BoundedQuery q = too_few ? BoundedQuery::continue_path : bounded_query(s, k_);
+                if (bounded || starved) {
+                    const BoundedQuery q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
                     if (q == BoundedQuery::zero) break;
                     if (q == BoundedQuery::continue_path) {   // too few photons: scatter and go on
                         ++local.continued;
@@ -175,14 +174,14 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             break;
         }
         if ((hit.reflectance == 0.0).all()) break;
-        if (surface_map_) {   // the surface photon map gives the light the path would gather
+        // The surface photon map gives the light the path would gather. A map of fewer than k photons
+        // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
+        if (surface_map_ && surface_map_->size() >= k_) {
             if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
-            if (!surface_map_->empty()) {
-                auto& local = threads_->local.local();
-                const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
-                                                                    settings_.estimator, k_, max_radius_, local.buffers, &local.surface_stats);
-                radiance += throughput * hit.reflectance * (e.value / kPi);
-            }
+            auto& local = threads_->local.local();
+            const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
+                                                                settings_.estimator, k_, max_radius_, local.buffers, &local.surface_stats);
+            radiance += throughput * hit.reflectance * (e.value / kPi);
             break;
         }
         radiance += throughput * direct_light_on_surface(scene_, hit, rng, settings_.walk.mis);
@@ -192,6 +191,14 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
         if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
     }
     return radiance;
+}
+
+bool PhotonMapIntegrator::volume_map_starved() const {
+    // With the mean-free-path bound (the default) a query needs k photons within reach: a map of
+    // fewer than k (empty, thinned by store_probability, a tiny count) has no such ball anywhere.
+    // Without it (max_radius_mfp = 0) rule (b) uses the whole map, which needs the estimator's minimum.
+    const size_t need = settings_.max_radius_mfp > 0.0 ? k_ : settings_.estimator.min_k();
+    return map_->size() < need;
 }
 
 bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
@@ -277,14 +284,15 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
     if (nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
     auto& local = threads_->local.local();
+    const bool starved = volume_map_starved();
     Estimate<Rgb> s;
-    if (!map_->empty())
+    if (!starved)
         s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats);
     // The collision gather's bound (photon/bounded_radius.h) here: a ball spanning many mean free
     // paths averages the lit skin of a dense medium with its dark inside (biased low), so such a
     // point takes the light a path would find instead: NEE and one phase-sampled continuation,
     // both unbiased for the same incident radiance (the choice depends on x and the map only).
-    const bool wide = settings_.max_radius_mfp > 0.0 && (map_->empty() || s.radius * sigma_t > settings_.max_radius_mfp);
+    const bool wide = starved || (settings_.max_radius_mfp > 0.0 && s.radius * sigma_t > settings_.max_radius_mfp);
     if (wide) {
         ++local.march_wide;
         if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
@@ -296,7 +304,6 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         }
         return in;
     }
-    if (map_->empty()) return in;
     const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
     return in + s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
 }

@@ -96,6 +96,9 @@ private:
     // The phase-weighted incident radiance at march point x (weight: the point's, for roulette).
     Rgb incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight,
                                 int depth, Rng& rng) const;
+    // Whether the volume map is too small for any estimate (photon/bounded_radius.h): then every
+    // query, at a collision or a march point, continues the path instead (issue 24).
+    bool volume_map_starved() const;
     // Whether the camera segment `ray` up to t_end gathers by the march (photons.gather).
     bool marches(const Ray& ray, double t_end) const;
 };

@@ -11,7 +11,8 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
         Params cam = root.table("camera");
         scene->camera = Camera::from_params(cam, width, height);
     }
-    for (Params& lp : root.tables("lights")) scene->lights.push_back(make_light(lp));
+    std::vector<Params> light_tables = root.tables("lights");
+    for (Params& lp : light_tables) scene->lights.push_back(make_light(lp));
     if (scene->lights.empty()) root.fail("lights", "the scene has no [[lights]]; add at least one");
 
     for (Params& mp : root.tables("media")) {
@@ -40,9 +41,19 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
         scene->area_lights_.push_back(light.get());
         scene->bounds.extend(b);
     }
-    for (auto& light : scene->lights) {
-        light->set_scene_bounds(scene->bounds);
-        scene->build_log.push_back("light: " + light->describe());
+    for (size_t i = 0; i < scene->lights.size(); ++i) {
+        Light& light = *scene->lights[i];
+        light.set_scene_bounds(scene->bounds);
+        // Lights at infinity emit over the bounds: their power is known only now.
+        Params& lp = light_tables[i];
+        std::string key = "type";
+        for (const char* k : {"radiance", "irradiance", "intensity", "file"})
+            if (lp.has(k)) {
+                key = k;
+                break;
+            }
+        require_finite_power(lp, key, light, "emission over the scene's bounds, " + format_value((scene->bounds.hi - scene->bounds.lo).norm()) + " across");
+        scene->build_log.push_back("light: " + light.describe());
     }
     scene->build_log.push_back("camera: " + scene->camera.describe());
     return scene;

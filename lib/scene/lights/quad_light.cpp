@@ -2,6 +2,8 @@
 // two_sided (false); a Lambertian emitter on the side of u x v (both sides when two_sided). It is
 // geometry (light.h): rays that meet it see its radiance (zero on the back of a one-sided quad) and
 // stop there, as on a black surface. Next-event estimation samples it uniformly by area.
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/sampling.h"
@@ -100,14 +102,20 @@ private:
 }  // namespace
 
 std::unique_ptr<Light> make_quad_light(Params& p) {
-    const Range non_negative = Range::at_least(0.0);
     const Vec3 center = p.vec3("center");
     // Half edges, as for quad shapes: the corners are center +- u +- v.
     const Vec3 u = p.vec3("u");
     const Vec3 v = p.vec3("v");
     if (u.cross(v).norm() == 0.0) p.fail("v", "u and v must span a non-zero area");
-    const Rgb radiance = p.rgb("radiance", non_negative);
-    return std::make_unique<QuadLight>(center, 2.0 * u, 2.0 * v, radiance, p.boolean("two_sided", false));
+    // The area and its inverse (next-event estimation's pdf) must be normal finite doubles.
+    const double area = (2.0 * u).cross(2.0 * v).norm();
+    if (!(area >= std::numeric_limits<double>::min()) || !std::isfinite(area))
+        p.fail("u", "the quad's area |2u x 2v| = " + format_value(area) +
+                        " is not a normal finite double, so its sampling pdf 1 / area cannot be represented");
+    const Rgb radiance = p.rgb("radiance", emission_range());
+    auto light = std::make_unique<QuadLight>(center, 2.0 * u, 2.0 * v, radiance, p.boolean("two_sided", false));
+    require_finite_power(p, "u", *light, "radiance x pi x area " + format_value(area));
+    return light;
 }
 
 }  // namespace vpm
