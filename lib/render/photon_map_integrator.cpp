@@ -128,7 +128,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                 radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng);
             break;
         }
-        if (!event && hit.emitter) radiance += throughput * emitted_radiance(hit, ray.dir, emission);   // black: ends below
+        if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
         if (max_depth >= 0 && depth + 1 > max_depth) break;
         if (march) {
             // The medium's in-scattering along this segment comes from the march; the collision

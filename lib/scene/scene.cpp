@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include <algorithm>
+
 #include "scene/lights/light_registry.h"
 #include "scene/media/medium_registry.h"
 
@@ -75,7 +77,14 @@ bool Scene::intersect(const Ray& ray, double tmax, SurfaceHit& hit) const {
     bool found = surfaces && surfaces->intersect(ray, tmax, hit);
     EmitterHit e;
     for (const Light* light : area_lights_) {
-        if (!light->intersect(ray, found ? hit.t : tmax, e)) continue;
+        const bool on_emitter = found && hit.emitter;
+        if (!light->intersect(ray, on_emitter ? std::min(tmax, hit.t * (1.0 + kCoincidentEmitters)) : found ? hit.t : tmax, e))
+            continue;
+        if (on_emitter && e.t >= hit.t * (1.0 - kCoincidentEmitters)) {   // the same point: both emit
+            hit.emitted += e.radiance;
+            hit.coincident_emitters = true;
+            continue;
+        }
         found = true;
         hit = SurfaceHit{};
         hit.t = e.t;
@@ -91,7 +100,7 @@ double Scene::transmittance(const Ray& ray, double tmax, Rng& rng, const Light* 
     if (surfaces && surfaces->occluded(ray, tmax)) return 0.0;
     EmitterHit e;
     for (const Light* light : area_lights_)
-        if (light != target && light->intersect(ray, tmax, e)) return 0.0;
+        if (light != target && light->intersect(ray, tmax * (1.0 - kCoincidentEmitters), e)) return 0.0;
     double tr = 1.0;
     for (const auto& m : media) {
         tr *= m->transmittance(ray, tmax, rng);

@@ -21,7 +21,8 @@ struct SurfaceHit {
     // Set by Scene::intersect when the hit is an area light (black, so paths end there): the light
     // and the radiance it sends back along the ray.
     const Light* emitter = nullptr;
-    Rgb emitted = Rgb::Zero();
+    Rgb emitted = Rgb::Zero();   // summed over coincident emitters (Scene::intersect)
+    bool coincident_emitters = false;   // more than one area light at this point
 };
 
 class Surfaces {
