@@ -37,15 +37,18 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
                                                      : "OpenVDB: not used (no grid media)");
 
     // Area lights are opaque geometry: what can be lit (and can block light) includes them.
-    for (auto& light : scene->lights) {
-        const Bounds3 b = light->bounds();
-        if (b.empty()) continue;
-        scene->area_lights_.push_back(light.get());
-        scene->bounds.extend(b);
-    }
+    for (auto& light : scene->lights)
+        if (!light->bounds().empty()) scene->area_lights_.push_back(light.get());
+    Bounds3 lit = scene->bounds;   // media and shapes
+    for (const Light* l : scene->area_lights_) lit.extend(l->bounds());
     for (size_t i = 0; i < scene->lights.size(); ++i) {
         Light& light = *scene->lights[i];
-        light.set_scene_bounds(scene->bounds);
+        // What a light can light: the scene's bounds without its own box (an area light lights the rest).
+        Bounds3 target = light.bounds().empty() ? lit : scene->bounds;
+        if (!light.bounds().empty())
+            for (const Light* l : scene->area_lights_)
+                if (l != &light) target.extend(l->bounds());
+        light.set_scene_bounds(target);
         // Lights at infinity emit over the bounds: their power is known only now.
         Params& lp = light_tables[i];
         std::string key = "type";
@@ -54,9 +57,10 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
                 key = k;
                 break;
             }
-        require_finite_power(lp, key, light, "emission over the scene's bounds, " + format_value((scene->bounds.hi - scene->bounds.lo).norm()) + " across");
+        require_finite_power(lp, key, light, "emission over the scene's bounds, " + format_value((target.hi - target.lo).norm()) + " across");
         scene->build_log.push_back("light: " + light.describe());
     }
+    scene->bounds = lit;
     scene->build_log.push_back("camera: " + scene->camera.describe());
     return scene;
 }
