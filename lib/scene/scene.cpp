@@ -7,6 +7,34 @@
 
 namespace vpm {
 
+namespace {
+
+bool finite_or_empty(const Bounds3& b) { return b.empty() || (b.lo.allFinite() && b.hi.allFinite()); }
+
+std::string format_bounds(const Bounds3& b) {
+    return "[" + format_rgb(b.lo.array()) + " .. " + format_rgb(b.hi.array()) + "]";
+}
+
+}  // namespace
+
+void check_medium_contract(const Medium& medium, const Params& table) {
+    const Bounds3 b = medium.bounds();
+    if (!finite_or_empty(b))
+        table.fail("type", "the medium's bounds " + format_bounds(b) +
+                               " are not a finite box; lights at infinity emit over the scene bounds and point "
+                               "lights aim at them, so a medium must bound the region where its density is "
+                               "non-zero (scene/media/medium_registry.h)");
+}
+
+void check_light_contract(const Light& light, const Params& table) {
+    const Rgb power = light.power();
+    if (!power.allFinite() || (power.array() < 0.0).any())
+        table.fail("type", "the light's total power " + format_rgb(power) +
+                               " is not a finite non-negative number; lower its intensity, radiance or size");
+    if (!finite_or_empty(light.bounds()))
+        table.fail("type", "the area light's bounds " + format_bounds(light.bounds()) + " are not a finite box");
+}
+
 std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
     auto scene = std::make_unique<Scene>();
     {
@@ -20,6 +48,7 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
     for (Params& mp : root.tables("media")) {
         const MediumType* type = nullptr;
         scene->media.push_back(make_medium(mp, &type));
+        check_medium_contract(*scene->media.back(), mp);
         if (type->uses_openvdb) ++scene->openvdb_media_;
         scene->bounds.extend(scene->media.back()->bounds());
         scene->build_log.push_back("medium: " + scene->media.back()->describe());
@@ -58,6 +87,7 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
                 break;
             }
         require_finite_power(lp, key, light, "emission over the scene's bounds, " + format_value((target.hi - target.lo).norm()) + " across");
+        check_light_contract(light, lp);
         scene->build_log.push_back("light: " + light.describe());
     }
     scene->bounds = lit;
