@@ -59,6 +59,16 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
         owned_ = run_photon_pass(scene_, settings_, context, surface, stats, allocation_);
         surface_map_ = surface ? &owned_.surface : nullptr;
+        // k above the stored count: say so once per run (the maps are then not queried).
+        const bool volume_short = scene_.has_media() && volume_map_starved();
+        const bool surface_short = surface_map_ && surface_map_->size() < k_;
+        if ((volume_short || surface_short) && !warned_k_ && context.log) {
+            warned_k_ = true;
+            *context.log << "warning: photons.k = " << k_ << " exceeds the " << (volume_short ? map_->size() : surface_map_->size())
+                         << (volume_short ? " volume" : " surface") << " photons stored in pass " << context.pass
+                         << ": no estimate can use k photons, so camera paths are path traced past every "
+                         << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)\n";
+        }
     } else if (log) {
         *log << "photons: no media and no surface map, so no photon pass\n";
     }
@@ -72,14 +82,16 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     stats.continued_paths = continued_paths();
     if (log)
         *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
-             << "(fewer than k photons within photons.max_radius_mfp): " << *stats.continued_paths << "\n";
+             << "(fewer than k photons within photons.max_radius_mfp, or in the map): " << *stats.continued_paths << "\n";
     if (settings_.gather != GatherMode::collision) {
         uint64_t wide = 0;
         for (const auto& l : threads_->local) wide += l.march_wide;
         stats.march_wide_queries = wide;
         if (wide > 0 && log)
-            *log << "march: " << wide << " of " << stats.volume_estimates->queries << " queries had a kNN ball wider than "
-                 << "photons.max_radius_mfp = " << settings_.max_radius_mfp << " mean free paths and took NEE and a continued path instead\n";
+            *log << "march: " << wide << " march points took NEE and a continued path instead of an estimate (a kNN "
+                 << "ball wider than photons.max_radius_mfp = " << settings_.max_radius_mfp
+                 << " mean free paths, or fewer than k = " << k_ << " photons in the map); "
+                 << stats.volume_estimates->queries << " map queries in all\n";
     }
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
@@ -194,11 +206,11 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
 }
 
 bool PhotonMapIntegrator::volume_map_starved() const {
-    // With the mean-free-path bound (the default) a query needs k photons within reach: a map of
-    // fewer than k (empty, thinned by store_probability, a tiny count) has no such ball anywhere.
-    // Without it (max_radius_mfp = 0) rule (b) uses the whole map, which needs the estimator's minimum.
-    const size_t need = settings_.max_radius_mfp > 0.0 ? k_ : settings_.estimator.min_k();
-    return map_->size() < need;
+    // A query needs k photons: a map of fewer than k (empty, thinned by store_probability, a tiny
+    // count, or k above the stored count) has no kNN ball anywhere, bound or no bound. Without the
+    // bound (max_radius_mfp = 0) estimator rule (b) would use the whole map instead, at the cost of
+    // a pass over the map per query (issue 24: k = 65536 over 55,265 photons ran for minutes).
+    return map_->size() < k_;
 }
 
 bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
