@@ -40,7 +40,8 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.memory_budget_fraction = p.real("memory_budget_fraction", s.memory_budget_fraction, {0.0, 1.0, true, false});
     s.final_gather = p.boolean("final_gather", s.final_gather);
     s.extinction = p.choice("extinction", s.extinction,
-                            {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball}});
+                            {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball},
+                             {"linear", ExtinctionNormalisation::linear}});
     s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});

@@ -15,7 +15,9 @@
 //   | max_bounces            | 1000        | collisions + bounces per photon path (truncation)        |
 //   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
-//   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x    |
+//   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x;   |
+//   |                        |             | "linear": the ball's, exact for linear radiance across   |
+//   |                        |             | it (photon/linear_estimate.h)                            |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
 //   |                        |             | fewer than k photons within: the camera path continues   |
 //   |                        |             | (photon/bounded_radius.h); 0: off                        |
@@ -55,7 +57,7 @@ namespace vpm {
 class Params;
 
 enum class DirectLighting { nee, photon_map };
-enum class ExtinctionNormalisation { ball, point };
+enum class ExtinctionNormalisation { ball, point, linear };
 enum class PhotonAllocationRule { importance, power };
 enum class GatherMode { collision, march, automatic };
 enum class KSchedule { fixed, shrink };

@@ -9,6 +9,7 @@
 #include "core/sampling.h"
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
+#include "photon/linear_estimate.h"
 #include "config/params.h"
 #include "transport/direct_light.h"
 #include "transport/mis.h"
@@ -35,6 +36,7 @@ struct PhotonMapIntegrator::ThreadState {
         EstimatorStats stats, surface_stats;
         uint64_t continued = 0;   // camera paths continued past a collision (bounded radius)
         uint64_t march_wide = 0;  // march queries whose kNN ball exceeds max_radius_mfp mean free paths
+        std::vector<Rgb> linear_weights;   // photons.extinction = "linear"
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
@@ -168,9 +170,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                         continue;
                     }
                 }
-                // The ball can miss every quadrature point's smoke only if it is tiny; then use the point.
-                const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
-                radiance += weight * s.value / (ball > 0.0 ? ball : sigma_t);
+                radiance += weight * normalised(s, x, sigma_t, local.buffers, local.linear_weights);
             }
             break;
         }
@@ -192,6 +192,20 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
         if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
     }
     return radiance;
+}
+
+Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, double sigma_t, const GatherBuffers& buffers,
+                                    std::vector<Rgb>& scratch) const {
+    // S estimates sigma_t times the incident radiance. The ball can miss every quadrature point's
+    // smoke only if it is tiny; then use the point.
+    if (settings_.extinction == ExtinctionNormalisation::point || !(s.radius > 0.0)) return s.value / sigma_t;
+    if (settings_.extinction == ExtinctionNormalisation::linear) {
+        const BallMoments m = threads_->ball.moments(x, s.radius);
+        if (m.m0 > 0.0) return linear_estimate(s, settings_.estimator, buffers, *map_, x, m, scratch);
+        return s.value / sigma_t;
+    }
+    const double ball = threads_->ball.mean(x, s.radius);
+    return s.value / (ball > 0.0 ? ball : sigma_t);
 }
 
 bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
@@ -297,8 +311,7 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         return in;
     }
     if (map_->empty()) return in;
-    const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius) : 0.0;
-    return in + s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
+    return in + normalised(s, x, sigma_t, local.buffers, local.linear_weights);
 }
 
 namespace {
