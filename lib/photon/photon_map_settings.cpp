@@ -48,6 +48,8 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}});
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
+    s.clustering = p.choice("clustering", s.clustering,
+                            {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
     s.store_probability = p.real("store_probability", s.store_probability, {0.0, 1.0, true, false});
     s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});
     s.alpha = p.real("alpha", s.alpha, Range::open(0.0, 1.0));

@@ -9,6 +9,7 @@
 #include "core/sampling.h"
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
+#include "photon/group_estimate.h"
 #include "photon/linear_estimate.h"
 #include "config/params.h"
 #include "transport/direct_light.h"
@@ -170,7 +171,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                         continue;
                     }
                 }
-                radiance += weight * normalised(s, x, sigma_t, local.buffers, local.linear_weights);
+                radiance += weight * normalised(s, x, -ray.dir, m.g(), radius, sigma_t, local.buffers, local.linear_weights);
             }
             break;
         }
@@ -194,12 +195,31 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
     return radiance;
 }
 
-Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, double sigma_t, const GatherBuffers& buffers,
-                                    std::vector<Rgb>& scratch) const {
+Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec3& w_o, double g, double max_radius,
+                                    double sigma_t, GatherBuffers& buffers, std::vector<Rgb>& scratch) const {
     // S estimates sigma_t times the incident radiance. The ball can miss every quadrature point's
     // smoke only if it is tiny; then use the point.
     if (settings_.extinction == ExtinctionNormalisation::point || !(s.radius > 0.0)) return s.value / sigma_t;
-    if (settings_.extinction == ExtinctionNormalisation::linear) {
+    const bool linear = settings_.extinction == ExtinctionNormalisation::linear;
+    if (settings_.clustering == Clustering::leave_group_out && s.kind == EstimateCase::knn &&
+        std::string(settings_.estimator.name()) == "corrected" && settings_.estimator.kernel().is_constant()) {
+        // photon/group_estimate.h: a few more neighbours than k, so each group's k-th other photon is in the list.
+        for (size_t want = k_ + k_ / 2 + 8;; want *= 2) {
+            const size_t found = map_->knn(x, want, max_radius, buffers.list);
+            if (buffers.w.size() < found) {
+                buffers.w.resize(found);
+                buffers.d2.resize(found);
+            }
+            for (size_t i = 0; i < found; ++i) {
+                buffers.w[i] = hg_eval(buffers.list[i].direction.dot(w_o), g) * buffers.list[i].power;
+                buffers.d2[i] = buffers.list[i].d2;
+            }
+            const bool complete = found < want || found == map_->size();
+            const GroupEstimate e = leave_group_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear);
+            if (!e.need_more) return e.value;
+        }
+    }
+    if (linear) {
         const BallMoments m = threads_->ball.moments(x, s.radius);
         if (m.m0 > 0.0) return linear_estimate(s, settings_.estimator, buffers, *map_, x, m, scratch);
         return s.value / sigma_t;
@@ -311,7 +331,7 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         return in;
     }
     if (map_->empty()) return in;
-    return in + normalised(s, x, sigma_t, local.buffers, local.linear_weights);
+    return in + normalised(s, x, -dir, g, max_radius_, sigma_t, local.buffers, local.linear_weights);
 }
 
 namespace {
