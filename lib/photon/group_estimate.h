@@ -66,7 +66,8 @@ inline GroupEstimate leave_group_out(const GatherBuffers& buf, size_t found, boo
             Radius c;
             c.end = end;
             c.r = end < found ? std::sqrt(buf.d2[end]) : max_radius;
-            c.m = ball.moments(x, c.r);
+            if (linear) c.m = ball.moments(x, c.r);
+            else c.m.m0 = ball.integral(x, c.r);   // 32 points; the moments' 64 only for the linear weights
             if (linear) {
                 const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(c.m.cov);
                 c.use_g = eig.eigenvalues().minCoeff() > 1e-6 * c.r * c.r;

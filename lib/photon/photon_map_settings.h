@@ -15,7 +15,7 @@
 //   | max_bounces            | 1000        | collisions + bounces per photon path (truncation)        |
 //   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
-//   | extinction             | "linear"    | "ball": mean sigma_t over the kNN ball; "point": at x;   |
+//   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x;   |
 //   |                        |             | "linear": the ball's, exact for linear radiance across   |
 //   |                        |             | it (photon/linear_estimate.h)                            |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
@@ -35,10 +35,10 @@
 //   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
 //   |                        |             | geometry alone, so the mixture stays unbiased)           |
 //   | gather_queries         | 4           | points per segment for "march"                           |
-//   | clustering             | "leave_group_out" | corrected, constant kernel, ball or linear extinction: |
-//   |                        |             | each walk group's photons counted within the k-th      |
-//   |                        |             | photon of the other groups (photon/group_estimate.h);  |
-//   |                        |             | "ignore": the plain corrected sum                        |
+//   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
+//   |                        |             | linear extinction): each walk group's photons counted    |
+//   |                        |             | within the k-th photon of the other groups, exact for    |
+//   |                        |             | clustered walks (photon/group_estimate.h)                |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
 //   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
 //   | march_max_optical_depth| 2           | the "auto" threshold                                     |
@@ -76,13 +76,13 @@ struct PhotonMapSettings {
     int max_bounces = 1000;
     double memory_budget_fraction = 0.5;
     bool final_gather = false;
-    ExtinctionNormalisation extinction = ExtinctionNormalisation::linear;
+    ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
     double max_radius_mfp = 2.0;
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
     double store_probability = 1.0;
-    Clustering clustering = Clustering::leave_group_out;
+    Clustering clustering = Clustering::ignore;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
     double alpha = 2.0 / 3.0;

@@ -31,13 +31,13 @@ TEST(ChandrasekharH, MomentIdentitiesAndConvergence) {
 }
 
 // The closed form: the values the issue measured with the path tracer (albedo 0.9 and 0.99, normal
-// incidence and view), single scattering a / (4 pi) mu0 / (mu + mu0), reciprocity in (mu, mu0).
+// incidence and view), single scattering a / (4 pi) mu0 / (mu + mu0), reciprocity of L / mu0.
 TEST(ChandrasekharH, ReflectedRadiance) {
     EXPECT_NEAR(ChandrasekharH(0.9).reflected(1.0, 1.0), 0.122572, 1e-6);
     EXPECT_NEAR(ChandrasekharH(0.99).reflected(1.0, 1.0), 0.240863, 1e-6);
     const ChandrasekharH h(0.7);
     EXPECT_DOUBLE_EQ(h.single_scattering(0.5, 1.0), 0.7 / (4.0 * M_PI) / 1.5);
-    EXPECT_NEAR(h.reflected(0.3, 0.8), h.reflected(0.8, 0.3), 1e-14);
+    EXPECT_NEAR(h.reflected(0.3, 0.8) / 0.8, h.reflected(0.8, 0.3) / 0.3, 1e-14);   // the BRDF L / (E mu0) is symmetric
     EXPECT_GT(h.reflected(0.5, 1.0), h.single_scattering(0.5, 1.0));
 }
 
