@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "core/henyey_greenstein.h"
+#include "core/registry.h"
 
 namespace vpm {
 
@@ -88,18 +89,11 @@ const std::vector<Estimator>& Estimator::all() {
     return list;
 }
 
-std::vector<std::string> Estimator::names() {
-    std::vector<std::string> n;
-    for (const Estimator& e : all()) n.push_back(e.name());
-    return n;
-}
+std::vector<std::string> Estimator::names() { return registry_names(kEstimators); }
 
 Estimator Estimator::named(const std::string& name) {
-    for (const Estimator& e : all())
-        if (name == e.name()) return e;
-    std::string allowed;
-    for (const std::string& n : names()) allowed += (allowed.empty() ? "" : ", ") + n;
-    throw Error("estimator: unknown value '" + name + "' (allowed: " + allowed + ")");
+    if (const EstimatorEntry* e = registry_find(kEstimators, name)) return Estimator(e);
+    throw Error("estimator: unknown value '" + name + "' (allowed: " + registry_list(names()) + ")");
 }
 
 std::string Estimator::label() const {

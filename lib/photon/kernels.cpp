@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "core/registry.h"
 
 namespace vpm {
 
@@ -103,18 +104,11 @@ const std::vector<Kernel>& Kernel::all() {
     return list;
 }
 
-std::vector<std::string> Kernel::names() {
-    std::vector<std::string> n;
-    for (const Kernel& k : all()) n.push_back(k.name());
-    return n;
-}
+std::vector<std::string> Kernel::names() { return registry_names(kKernels); }
 
 Kernel Kernel::named(const std::string& name) {
-    for (const Kernel& k : all())
-        if (name == k.name()) return k;
-    std::string allowed;
-    for (const std::string& n : names()) allowed += (allowed.empty() ? "" : ", ") + n;
-    throw Error("kernel: unknown value '" + name + "' (allowed: " + allowed + ")");
+    if (const KernelEntry* e = registry_find(kKernels, name)) return Kernel(e, e->default_parameter);
+    throw Error("kernel: unknown value '" + name + "' (allowed: " + registry_list(names()) + ")");
 }
 
 Kernel Kernel::named(const std::string& name, double parameter) {

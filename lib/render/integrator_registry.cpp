@@ -1,9 +1,12 @@
 #include "render/integrator_registry.h"
 
-#include "render/path_tracer.h"
-#include "render/photon_map_integrator.h"
+#include "core/registry.h"
 
 namespace vpm {
+
+// Each integrator's settings reader, defined in its own file.
+std::unique_ptr<IntegratorSettings> read_path_tracer_settings(Params& render, Params& root);
+std::unique_ptr<IntegratorSettings> read_photon_map_settings(Params& render, Params& root);
 
 const std::vector<IntegratorType>& integrator_types() {
     static const std::vector<IntegratorType> types = {
@@ -13,10 +16,6 @@ const std::vector<IntegratorType>& integrator_types() {
     return types;
 }
 
-std::vector<std::string> integrator_names() {
-    std::vector<std::string> names;
-    for (const IntegratorType& t : integrator_types()) names.push_back(t.name);
-    return names;
-}
+std::vector<std::string> integrator_names() { return registry_names(integrator_types()); }
 
 }  // namespace vpm

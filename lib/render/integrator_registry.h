@@ -8,7 +8,11 @@
 //   "photon_map"  photon_map_integrator.h    [photons], [render] max_depth, rr_depth
 //
 // Adding an integrator: one file pair with its Integrator, its IntegratorSettings and a reader,
-// and one line in the table in integrator_registry.cpp.
+// and one line in the table in integrator_registry.cpp (with the reader's declaration beside it);
+// README's [render] row names it (tests/tools/registry_docs_test.cpp fails until it does). An
+// integrator must leave the scene's image unbiased or document its bias (the photon map's is
+// the estimator's, measured in docs/), give the same image for a seed on any thread count, and
+// report what it built and measured in its typed RunStats.
 #include <memory>
 #include <string>
 #include <vector>

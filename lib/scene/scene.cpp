@@ -5,18 +5,48 @@
 
 namespace vpm {
 
+namespace {
+
+bool finite_or_empty(const Bounds3& b) { return b.empty() || (b.lo.allFinite() && b.hi.allFinite()); }
+
+std::string format_bounds(const Bounds3& b) {
+    return "[" + format_rgb(b.lo.array()) + " .. " + format_rgb(b.hi.array()) + "]";
+}
+
+}  // namespace
+
+void check_medium_contract(const Medium& medium, const Params& table) {
+    const Bounds3 b = medium.bounds();
+    if (!finite_or_empty(b))
+        table.fail("type", "the medium's bounds " + format_bounds(b) +
+                               " are not a finite box; lights at infinity emit over the scene bounds and point "
+                               "lights aim at them, so a medium must bound the region where its density is "
+                               "non-zero (scene/media/medium_registry.h)");
+}
+
+void check_light_contract(const Light& light, const Params& table) {
+    const Rgb power = light.power();
+    if (!power.allFinite() || (power.array() < 0.0).any())
+        table.fail("type", "the light's total power " + format_rgb(power) +
+                               " is not a finite non-negative number; lower its intensity, radiance or size");
+    if (!finite_or_empty(light.bounds()))
+        table.fail("type", "the area light's bounds " + format_bounds(light.bounds()) + " are not a finite box");
+}
+
 std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
     auto scene = std::make_unique<Scene>();
     {
         Params cam = root.table("camera");
         scene->camera = Camera::from_params(cam, width, height);
     }
-    for (Params& lp : root.tables("lights")) scene->lights.push_back(make_light(lp));
+    std::vector<Params> light_tables = root.tables("lights");
+    for (Params& lp : light_tables) scene->lights.push_back(make_light(lp));
     if (scene->lights.empty()) root.fail("lights", "the scene has no [[lights]]; add at least one");
 
     for (Params& mp : root.tables("media")) {
         const MediumType* type = nullptr;
         scene->media.push_back(make_medium(mp, &type));
+        check_medium_contract(*scene->media.back(), mp);
         if (type->uses_openvdb) ++scene->openvdb_media_;
         scene->bounds.extend(scene->media.back()->bounds());
         scene->build_log.push_back("medium: " + scene->media.back()->describe());
@@ -40,9 +70,11 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
         scene->area_lights_.push_back(light.get());
         scene->bounds.extend(b);
     }
-    for (auto& light : scene->lights) {
-        light->set_scene_bounds(scene->bounds);
-        scene->build_log.push_back("light: " + light->describe());
+    for (size_t i = 0; i < scene->lights.size(); ++i) {
+        Light& light = *scene->lights[i];
+        light.set_scene_bounds(scene->bounds);   // lights at infinity know their power only now
+        check_light_contract(light, light_tables[i]);
+        scene->build_log.push_back("light: " + light.describe());
     }
     scene->build_log.push_back("camera: " + scene->camera.describe());
     return scene;

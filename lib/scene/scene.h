@@ -31,6 +31,14 @@ struct MediumEvent {
     explicit operator bool() const { return medium != nullptr; }
 };
 
+// The contracts of the registry headers that a scene can check at build time, each one error
+// naming the table (`table` is the light's or medium's own Params): a medium's bounds are a
+// finite box (empty only when it holds no density), a light's power is finite and >= 0, an area
+// light's bounds are finite. Scene::build calls them for every object; a new light or medium
+// type that breaks them fails there, not as a dark or NaN image later.
+void check_medium_contract(const Medium& medium, const Params& table);
+void check_light_contract(const Light& light, const Params& table);
+
 class Scene {
 public:
     // Builds the seen objects from the config's root table, for a film of width x height

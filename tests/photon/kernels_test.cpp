@@ -18,6 +18,14 @@ const Estimator& classic() { static const Estimator e = Estimator::named("classi
 const Estimator& corrected() { static const Estimator e = Estimator::named("corrected"); return e; }
 const Estimator& mse_optimal() { static const Estimator e = Estimator::named("mse_optimal"); return e; }
 
+// Where `k` sits in `list` (tests name registry entries, never their position).
+size_t index_of(const std::vector<Kernel>& list, const Kernel& k) {
+    for (size_t i = 0; i < list.size(); ++i)
+        if (list[i] == k) return i;
+    ADD_FAILURE() << k.label() << " is not in the list";
+    return 0;
+}
+
 // The kernels under test: every registered one plus the cone at Jensen's k = 2 (slope 0.5).
 std::vector<Kernel> kernels() {
     std::vector<Kernel> l = Kernel::all();
@@ -286,7 +294,9 @@ TEST(KernelsMonteCarlo, MeansAgreeWithTheoryAndRejectWrongNormalisations) {
         }
         // and the paper's consistency verdicts are visible in the measurement itself at k = 5:
         // classic cone with slope 0.5 high by > 8 SE, Jensen's Gaussian low by > 8 SE.
-        const size_t j5 = 1, cone_half = kl.size() - 1, gj = 4;
+        const size_t j5 = 1, cone_half = kl.size() - 1, gj = index_of(kl, Kernel::named("gaussian_jensen"));
+        ASSERT_EQ(kKs[j5], 5u);
+        ASSERT_EQ(kl[cone_half], Kernel::named("cone", 0.5));
         const Acc& cone = mc[cone_half][j5][0];
         EXPECT_GT((cone.mean() - 1.0) / std::sqrt(cone.var() / double(cone.n)), 8.0) << dim << "D";
         const Acc& jen = mc[gj][j5][1];

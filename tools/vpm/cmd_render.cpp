@@ -12,9 +12,15 @@
 #include "core/progress.h"
 #include "analysis/error_metrics.h"
 #include "core/error.h"
+#include "core/registry.h"
+#include "photon/estimators.h"
+#include "photon/kernels.h"
 #include "render/image_io.h"
+#include "render/integrator_registry.h"
 #include "render/run.h"
 #include "render/run_outputs.h"
+#include "scene/lights/light_registry.h"
+#include "scene/media/medium_registry.h"
 
 namespace {
 
@@ -28,8 +34,20 @@ std::string toml_string(const std::string& s) {
     return q + "\"";
 }
 
+// The names users choose from, read from the registries so that --help cannot drift from them.
+std::string registered_names() {
+    using vpm::registry_list;
+    return "Registered names (README.md lists the keys of each):\n"
+           "  render.integrator  " + registry_list(vpm::integrator_names()) + "\n"
+           "  lights.N.type      " + registry_list(vpm::light_names()) + "\n"
+           "  media.N.type       " + registry_list(vpm::medium_names()) + "\n"
+           "  photons.estimator  " + registry_list(vpm::Estimator::names()) + "\n"
+           "  photons.kernel     " + registry_list(vpm::Kernel::names()) + "\n";
+}
+
 int run_render(int argc, char** argv) {
     CLI::App app("Render a scene config to an OpenEXR image, a PNG preview and a JSON sidecar.", "vpm render");
+    app.footer(registered_names());
     std::string config, output;
     std::vector<std::string> sets;
     int threads = -1;

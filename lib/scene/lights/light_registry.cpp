@@ -2,8 +2,11 @@
 
 #include <sstream>
 
+#include "core/registry.h"
+
 namespace vpm {
 
+// Each type's factory, defined in its own file.
 std::unique_ptr<Light> make_point_light(Params&);
 std::unique_ptr<Light> make_spot_light(Params&);
 std::unique_ptr<Light> make_directional_light(Params&);
@@ -23,13 +26,11 @@ const std::vector<LightType>& light_types() {
     return types;
 }
 
+std::vector<std::string> light_names() { return registry_names(light_types()); }
+
 std::unique_ptr<Light> make_light(Params& p) {
-    std::vector<std::string> names;
-    for (const LightType& t : light_types()) names.push_back(t.name);
-    const std::string type = p.choice("type", names);
-    std::unique_ptr<Light> light;
-    for (const LightType& t : light_types())
-        if (type == t.name) light = t.create(p);
+    const std::string type = p.choice("type", light_names());
+    std::unique_ptr<Light> light = registry_find(light_types(), type)->create(p);
     p.finish();
     return light;
 }

@@ -11,7 +11,20 @@
 //   "environment" environment_light.cpp    radiance, or file (lat-long EXR), scale, rotate_y
 //
 // Adding a light type: one file with its Light class and factory, and one line in the table in
-// light_registry.cpp (with its declaration beside it).
+// light_registry.cpp (with its declaration beside it); README's [[lights]] row names it
+// (tests/tools/registry_docs_test.cpp fails until it does).
+//
+// What every light must meet (Scene::build and tests/scene/registry_test.cpp check it):
+// - power() is the mean of sample_emission's `power` (the test estimates it by Monte Carlo for
+//   every registered type), finite and representable: a factory refuses values whose power or
+//   pdf overflow, naming the key.
+// - sample_emission starts photons on the light (or, for lights at infinity, on the silhouette of
+//   the scene bounds set by set_scene_bounds, which Scene::build guarantees finite).
+// - sample_incident's weight is radiance / pdf with pdf the solid-angle density pdf_incident
+//   returns for that direction (0 for delta lights); one-sided emitters emit on the side their
+//   file documents and return false / zero behind it.
+// - bounds() holds the whole emitting surface of an area light (empty for the others): it is
+//   part of what can be lit and of what blocks light.
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,8 +39,9 @@ struct LightType {
     std::unique_ptr<Light> (*create)(Params& table);   // reads its keys; the caller calls finish()
 };
 
-// The registered types, in registry order.
+// The registered types, in registry order, and their names (core/registry.h).
 const std::vector<LightType>& light_types();
+std::vector<std::string> light_names();
 
 // Reads `type`, builds that light from the rest of the table and reports unknown keys.
 std::unique_ptr<Light> make_light(Params& table);

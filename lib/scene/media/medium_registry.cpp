@@ -1,11 +1,12 @@
 #include "scene/media/medium_registry.h"
 
-#include <string>
-
-#include "scene/media/grid_medium.h"
-#include "scene/media/homogeneous_medium.h"
+#include "core/registry.h"
 
 namespace vpm {
+
+// Each type's factory, defined in its own file.
+std::unique_ptr<Medium> make_homogeneous_medium(Params&);
+std::unique_ptr<Medium> make_grid_medium(Params&);
 
 const std::vector<MediumType>& medium_types() {
     static const std::vector<MediumType> types = {
@@ -15,16 +16,12 @@ const std::vector<MediumType>& medium_types() {
     return types;
 }
 
+std::vector<std::string> medium_names() { return registry_names(medium_types()); }
+
 std::unique_ptr<Medium> make_medium(Params& p, const MediumType** type_out) {
-    std::vector<std::string> names;
-    for (const MediumType& t : medium_types()) names.push_back(t.name);
-    const std::string type = p.choice("type", names);
-    std::unique_ptr<Medium> medium;
-    for (const MediumType& t : medium_types())
-        if (type == t.name) {
-            medium = t.create(p);
-            if (type_out) *type_out = &t;
-        }
+    const MediumType* type = registry_find(medium_types(), p.choice("type", medium_names()));
+    std::unique_ptr<Medium> medium = type->create(p);
+    if (type_out) *type_out = type;
     p.finish();
     return medium;
 }

@@ -10,8 +10,17 @@
 // A medium gives sigma_t, bounds, free-flight sampling and transmittance (scene/media/medium.h); a
 // medium with a density lookup and majorants can reuse the shared tracking over a majorant walk
 // instead of writing its own. Adding a medium type: one file with its Medium class and factory,
-// and one line in the table in medium_registry.cpp (with its declaration beside it).
+// and one line in the table in medium_registry.cpp (with its declaration beside it); README's
+// [[media]] row names it (tests/tools/registry_docs_test.cpp fails until it does).
+//
+// What every medium must meet (Scene::build checks what it can, with one error naming the table):
+// - bounds() is a finite, non-empty box outside which sigma_t is 0: lights at infinity emit over
+//   the scene bounds, and a point light aims at their centre. A medium without natural bounds
+//   (a slab, a fog) bounds itself to the region the camera and lights can reach.
+// - sample_free_flight, transmittance and majorant_pieces agree with sigma_t (unbiased: tested
+//   per medium against closed forms in tests/scene/).
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "scene/media/medium.h"
@@ -25,8 +34,9 @@ struct MediumType {
     bool uses_openvdb;                                   // for the build log and the sidecar
 };
 
-// The registered types, in registry order.
+// The registered types, in registry order, and their names (core/registry.h).
 const std::vector<MediumType>& medium_types();
+std::vector<std::string> medium_names();
 
 // Reads `type`, builds that medium from the rest of the table and reports unknown keys.
 // `type_out`, when given, receives the registry entry used.
