@@ -51,7 +51,8 @@ inline GroupEstimate leave_group_out(const GatherBuffers& buf, size_t found, boo
         Vec3 g = Vec3::Zero();   // S^-1 (c - x) for the linear weights
         bool use_g = false;
     };
-    std::vector<Radius> cache;
+    std::array<Radius, kWalkGroups> cache;   // one entry per distinct R_g (no allocation per query)
+    size_t cached = 0;
     for (int group = 0; group < kWalkGroups; ++group) {
         if (!present[size_t(group)]) continue;
         size_t others = 0, end = 0;
@@ -61,8 +62,8 @@ inline GroupEstimate leave_group_out(const GatherBuffers& buf, size_t found, boo
             out.need_more = true;
             return out;
         }
-        auto it = std::find_if(cache.begin(), cache.end(), [&](const Radius& c) { return c.end == end; });
-        if (it == cache.end()) {
+        auto it = std::find_if(cache.begin(), cache.begin() + long(cached), [&](const Radius& c) { return c.end == end; });
+        if (it == cache.begin() + long(cached)) {
             Radius c;
             c.end = end;
             c.r = end < found ? std::sqrt(buf.d2[end]) : max_radius;
@@ -74,8 +75,8 @@ inline GroupEstimate leave_group_out(const GatherBuffers& buf, size_t found, boo
                 if (c.use_g)
                     c.g = eig.eigenvectors() * (eig.eigenvalues().cwiseInverse().asDiagonal() * (eig.eigenvectors().transpose() * c.m.offset));
             }
-            cache.push_back(c);
-            it = cache.end() - 1;
+            cache[cached] = c;
+            it = cache.begin() + long(cached++);
         }
         if (!(it->m.m0 > 0.0)) continue;
         const double r2 = end < found ? buf.d2[end] : max_radius * max_radius;
