@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libbenchmark-dev libnanoflann-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libpng-dev
   python3-matplotlib ccache
+  pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module (python/) and its tests
   slurm-wlm munge   # the Slurm split-render test (scripts/slurm/)
   python3-openvdb   # only to regenerate tests/data/vdb/puff.vdb (make_puff.py)
 )

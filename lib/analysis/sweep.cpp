@@ -147,7 +147,9 @@ void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::
             RunOptions ro;
             ro.progress = opt.progress;
             ro.stream_offset = kReferenceStream;
+            ro.cancelled = opt.cancelled;
             RunResult res = vpm::run(config, ro);
+            if (opt.cancelled && opt.cancelled()) return;
             write_run_outputs(path, res, rs.exposure);
             log("sweep: reference " + r->scene + " in " + fixed(res.stats.render.seconds, 1) + " s");
         }
@@ -239,6 +241,8 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
         todo.clear();
     }
     load_references(plan, opt, need_reference, references, reference_column, log);
+    auto cancelled = [&opt] { return opt.cancelled && opt.cancelled(); };
+    if (cancelled()) return outcome;
 
     // The runs (the ETA counts from here: references are not runs).
     const Timer runs_timer;
@@ -251,14 +255,16 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
     auto worker = [&] {
         while (!stop) {
             const size_t i = next++;
-            if (i >= todo.size()) return;
+            if (i >= todo.size() || cancelled()) return;
             const PlannedRun& run = *todo[i];
             try {
                 const RunConfig config = RunConfig::build(load_config(spec.scene.string(), run.overrides));
                 RunOptions ro;
                 ro.progress = false;
                 ro.stream_offset = run.stream_offset;
+                ro.cancelled = opt.cancelled;
                 RunResult res = vpm::run(config, ro);
+                if (cancelled()) return;
                 const fs::path image_rel = fs::path("images") / (run.hash + ".exr");
                 write_exr(opt.out / image_rel, res.image);
                 const Image& ref = references.at(run.scene);
@@ -296,6 +302,7 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
     for (auto& t : threads) t.join();
     if (failure) std::rethrow_exception(failure);
     outcome.ran = done;
+    if (cancelled()) return outcome;
     outcome.seconds = timer.seconds();
 
     write_sweep_sidecar(spec, opt, outcome, run_seconds);

@@ -32,6 +32,10 @@ struct SweepOptions {
     bool progress = true;          // progress bars of reference renders
     std::vector<std::string> command_line;
     std::function<void(const std::string&)> log;   // progress lines (may be empty)
+    // Polled before and after every run and reference (may be empty): once true, nothing more is
+    // written (a run that was under way is dropped, as if killed) and run_sweep returns without
+    // the report. The Python module's Ctrl-C; a rerun resumes.
+    std::function<bool()> cancelled;
 };
 
 struct SweepOutcome {

@@ -4,6 +4,7 @@
 #include <atomic>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "core/error.h"
 #include "core/henyey_greenstein.h"
@@ -167,6 +168,9 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
         const uint64_t n = std::min(batches - first, first == 0 ? kPilotBatches : kChunkBatches);
         std::vector<BatchOutput> outputs(n);
         tbb::parallel_for(uint64_t(0), n, [&](uint64_t b) {
+            // A cancelled task group (the Python module's Ctrl-C) skips its remaining batches at once
+            // (one task may hold many); the caller discards the result.
+            if (tbb::is_current_task_group_canceling()) return;
             trace_batch(scene, s, picker, first + b, outputs[b]);
             progress.advance();
         });

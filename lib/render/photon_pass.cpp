@@ -2,6 +2,8 @@
 
 #include <ostream>
 
+#include <tbb/task_group.h>
+
 #include "core/progress.h"
 #include "photon/photon_allocation.h"
 #include "photon/photon_budget.h"
@@ -34,6 +36,9 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     const LightAllocation& allocation = *cached;
     ts.light_weights = allocation.weights;
     PhotonTraceResult traced = trace_photons(scene, ts);
+    // A cancelled task group (the Python module's Ctrl-C) stopped the trace: no kd-tree over its
+    // partial photons (seconds for millions); the caller discards the run.
+    if (tbb::is_current_task_group_canceling()) return PhotonMaps();
     stats.phase("trace", traced.seconds);
     PhotonPassStats p;
     report_photon_lights(scene, importance ? "importance" : "power", allocation, traced, p, log);

@@ -4,6 +4,7 @@
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "core/progress.h"
 
@@ -16,6 +17,9 @@ Image render_image(const Camera& camera, const Integrator& integrator, const Ren
     const Timer timer;
     tbb::parallel_for(tbb::blocked_range<int>(0, o.height, 1), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y != rows.end(); ++y) {
+            // A cancelled task group (the Python module's Ctrl-C) stops at the next row; the caller
+            // discards the image. A range may hold many rows, so checking between ranges is not enough.
+            if (tbb::is_current_task_group_canceling()) return;
             for (int x = 0; x < o.width; ++x) {
                 const uint64_t pixel = uint64_t(y) * uint64_t(o.width) + uint64_t(x);
                 Rng rng(o.seed, pixel + o.stream_offset * uint64_t(o.width) * uint64_t(o.height));

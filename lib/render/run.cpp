@@ -62,7 +62,8 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
 
         const int done = pass + 1;
         const double mean_pass = run_timer.seconds() / done;
-        const bool more = done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit);
+        const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit)) &&
+                          !(options.cancelled && options.cancelled());
         if (done == 1 && !more) {
             result.image = std::move(image);   // one pass: the image as rendered
             if (options.on_pass) options.on_pass(result.image, result.stats.passes.back());

@@ -22,6 +22,9 @@ struct RunOptions {
     // Called after every pass with the mean image so far and that pass's statistics (e.g. to
     // write the error against a reference as the passes go); may be empty.
     std::function<void(const Image& mean_so_far, const PassStats& pass)> on_pass;
+    // Polled after every pass; true ends the run there (the Python module's Ctrl-C: the caller
+    // discards that result). May be empty.
+    std::function<bool()> cancelled;
 };
 
 struct RunResult {

@@ -1,0 +1,248 @@
+// vpm.trace_photons and vpm.PhotonMap: the photon pass on its own (the same code and streams as a
+// render's first pass, so the counts are the sidecar's), the stored photons as NumPy arrays, kNN
+// queries and the in-scattered radiance estimate at arbitrary points.
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "bindings.h"
+#include "config.h"
+#include "native_call.h"
+#include "photon/estimators.h"
+#include "photon/photon_map.h"
+#include "render/photon_map_integrator.h"
+#include "render/photon_pass.h"
+#include "render/run_record.h"
+
+namespace py = pybind11;
+
+namespace vpm::python {
+
+namespace {
+
+using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+struct PyPhotonMap {
+    std::shared_ptr<const PhotonMap> map;
+    std::shared_ptr<const RunConfig> config;   // null for a map built from arrays
+    std::string kind = "volume";               // "volume" or "surface"
+    std::string stats_json = "{}";             // the photon pass's statistics (trace_photons)
+    std::shared_ptr<PyPhotonMap> surface;      // the surface map, when the pass built one
+};
+
+// (n, 3) float64 rows checked against what a call needs; `what` names the argument in errors.
+Points rows_of_three(const py::handle& h, const char* what) {
+    Points a = Points::ensure(h);
+    if (!a || a.ndim() != 2 || a.shape(1) != 3)
+        throw Error(std::string(what) + ": expected an array of shape (n, 3)");
+    return a;
+}
+
+std::vector<PhotonInput> photons_from_arrays(const py::handle& positions, const py::handle& powers,
+                                             const py::handle& directions) {
+    const Points p = rows_of_three(positions, "positions"), w = rows_of_three(powers, "powers"),
+                 d = rows_of_three(directions, "directions");
+    if (w.shape(0) != p.shape(0) || d.shape(0) != p.shape(0))
+        throw Error("PhotonMap: positions, powers and directions must have the same number of rows (" +
+                    std::to_string(p.shape(0)) + ", " + std::to_string(w.shape(0)) + ", " + std::to_string(d.shape(0)) + ")");
+    std::vector<PhotonInput> out(size_t(p.shape(0)));
+    auto pp = p.unchecked<2>();
+    auto ww = w.unchecked<2>();
+    auto dd = d.unchecked<2>();
+    for (size_t i = 0; i < out.size(); ++i) {
+        const auto r = py::ssize_t(i);
+        out[i].position = Vec3(pp(r, 0), pp(r, 1), pp(r, 2));
+        out[i].power = Rgb(ww(r, 0), ww(r, 1), ww(r, 2));
+        const Vec3 dir(dd(r, 0), dd(r, 1), dd(r, 2));
+        const double len = dir.norm();
+        if (!(std::abs(len - 1.0) < 1e-6))
+            throw Error("PhotonMap: directions[" + std::to_string(i) + "] has length " + std::to_string(len) + ", expected 1");
+        out[i].direction = dir;
+    }
+    return out;
+}
+
+PyPhotonMap from_arrays(const py::handle& positions, const py::handle& powers, const py::handle& directions,
+                        size_t leaf_size) {
+    const std::vector<PhotonInput> photons = photons_from_arrays(positions, powers, directions);
+    PyPhotonMap m;
+    call_native([&](const std::atomic<bool>&) { m.map = std::make_shared<const PhotonMap>(photons, leaf_size); });
+    return m;
+}
+
+PyPhotonMap trace(const Config& config, uint64_t stream_offset, std::optional<int> threads, bool progress, bool log) {
+    if (threads && *threads < 0) throw Error("threads: expected 0 (all cores) or more, got " + std::to_string(*threads));
+    const RunConfig& rc = *config.run;
+    const PhotonMapSettings& settings = photon_map_settings(rc);
+    const bool surface = rc.scene->uses_embree() && !settings.final_gather;
+    PhotonMaps maps;
+    RunStats stats;
+    call_native(
+        [&](const std::atomic<bool>&) {
+            // The context of a run's first pass with render.first_pass = 0 (lib/render/run.cpp).
+            PassContext context;
+            context.seed = rc.render.seed;
+            context.stream_offset = stream_offset;
+            context.run_stream_offset = stream_offset;
+            context.pass = 0;
+            context.progress = progress;
+            context.log = log ? &std::cerr : nullptr;
+            std::optional<LightAllocation> allocation;
+            if (rc.scene->has_media() || surface)
+                maps = run_photon_pass(*rc.scene, settings, context, surface, stats, allocation);
+        },
+        threads ? *threads : rc.render.threads);   // 0: all cores
+    RunRecord record;
+    write_run_stats(stats, record);
+    PyPhotonMap out;
+    out.config = config.run;
+    out.stats_json = record.dump();
+    out.map = std::make_shared<const PhotonMap>(std::move(maps.volume));
+    if (surface) {
+        out.surface = std::make_shared<PyPhotonMap>();
+        out.surface->config = config.run;
+        out.surface->kind = "surface";
+        out.surface->map = std::make_shared<const PhotonMap>(std::move(maps.surface));
+    }
+    return out;
+}
+
+// Decoded per-photon attributes as an (n, 3) float64 array (a copy: the records are compressed).
+template <class Get>
+py::array_t<double> attribute(const PhotonMap& map, Get get) {
+    py::array_t<double> a({py::ssize_t(map.size()), py::ssize_t(3)});
+    auto out = a.mutable_unchecked<2>();
+    for (size_t i = 0; i < map.size(); ++i) {
+        const auto v = get(i);
+        for (int c = 0; c < 3; ++c) out(py::ssize_t(i), c) = double(v[c]);
+    }
+    return a;
+}
+
+double radius_or_infinity(std::optional<double> r, const char* what) {
+    if (!r) return kInfinity;
+    if (!(*r > 0.0)) throw Error(std::string(what) + ": expected a positive radius or None, got " + std::to_string(*r));
+    return *r;
+}
+
+py::tuple knn(const PyPhotonMap& m, const py::handle& points, size_t k, std::optional<double> max_radius) {
+    const Points q = rows_of_three(points, "points");
+    const double radius = radius_or_infinity(max_radius, "max_radius");
+    if (k < 1) throw Error("knn: k must be at least 1");
+    const py::ssize_t n = q.shape(0), kk = py::ssize_t(k);
+    py::array_t<double> distances({n, kk});
+    py::array_t<int64_t> indices({n, kk});
+    const double* qp = q.data();
+    double* dp = distances.mutable_data();
+    int64_t* ip = indices.mutable_data();
+    const PhotonMap& map = *m.map;
+    call_native([&](const std::atomic<bool>&) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(n), 64), [&](const tbb::blocked_range<size_t>& range) {
+            NeighbourList list;
+            for (size_t i = range.begin(); i != range.end(); ++i) {
+                const size_t found = map.knn(Vec3(qp[3 * i], qp[3 * i + 1], qp[3 * i + 2]), k, radius, list);
+                for (size_t j = 0; j < k; ++j) {   // missing neighbours (k > size, or beyond max_radius): inf, -1
+                    dp[i * k + j] = j < found ? std::sqrt(list[j].d2) : kInfinity;
+                    ip[i * k + j] = j < found ? int64_t(list[j].index) : -1;
+                }
+            }
+        });
+    });
+    return py::make_tuple(distances, indices);
+}
+
+// The g every medium of the scene shares (the estimate's phase function), or an error asking for it.
+double scene_g(const PyPhotonMap& m) {
+    if (!m.config || m.config->scene->media.empty())
+        throw Error("estimate: no scene media to take g from; pass g=");
+    const double g = m.config->scene->media.front()->g();
+    for (const auto& medium : m.config->scene->media)
+        if (medium->g() != g) throw Error("estimate: the scene's media have different g; pass g=");
+    return g;
+}
+
+py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::handle& directions,
+                   std::optional<std::string> estimator, std::optional<size_t> k, std::optional<std::string> kernel,
+                   std::optional<double> g, std::optional<double> max_radius, bool return_radius) {
+    if (m.kind != "volume") throw Error("estimate: only the volume photon map has an in-scattering estimate");
+    const Points q = rows_of_three(points, "points"), w = rows_of_three(directions, "directions");
+    if (w.shape(0) != q.shape(0))
+        throw Error("estimate: points and directions must have the same number of rows");
+    const PhotonMapSettings defaults;
+    const PhotonMapSettings& s = m.config ? photon_map_settings(*m.config) : defaults;
+    Estimator e = estimator ? Estimator::named(*estimator).with_kernel(s.estimator.kernel()) : s.estimator;
+    if (kernel) e = e.with_kernel(Kernel::named(*kernel));
+    const size_t kk = k ? *k : size_t(s.k);
+    e.validate_k(kk);
+    const double gg = g ? *g : scene_g(m);
+    if (!(gg > -1.0 && gg < 1.0)) throw Error("estimate: g must be in (-1, 1), got " + std::to_string(gg));
+    const double radius = max_radius ? radius_or_infinity(max_radius, "max_radius") : s.search_radius();
+    const py::ssize_t n = q.shape(0);
+    py::array_t<double> values({n, py::ssize_t(3)});
+    py::array_t<double> radii(n);
+    const double* qp = q.data();
+    const double* wp = w.data();
+    double* vp = values.mutable_data();
+    double* rp = radii.mutable_data();
+    const PhotonMap& map = *m.map;
+    call_native([&](const std::atomic<bool>&) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(n), 64), [&](const tbb::blocked_range<size_t>& range) {
+            GatherBuffers buffers;
+            for (size_t i = range.begin(); i != range.end(); ++i) {
+                const Vec3 x(qp[3 * i], qp[3 * i + 1], qp[3 * i + 2]);
+                const Vec3 w_o = Vec3(wp[3 * i], wp[3 * i + 1], wp[3 * i + 2]).normalized();
+                const Estimate<Rgb> est = estimate_in_scattering(map, x, w_o, gg, e, kk, radius, buffers);
+                for (int c = 0; c < 3; ++c) vp[3 * i + size_t(c)] = est.value[c];
+                rp[i] = est.radius;
+            }
+        });
+    });
+    if (return_radius) return py::make_tuple(values, radii);
+    return std::move(values);
+}
+
+}  // namespace
+
+void bind_photon_map(py::module_& m) {
+    py::class_<PyPhotonMap, std::shared_ptr<PyPhotonMap>>(
+        m, "PhotonMap",
+        "A photon map: compressed photon records in Morton order and a kd-tree (lib/photon/photon_map.h). "
+        "From vpm.trace_photons(config), or PhotonMap(positions, powers, directions) from (n, 3) arrays.")
+        .def(py::init(&from_arrays), py::arg("positions"), py::arg("powers"), py::arg("directions"),
+             py::arg("leaf_size") = 32)
+        .def("__len__", [](const PyPhotonMap& p) { return p.map->size(); })
+        .def_property_readonly("kind", [](const PyPhotonMap& p) { return p.kind; }, "\"volume\" or \"surface\".")
+        .def_property_readonly("positions", [](const PyPhotonMap& p) {
+            return attribute(*p.map, [&](size_t i) { return p.map->position(i); });
+        }, "(n, 3) float64 positions in stored order (indices of knn refer to it); decoded on each access.")
+        .def_property_readonly("powers", [](const PyPhotonMap& p) {
+            return attribute(*p.map, [&](size_t i) { return p.map->power(i); });
+        }, "(n, 3) float64 RGB photon powers (watts).")
+        .def_property_readonly("directions", [](const PyPhotonMap& p) {
+            return attribute(*p.map, [&](size_t i) { return p.map->direction(i); });
+        }, "(n, 3) float64 unit incoming travel directions.")
+        .def_property_readonly("surface", [](const PyPhotonMap& p) { return p.surface; },
+                               "The surface photon map of the same pass, or None.")
+        .def_property_readonly("_stats_json", [](const PyPhotonMap& p) { return p.stats_json; })
+        .def("knn", &knn, py::arg("points"), py::arg("k"), py::arg("max_radius") = py::none(),
+             "(distances, indices), each (m, k): the k nearest stored photons of every point, nearest first "
+             "(ties by index). Missing neighbours (k above the map size, or beyond max_radius) are inf and -1.")
+        .def("estimate", &estimate, py::arg("points"), py::arg("directions"), py::arg("estimator") = py::none(),
+             py::arg("k") = py::none(), py::arg("kernel") = py::none(), py::arg("g") = py::none(),
+             py::arg("max_radius") = py::none(), py::arg("return_radius") = false,
+             "The in-scattering estimate S(x, w_o) (RGB, (m, 3) float64) at each point for the outgoing travel "
+             "direction w_o (towards the viewer), as the renderer computes it (estimate_in_scattering in "
+             "lib/photon/estimators.h, rules (a)-(c) included). Unset arguments come from the config's [photons] "
+             "(estimator, k, kernel, max_radius) and its media (g). return_radius: also the radius of each ball.");
+    m.def("_trace_photons", &trace, py::arg("config"), py::arg("stream_offset") = 0, py::arg("threads") = py::none(),
+          py::arg("progress") = false, py::arg("log") = false);
+}
+
+}  // namespace vpm::python

@@ -1,0 +1,193 @@
+"""vpm from Python: render, study and inspect photon maps with NumPy arrays.
+
+The module wraps the vpm library (not the command line): the same config validation and
+messages, the same runs, the same files.
+
+    import vpm
+    config = vpm.load_config("configs/uniform_furnace.toml", overrides={"photons.k": 16})
+    result = vpm.render(config, threads=2)
+    result.image            # float32 (height, width, 3), a view on the run's pixels
+    result.stats            # phases, photon counts, estimator rules, passes (the sidecar's keys)
+    result.save("out/furnace.exr")   # EXR + PNG preview + JSON sidecar, as `vpm render -o`
+
+    photons = vpm.trace_photons(config)          # the photon pass alone
+    photons.positions, photons.powers, photons.directions   # (n, 3) NumPy arrays
+    distances, indices = photons.knn(points, k=8)
+    radiance = photons.estimate(points, directions, estimator="classic", k=8)
+
+Native work runs with the GIL released; Ctrl-C stops it (KeyboardInterrupt) and nothing is
+written. Errors raise vpm.Error (vpm.ConfigError, vpm.FileError) with the tool's one-line message.
+"""
+
+import csv
+import io
+import json
+import math
+import numbers
+import os
+
+from . import _vpm
+from ._vpm import Config, ConfigError, Error, FileError, PhotonMap, RenderResult, read_exr
+
+__version__ = _vpm.__version__
+git_revision = _vpm.git_revision
+
+__all__ = ["load_config", "render", "trace_photons", "study", "sweep", "read_exr", "Config", "RenderResult",
+           "PhotonMap", "Error", "ConfigError", "FileError"]
+
+
+def _toml_value(value, key):
+    """A Python value as TOML text for a KEY=VALUE override (what `--set` takes)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        value = float(value)
+        return repr(value) if math.isfinite(value) else ("nan" if math.isnan(value) else ("inf" if value > 0 else "-inf"))
+    if isinstance(value, str):
+        return json.dumps(value)   # a JSON string is a TOML basic string
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v, key) for v in value) + "]"
+    raise Error("overrides: %s: a %s cannot be written as a config value (use bool, int, float, str or a list)"
+                % (key, type(value).__name__))
+
+
+def _overrides(overrides):
+    if overrides is None:
+        return []
+    if isinstance(overrides, dict):
+        return ["%s=%s" % (k, _toml_value(v, k)) for k, v in overrides.items()]
+    return [str(o) for o in overrides]   # "key=value" strings, exactly as --set
+
+
+def load_config(source, overrides=None):
+    """Reads a scene config and validates it exactly as `vpm render` does.
+
+    source: a path (str or os.PathLike) to a TOML config or a run's JSON sidecar; TOML or JSON
+    text (a str with a newline, an '=' or starting with '{'), relative paths then from the
+    working directory; or a dict with the config's tables.
+    overrides: {"photons.k": 16, "media.0.g": 0.5} or ["photons.k=16"]: applied and validated
+    like `--set` (same messages).
+    Raises vpm.ConfigError / vpm.FileError with the tool's message.
+    """
+    sets = _overrides(overrides)
+    if isinstance(source, dict):
+        return _vpm._load_config(json.dumps(source), True, "<dict>", os.getcwd(), sets)
+    if isinstance(source, os.PathLike):
+        return _vpm._load_config(os.fspath(source), False, "", "", sets)
+    if not isinstance(source, str):
+        raise Error("load_config: expected a path, config text or a dict, got a %s" % type(source).__name__)
+    if "\n" in source or "=" in source or source.lstrip().startswith("{"):
+        return _vpm._load_config(source, True, "<string>", os.getcwd(), sets)
+    return _vpm._load_config(source, False, "", "", sets)
+
+
+def _config(config):
+    return config if isinstance(config, Config) else load_config(config)
+
+
+def render(config, threads=None, progress=True, log=False, stream_offset=0):
+    """Renders a config (a vpm.Config, or anything load_config takes) as `vpm render` does.
+
+    threads: worker threads (None: render.threads from the config; 0: all cores).
+    progress: the tool's progress bar / lines on stderr. log: the tool's log lines on stderr.
+    stream_offset: independent repeats with the same seed (as sweeps use).
+    Returns a RenderResult: .image, .stats, .record and .save(path).
+    """
+    return _vpm._render(_config(config), threads, progress, log, stream_offset)
+
+
+def _stats(self):
+    return json.loads(self._stats_json)
+
+
+def _record(self):
+    return json.loads(self._record_json)
+
+
+RenderResult.stats = property(_stats, doc="The run's typed statistics (RunStats) as the sidecar writes them: "
+                                          "phases, render, photons (counts, energy, estimator rules), passes.")
+RenderResult.record = property(_record, doc="The whole JSON sidecar as a dict (config, environment and stats).")
+PhotonMap.stats = property(_stats, doc="The photon pass's statistics (trace_photons), as in a render's sidecar.")
+
+
+def trace_photons(config, stream_offset=0, threads=None, progress=False, log=False):
+    """Runs the photon pass of a config alone and returns its vpm.PhotonMap.
+
+    The same photons as the first pass of `vpm render` with the same seed (render.first_pass = 0),
+    so len(map) is the sidecar's photons.stored (and map.surface's its photons.surface_stored).
+    """
+    return _vpm._trace_photons(_config(config), stream_offset, threads, progress, log)
+
+
+def _number(text):
+    for convert in (int, float):
+        try:
+            return convert(text)
+        except ValueError:
+            pass
+    return text
+
+
+def _table(text, as_dataframe):
+    """CSV text as a list of dicts (numbers converted), or a pandas DataFrame when pandas is importable."""
+    if as_dataframe is not False:
+        try:
+            import pandas
+            return pandas.read_csv(io.StringIO(text))
+        except ImportError:
+            if as_dataframe:
+                raise
+    return [{k: _number(v) for k, v in row.items()} for row in csv.DictReader(io.StringIO(text))]
+
+
+def study(out="out/study", dims=(2, 3), k=None, trials=10000, n=1000, seed=20130619, scenarios=None,
+          photon_map_size=100000, threads=0, log=False, as_dataframe=None):
+    """The estimator study (`vpm study`): bias, variance and MSE of the kNN estimators against theory.
+
+    Writes study.csv, study.md and study.json into `out` (None: write nothing) and returns the
+    study.csv table: a pandas DataFrame when pandas is importable (as_dataframe=None), else a
+    list of dicts (as_dataframe=False forces the list). k: list of k (None: 2 .. 256).
+    scenarios: names (None: all; see `vpm study --help`).
+    """
+    csv_text, _, notes = _vpm._study(None if out is None else os.fspath(out), list(dims), list(k or []), trials, n,
+                                     seed, None if scenarios is None else list(scenarios), photon_map_size, threads,
+                                     log)
+    return _table(csv_text, as_dataframe)
+
+
+class SweepTables:
+    """What vpm.sweep returns: .runs (runs*.csv rows), .points (points.csv), .summary (summary.md
+    text), .outcome (counts: planned, ran, skipped, remaining, seconds) and .out (the folder)."""
+
+    def __init__(self, out, outcome, as_dataframe):
+        self.out = out
+        self.outcome = outcome
+        runs = sorted(f for f in os.listdir(out) if f.startswith("runs") and f.endswith(".csv"))
+        lines = []
+        for i, name in enumerate(runs):
+            with open(os.path.join(out, name)) as f:
+                text = f.read().splitlines()
+            lines += text if i == 0 else text[1:]
+        self.runs = _table("\n".join(lines) + "\n", as_dataframe)
+        points = os.path.join(out, "points.csv")
+        self.points = _table(open(points).read(), as_dataframe) if os.path.exists(points) else []
+        summary = os.path.join(out, "summary.md")
+        self.summary = open(summary).read() if os.path.exists(summary) else ""
+
+    def __repr__(self):
+        return "<vpm.SweepTables %s: %d runs>" % (self.out, len(self.runs))
+
+
+def sweep(file, out=None, jobs=1, threads=0, max_runs=0, shard=(0, 1), references_only=False, progress=False,
+          log=True, as_dataframe=None):
+    """A parameter sweep (`vpm sweep FILE --no-plots`): resumable, into `out` (default
+    out/sweeps/<file name>). Returns SweepTables. Ctrl-C stops it; what finished is kept, and the
+    same call resumes. Plots: run tools/plot_sweep.py on the folder, or plot the tables yourself."""
+    file = os.fspath(file)
+    if out is None:
+        out = os.path.join("out", "sweeps", os.path.splitext(os.path.basename(file))[0])
+    out = os.fspath(out)
+    outcome = _vpm._sweep(file, out, jobs, threads, max_runs, shard[0], shard[1], references_only, progress, log)
+    return SweepTables(out, outcome, as_dataframe)

@@ -1,0 +1,102 @@
+"""vpm.trace_photons and vpm.PhotonMap: the render's photons, exact kNN, unbiased corrected estimates."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+import vpm
+from conftest import FURNACE, SMALL, run_tool, tool_overrides
+
+
+def test_arrays_have_the_sidecars_counts(vpm_binary, tmp_path):
+    code, err = run_tool(vpm_binary, "render", FURNACE, *tool_overrides(SMALL), "-q", "-o", str(tmp_path / "t.exr"))
+    assert code == 0, err
+    sidecar = json.loads((tmp_path / "t.json").read_text())
+    photons = vpm.trace_photons(vpm.load_config(FURNACE, overrides=SMALL))
+    n = sidecar["photons"]["stored"]
+    assert n > 1000 and len(photons) == n
+    for a in (photons.positions, photons.powers, photons.directions):
+        assert a.shape == (n, 3) and a.dtype == np.float64
+    assert photons.stats["photons"]["stored"] == n
+    assert photons.stats["photons"]["emitted"] == sidecar["photons"]["emitted"]
+    assert photons.surface is None   # no shapes in the furnace
+    assert np.allclose(np.linalg.norm(photons.directions, axis=1), 1.0, atol=1e-3)
+    # Every photon lies in the medium, a sphere of radius 6 around the origin.
+    assert np.linalg.norm(photons.positions, axis=1).max() <= 6.0 + 1e-6
+
+
+def test_knn_matches_brute_force():
+    photons = vpm.trace_photons(vpm.load_config(FURNACE, overrides=SMALL))
+    positions = photons.positions
+    rng = np.random.default_rng(3)
+    points = rng.uniform(-4, 4, size=(200, 3))
+    k = 10
+    distances, indices = photons.knn(points, k)
+    assert distances.shape == (200, k) and indices.shape == (200, k)
+    d2 = ((points[:, None, :] - positions[None, :, :]) ** 2).sum(axis=2)
+    order = np.argsort(d2, axis=1, kind="stable")[:, :k]
+    assert np.array_equal(indices, order)
+    assert np.allclose(distances, np.sqrt(np.take_along_axis(d2, order, axis=1)), rtol=1e-12, atol=0)
+    # A radius limit: neighbours beyond it are missing (inf, -1).
+    r = float(np.median(distances[:, 4]))
+    d_lim, i_lim = photons.knn(points, k, max_radius=r)
+    inside = distances <= r
+    assert np.array_equal(i_lim[inside], indices[inside]) and (i_lim[~inside] == -1).all()
+    assert np.isinf(d_lim[~inside]).all()
+
+
+def uniform_map(n, rng):
+    """n photons uniform in the unit cube, power 1, isotropic directions: density n, S = n / (4 pi)."""
+    directions = rng.normal(size=(n, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    return vpm.PhotonMap(rng.uniform(0, 1, size=(n, 3)), np.ones((n, 3)), directions)
+
+
+def test_corrected_estimate_is_unbiased_in_the_uniform_case():
+    # Independent maps, each queried on a 3x3x3 grid of interior points 0.25 apart: the kNN balls
+    # (r ~ 0.06 at k = 16, n = 20000) are disjoint and inside the cube, so the estimates are
+    # independent; the truth is n / (4 pi) for g = 0 (isotropic phase function, unit powers).
+    n, k, maps = 20000, 16, 20
+    grid = np.stack(np.meshgrid(*[[0.25, 0.5, 0.75]] * 3, indexing="ij"), axis=-1).reshape(-1, 3)
+    rng = np.random.default_rng(20130619)
+    wo = np.tile([0.0, 0.0, 1.0], (len(grid), 1))
+    corrected, classic = [], []
+    for _ in range(maps):
+        m = uniform_map(n, rng)
+        values, radii = m.estimate(grid, wo, estimator="corrected", k=k, g=0.0, return_radius=True)
+        assert radii.max() < 0.12   # the balls stay disjoint and inside the cube
+        corrected.append(values[:, 0])
+        classic.append(m.estimate(grid, wo, estimator="classic", k=k, g=0.0)[:, 0])
+    truth = n / (4 * math.pi)
+    e = np.concatenate(corrected) / truth
+    se = e.std(ddof=1) / math.sqrt(len(e))
+    assert abs(e.mean() - 1.0) < 4 * se, (e.mean(), se)
+    # ... while classic is high by 1/(k-1) (6.7%, about 6 standard errors here).
+    c = np.concatenate(classic) / truth
+    assert c.mean() - 1.0 > 2 * se
+    assert abs((c.mean() - 1.0) - 1.0 / (k - 1)) < 4 * se
+
+
+def test_estimate_defaults_come_from_the_config():
+    config = vpm.load_config(FURNACE, overrides=dict(SMALL, **{"photons.k": 8}))
+    photons = vpm.trace_photons(config)
+    points = np.zeros((4, 3))
+    wo = np.tile([0.0, 0.0, 1.0], (4, 1))
+    explicit = photons.estimate(points, wo, estimator="corrected", k=8, g=0.3)   # the config's values
+    assert np.array_equal(photons.estimate(points, wo), explicit)
+    assert not np.array_equal(photons.estimate(points, wo, k=16), explicit)
+
+
+def test_bad_estimate_arguments_raise_with_the_message():
+    m = uniform_map(1000, np.random.default_rng(1))
+    p = np.full((1, 3), 0.5)
+    wo = np.array([[0.0, 0.0, 1.0]])
+    with pytest.raises(vpm.Error, match="classic, corrected, mse_optimal"):
+        m.estimate(p, wo, estimator="best", k=8, g=0.0)
+    with pytest.raises(vpm.Error, match="k"):
+        m.estimate(p, wo, estimator="corrected", k=1, g=0.0)
+    with pytest.raises(vpm.Error, match="no scene media"):
+        m.estimate(p, wo, k=8)
+    with pytest.raises(vpm.Error, match=r"shape \(n, 3\)"):
+        m.knn(np.zeros((3, 2)), 4)
