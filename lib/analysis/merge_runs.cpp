@@ -1,6 +1,7 @@
 #include "analysis/merge_runs.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -17,23 +18,63 @@ struct Input {
     std::filesystem::path exr;
     nlohmann::json sidecar;
     Image image;
-    int first = 0, count = 0, spp_per_pass = 0;
+    int64_t first = 0, count = 0, spp_per_pass = 0;
+    double exposure = 0.0;
 };
+
+// Sidecar values are checked like config keys: one error naming the file, the key, what it must be
+// and what it is. Pass indices and counts are bounded so that first + count and the sum of the
+// counts fit in any integer vpm uses for them (int64 here, int in a render).
+constexpr int64_t kMaxPassIndex = 2147483647;   // INT_MAX
+
+std::string shown(const nlohmann::json& v) {
+    std::string s = v.dump();
+    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+
+int64_t sidecar_integer(const nlohmann::json& table, const char* key, const std::string& where, int64_t lo,
+                        int64_t hi) {
+    const std::string name = std::string("passes.") + key;
+    if (!table.contains(key)) throw FileError(where + ": " + name + " is missing (an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "])");
+    const nlohmann::json& v = table[key];
+    // is_number_integer is false for 2.5; nlohmann stores 2.0 as a float, refused as well
+    if (!v.is_number_integer() || (v.is_number_unsigned() && v.get<uint64_t>() > uint64_t(hi)) ||
+        v.get<int64_t>() < lo || v.get<int64_t>() > hi)
+        throw FileError(where + ": " + name + ": expected an integer in [" + std::to_string(lo) + ", " +
+                        std::to_string(hi) + "], got " + shown(v));
+    return v.get<int64_t>();
+}
 
 Input read_input(const std::filesystem::path& exr) {
     Input in;
     in.exr = exr;
     const std::filesystem::path json = sidecar_path_for(exr);
+    const std::string where = json.string();
     std::ifstream f(json);
-    if (!f) throw FileError(json.string() + ": cannot read the sidecar of " + exr.string() + " (vpm merge needs both)");
+    if (!f) throw FileError(where + ": cannot read the sidecar of " + exr.string() + " (vpm merge needs both)");
     in.sidecar = nlohmann::json::parse(f, nullptr, false);
-    if (in.sidecar.is_discarded() || !in.sidecar.contains("config") || !in.sidecar.contains("passes"))
-        throw FileError(json.string() + ": not a vpm render sidecar with \"config\" and \"passes\"");
+    if (in.sidecar.is_discarded() || !in.sidecar.is_object() || !in.sidecar.contains("config") ||
+        !in.sidecar.contains("passes"))
+        throw FileError(where + ": not a vpm render sidecar with \"config\" and \"passes\"");
+    if (!in.sidecar["config"].is_object())
+        throw FileError(where + ": config: expected an object (the resolved config), got " + shown(in.sidecar["config"]));
     const nlohmann::json& p = in.sidecar["passes"];
-    in.first = p.value("first", 0);
-    in.count = p.value("count", 0);
-    in.spp_per_pass = p.value("spp_per_pass", 0);
-    if (in.count < 1 || in.spp_per_pass < 1) throw FileError(json.string() + ": passes.count / spp_per_pass missing or < 1");
+    if (!p.is_object()) throw FileError(where + ": passes: expected an object with first, count and spp_per_pass, got " + shown(p));
+    in.first = p.contains("first") ? sidecar_integer(p, "first", where, 0, kMaxPassIndex) : 0;   // default as in a config
+    in.count = sidecar_integer(p, "count", where, 1, kMaxPassIndex + 1);
+    if (in.first + in.count - 1 > kMaxPassIndex)
+        throw FileError(where + ": passes.first + passes.count - 1 = " + std::to_string(in.first + in.count - 1) +
+                        " exceeds the largest pass index " + std::to_string(kMaxPassIndex));
+    in.spp_per_pass = sidecar_integer(p, "spp_per_pass", where, 1, 1 << 24);
+    const nlohmann::json& config = in.sidecar["config"];
+    if (config.contains("render") && !config["render"].is_object())
+        throw FileError(where + ": config.render: expected an object, got " + shown(config["render"]));
+    if (config.contains("render") && config["render"].contains("exposure")) {
+        const nlohmann::json& e = config["render"]["exposure"];
+        if (!e.is_number() || !(e.get<double>() >= -64.0 && e.get<double>() <= 64.0))
+            throw FileError(where + ": config.render.exposure: expected a number in [-64, 64], got " + shown(e));
+        in.exposure = e.get<double>();
+    }
     in.image = read_exr(exr);
     return in;
 }
@@ -90,7 +131,7 @@ MergedRun merge_runs(const std::vector<std::filesystem::path>& paths) {
     out.record.set("passes.count", out.passes);
     out.record.set("passes.first", by_first.front()->first);
     out.record.set("passes.spp_per_pass", a.spp_per_pass);
-    out.exposure = a.sidecar["config"].value("/render/exposure"_json_pointer, 0.0);
+    out.exposure = a.exposure;
     return out;
 }
 

@@ -7,7 +7,11 @@
 // Refused with one clear error naming the file: a missing or unreadable sidecar, a different
 // scene or setting (hash of the resolved config without render.output, threads, passes,
 // first_pass, spp, time_limit and exposure), a different number of samples per pass or image
-// size, or pass ranges that overlap (the same pass twice would not be independent).
+// size, or pass ranges that overlap (the same pass twice would not be independent). Sidecars are
+// validated like configs: passes.first (0 .. INT_MAX, default 0), passes.count (1 .. INT_MAX, first + count - 1
+// <= INT_MAX), passes.spp_per_pass (1 .. 2^24) must be integers in range, config an object and
+// config.render.exposure a number in [-64, 64]; anything else is one error naming the file and key.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -22,7 +26,7 @@ namespace vpm {
 struct MergedRun {
     Image image;
     RunRecord record;   // the first input's record with the merged pass counts and the inputs
-    int passes = 0;
+    int64_t passes = 0;   // non-overlapping ranges of indices <= INT_MAX: no overflow
     double exposure = 0.0;
 };
 

@@ -224,6 +224,13 @@ bool StressReport::all_ok() const {
     return true;
 }
 
+std::vector<std::string> stress_cell_keys(bool quick) {
+    std::vector<std::string> keys;
+    for (const CellSpec& spec : specs(quick))
+        if (!(quick && spec.full_only)) keys.push_back(spec.group + "/" + spec.label);
+    return keys;
+}
+
 StressReport run_stress(const StressOptions& o) {
     StressReport report;
     report.quick = o.quick;

@@ -53,4 +53,7 @@ struct StressReport {
 
 StressReport run_stress(const StressOptions& options);
 
+// The "group/label" keys of the cells run_stress would run (quick: the CI subset), before the filter.
+std::vector<std::string> stress_cell_keys(bool quick);
+
 }  // namespace vpm

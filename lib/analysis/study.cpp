@@ -11,12 +11,14 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <unistd.h>
 
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
+#include "photon/photon_budget.h"
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/photon_map.h"
@@ -227,8 +229,14 @@ PhotonPassMap study_photon_pass_map(size_t emitted, uint64_t seed, uint64_t map_
     ts.stream_offset = map_index;
     ts.store_direct = true;
     ts.progress = false;
+    // The renderer's memory guard: a map that cannot fit stops after its first chunk, not in bad_alloc.
+    ts.on_chunk = make_photon_pass_guard(0.8 * double(physical_memory_bytes()), nullptr);
     PhotonPassMap out;
-    out.photons = trace_photons(*scene, ts).photons;
+    try {
+        out.photons = trace_photons(*scene, ts).photons;
+    } catch (const Error& e) {
+        throw Error("study: photon_pass scenario, --photon-map-size " + std::to_string(emitted) + " (its photons.count): " + e.what());
+    }
     out.truth = sigma_t * 4.0 * kPi * radiance;
     // 2.5 from the sphere's boundary at radius 6: kNN balls stay well inside.
     out.query_radius = 0.5 * (scene->media[0]->bounds().hi - scene->media[0]->bounds().lo).x() - 2.5;
@@ -317,7 +325,8 @@ void estimate_all(const StudyOptions& opt, const SampleGrid& grid, const std::ve
         }
 }
 
-// Sorts options, fills defaults and rejects what the study cannot run.
+}  // namespace
+
 void validate_study_options(StudyOptions& opt) {
     if (opt.ks.empty()) opt.ks = default_k_list();
     std::sort(opt.ks.begin(), opt.ks.end());
@@ -329,10 +338,65 @@ void validate_study_options(StudyOptions& opt) {
         throw Error("study: --n (" + std::to_string(opt.n) + ") must exceed the largest k (" + std::to_string(kmax) + ")");
     for (int d : opt.dims)
         if (d != 2 && d != 3) throw Error("study: --dims values must be 2 or 3 (got " + std::to_string(d) + ")");
+    const bool map_scenario = std::find(opt.scenarios.begin(), opt.scenarios.end(), StudyScenario::photon_map) != opt.scenarios.end();
+    if (map_scenario && opt.photon_map_size <= kmax)
+        throw Error("study: --photon-map-size (" + std::to_string(opt.photon_map_size) + ") must exceed the largest k (" +
+                    std::to_string(kmax) + ") for the photon_map scenario");
     if (!(std::abs(opt.gradient_slope) < 1.0)) throw Error("study: gradient slope must be in (-1, 1)");
     if (!(opt.boundary_distance >= 0.0 && opt.boundary_distance <= 1.0))
         throw Error("study: boundary distance must be in [0, 1]");
+    check_study_memory(opt);
 }
+
+void check_study_memory(const StudyOptions& opt) {
+    // What a scenario holds at once (its samples are freed before the next one): one double per
+    // (trial, k, estimator), and per worker thread n points and a k_max neighbour list (synthetic) or
+    // a photon map of photon_map_size photons while its kd-tree is built (photon_map). The
+    // photon_pass scenario's maps are guarded while they are traced (study_photon_pass_map).
+    const double threads = double(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    const double limit = 0.8 * double(physical_memory_bytes());
+    const double nk = double(opt.ks.size()), kmax = double(opt.ks.back());
+    const double ne = double(Estimator::all().size());
+    for (StudyScenario sc : opt.scenarios) {
+        if (sc == StudyScenario::photon_pass) continue;
+        const double stride = nk * ne * (sc == StudyScenario::kernels ? double(opt.kernels.size()) : 1.0);
+        double estimates = double(opt.trials), per_thread_points = double(opt.n), point_bytes = double(sizeof(Pt));
+        const char* size_option = "--n";
+        if (sc == StudyScenario::photon_map) {
+            estimates = opt.photon_map_queries ? double(opt.photon_map_queries) : std::max(2.0, std::floor(double(opt.trials) / 4.0));
+            per_thread_points = double(opt.photon_map_size);
+            point_bytes = kPeakBytesPerStoredPhoton;
+            size_option = "--photon-map-size";
+        }
+        const double sample_bytes = estimates * stride * 8.0;
+        const double thread_bytes = threads * (per_thread_points * point_bytes + kmax * 16.0);
+        if (sample_bytes + thread_bytes <= limit) continue;
+        const double points_fit = std::floor(std::max(0.0, limit - sample_bytes) / (threads * point_bytes));
+        const double trials_fit = std::floor(std::max(0.0, limit - thread_bytes) / (stride * 8.0));
+        auto count = [](double v) {
+            std::ostringstream c;
+            if (v < 1e15) c << uint64_t(v);
+            else c << std::setprecision(3) << v;
+            return c.str();
+        };
+        std::ostringstream s;
+        s.precision(3);
+        s << "study: the " << scenario_name(sc) << " scenario needs about " << (sample_bytes + thread_bytes) / 1e9
+          << " GB (" << count(estimates) << " trials x " << count(stride) << " k and estimator columns x 8 bytes = "
+          << sample_bytes / 1e9 << " GB, plus " << count(threads) << " threads x " << size_option << " "
+          << count(per_thread_points) << " x " << point_bytes << " bytes = " << thread_bytes / 1e9
+          << " GB), more than 80% of this machine's " << double(physical_memory_bytes()) / 1e9 << " GB; ";
+        if (points_fit > kmax) s << "with these trials " << size_option << " <= " << count(points_fit) << " fits";
+        else s << "no " << size_option << " fits with these trials";
+        if (sc == StudyScenario::photon_map) s << ", with this map size --trials <= " << count(4.0 * trials_fit + 3.0);
+        else s << ", with this " << size_option << " --trials <= " << count(trials_fit);
+        if (trials_fit < 2.0) s << " (none)";
+        if (threads > 1) s << "; fewer --threads need less";
+        throw Error(s.str());
+    }
+}
+
+namespace {
 
 // The synthetic scenarios: n points per trial from the scenario's density, query at the centre.
 void run_synthetic(const StudyOptions& opt, StudyScenario sc, int dim, const SampleGrid& grid,

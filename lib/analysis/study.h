@@ -126,6 +126,13 @@ struct PhotonPassMap {
 };
 PhotonPassMap study_photon_pass_map(size_t emitted, uint64_t seed, uint64_t map_index);
 
+// Sorts the options, fills the default k list and throws vpm::Error for what the study cannot run:
+// k < 2, trials < 2, n <= the largest k, dims other than 2 and 3, and (check_study_memory) a run
+// whose samples and per-thread points would not fit in 80% of physical memory, naming the options
+// and the largest values that fit. run_estimator_study calls it first.
+void validate_study_options(StudyOptions& options);
+void check_study_memory(const StudyOptions& options);
+
 // Runs the study; log receives progress lines (may be empty).
 StudyResult run_estimator_study(const StudyOptions& options,
                                 const std::function<void(const std::string&)>& log = {});

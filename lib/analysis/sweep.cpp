@@ -541,7 +541,7 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
         md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
            << "metrics. See the nonfinite_pixels column.**\n\n";
     md << configurations_md(table.axes, shown, points) << equal_time_md(table.axes, shown, points, budgets);
-    md << "\nPlots (tools/plot_sweep.py): error_vs_time.png, error_vs_k.png, bias_vs_k.png.\n";
+    // The plots are listed only once they exist: plot_sweep adds the line (not under --no-plots).
     write_text_atomic(out / "summary.md", md.str());
     return md.str();
 }
@@ -627,6 +627,11 @@ bool plot_sweep(const fs::path& out, const fs::path& script, const std::function
         return false;
     }
     if (log) log("sweep: plots in " + out.string() + " (error_vs_time.png, error_vs_k.png, bias_vs_k.png)");
+    std::ifstream in(out / "summary.md");
+    std::stringstream md;
+    md << in.rdbuf();
+    md << "\nPlots (tools/plot_sweep.py): error_vs_time.png, error_vs_k.png, bias_vs_k.png.\n";
+    write_text_atomic(out / "summary.md", md.str());
     return true;
 }
 

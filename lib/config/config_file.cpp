@@ -6,6 +6,9 @@
 #include <system_error>
 #include <vector>
 
+#include <functional>
+#include <set>
+
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -174,10 +177,49 @@ bool looks_like_json(const std::string& text) {
     return i != std::string::npos && text[i] == '{';
 }
 
+namespace {
+
+// nlohmann keeps the last of two equal keys in an object; a config must not silently lose one, so
+// the parser callback tracks the keys of every open object (path for the message).
+struct DuplicateKeyCheck {
+    struct Frame {
+        bool object = false;
+        std::set<std::string> keys;
+        std::string key;   // the member being read
+    };
+    const std::string* name;
+    std::vector<Frame> open;
+    bool operator()(int /*depth*/, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        using E = nlohmann::json::parse_event_t;
+        if (event == E::object_start || event == E::array_start) open.push_back({event == E::object_start, {}, {}});
+        else if ((event == E::object_end || event == E::array_end) && !open.empty()) open.pop_back();
+        else if (event == E::key && !open.empty()) {
+            Frame& f = open.back();
+            const std::string key = parsed.get<std::string>();
+            if (!f.keys.insert(key).second) {
+                std::string path;
+                for (size_t i = 0; i + 1 < open.size(); ++i)
+                    if (open[i].object) path += open[i].key + ".";
+                throw ConfigError(*name + ": duplicate JSON key \"" + path + key + "\" (JSON objects keep only one value per key; remove one)");
+            }
+            f.key = key;
+        }
+        return true;
+    }
+};
+
+}  // namespace
+
+std::string json_value_kind(const std::string& text) {
+    nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+    return j.is_discarded() ? std::string() : std::string(j.type_name());
+}
+
 toml::table config_from_json(const std::string& text, const std::string& name) {
     nlohmann::json j;
     try {
-        j = nlohmann::json::parse(text);
+        DuplicateKeyCheck check{&name, {}};
+        j = nlohmann::json::parse(text, std::ref(check));
     } catch (const nlohmann::json::exception& e) {   // syntax errors, and numbers out of range (found by fuzzing)
         throw ConfigError(name + ": JSON syntax error: " + e.what());
     }

@@ -31,5 +31,7 @@ toml::table parse_toml_checked(const std::string& text, const std::string& name)
 // exponent are floats. Throws ConfigError naming `name`.
 bool looks_like_json(const std::string& text);
 toml::table config_from_json(const std::string& text, const std::string& name);
+// "array", "number", ... when `text` is valid JSON, else "" (to explain a JSON config that is no object).
+std::string json_value_kind(const std::string& text);
 
 }  // namespace vpm

@@ -182,7 +182,18 @@ std::shared_ptr<ConfigDocument> parse_config(const std::string& text, const std:
     doc->file = name;
     doc->base_dir = base_dir;
     // A run's JSON sidecar loads as the config it records; anything else is TOML.
-    doc->root = looks_like_json(text) ? config_from_json(text, name) : parse_toml_checked(text, name);
+    if (looks_like_json(text)) {
+        doc->root = config_from_json(text, name);
+    } else {
+        try {
+            doc->root = parse_toml_checked(text, name);
+        } catch (const ConfigError&) {
+            // Valid JSON that is no object (an array, say) is no TOML either: say what it is.
+            const std::string kind = json_value_kind(text);
+            if (!kind.empty()) throw ConfigError(name + ": a JSON config must be an object { ... }, got a JSON " + kind);
+            throw;
+        }
+    }
     apply_base(*doc, 0);
     for (const auto& o : overrides) apply_override(*doc, o);
     return doc;

@@ -19,8 +19,10 @@
 // which sums to rho exactly: the k-1 correction stays exact where the kNN radius is used, and the
 // rest is path traced. (With classic or mse_optimal the first line is their own, biased, kNN
 // estimate; the split is the same.) The cost: where the map is too coarse for the medium the
-// camera path becomes a path-traced random walk (measured in docs/dense_media.md). When k exceeds the
-// stored count + 1 no ball can hold k - 1 photons: the integrator continues without a query.
+// camera path becomes a path-traced random walk (measured in docs/dense_media.md). When the map holds
+// fewer than k photons (empty, or starved by photons.store_probability or a tiny photons.count) no
+// ball holds k anywhere: the integrator continues the path without a query, bound or no bound, at
+// the collision and at march points alike (issue 24).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>

@@ -55,7 +55,8 @@
 //      the estimate is 0 (counted as `insufficient`). Only the farthest photon's place matters
 //      here (it sets r and is the one corrected drops), so the photon-map front end passes the
 //      whole map in one linear pass with the farthest last instead of sorting it
-//      (PhotonMap::gather_all).
+//      (PhotonMap::gather_all). The renderer does not use this rule: it never queries a map with
+//      fewer than k photons and continues the camera path instead (render/photon_map_integrator.h).
 //  (c) r_k = 0 (k or more photons coincide with the query), r_k <= coincident_radius (the
 //      photon map passes its position resolution: stored float positions cannot resolve smaller
 //      distances, so such photons coincide as far as the map knows), or V(r_k) not a positive

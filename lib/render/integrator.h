@@ -45,6 +45,9 @@ public:
     // Adds what the camera pass counted (estimator cases, ...) to `stats`.
     virtual void collect(RunStats& stats, std::ostream* log) const {}
     virtual std::string name() const = 0;
+    // True when prepare() does nothing per pass: the run may then render several passes in one
+    // sweep over the image (render_passes), which gives exactly the image of rendering them apart.
+    virtual bool stateless_passes() const { return false; }
 };
 
 // An integrator's typed settings, read from the config by its registry entry; builds the

@@ -23,6 +23,7 @@ public:
     explicit PathTracer(const Scene& scene, const WalkSettings& walk = {}) : scene_(scene), walk_(walk) {}
     Rgb radiance(const Ray& ray, Rng& rng) const override;
     std::string name() const override { return "path"; }
+    bool stateless_passes() const override { return true; }   // nothing to prepare per pass
 
 private:
     const Scene& scene_;

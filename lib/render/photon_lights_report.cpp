@@ -27,8 +27,8 @@ void report_photon_lights(const Scene& scene, const char* allocation_rule, const
             *log << "photons: light " << l << " (" << r.light << "): " << r.counts.emitted << " emitted, "
                  << r.counts.landed << " reached the scene, " << r.counts.stored << " stored\n";
             if (r.reaches_nothing)
-                *log << "warning: light " << l << " (" << r.light << "): none of its light can reach the scene's "
-                        "media or shapes; it emits no photons\n";
+                *log << "warning: light " << l << " (" << r.light << "): its power towards the scene's media and "
+                        "shapes is zero (it emits nothing, or none of its light can reach them); it emits no photons\n";
             if (r.wasted)
                 *log << "warning: light " << l << " (" << r.light << "): " << 100.0 * (1.0 - landed)
                      << "% of its photons reach nothing (no medium collision, no surface); they cost time and "

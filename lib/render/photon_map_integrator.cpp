@@ -62,6 +62,16 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
         owned_ = run_photon_pass(scene_, settings_, context, surface, stats, allocation_);
         surface_map_ = surface ? &owned_.surface : nullptr;
+        // k above the stored count: say so once per run (the maps are then not queried).
+        const bool volume_short = scene_.has_media() && volume_map_starved();
+        const bool surface_short = surface_map_ && surface_map_->size() < k_;
+        if ((volume_short || surface_short) && !warned_k_ && context.log) {
+            warned_k_ = true;
+            *context.log << "warning: photons.k = " << k_ << " exceeds the " << (volume_short ? map_->size() : surface_map_->size())
+                         << (volume_short ? " volume" : " surface") << " photons stored in pass " << context.pass
+                         << ": no estimate can use k photons, so camera paths are path traced past every "
+                         << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)\n";
+        }
     } else if (log) {
         *log << "photons: no media and no surface map, so no photon pass\n";
     }
@@ -75,14 +85,16 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     stats.continued_paths = continued_paths();
     if (log)
         *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
-             << "(fewer than k photons within photons.max_radius_mfp): " << *stats.continued_paths << "\n";
+             << "(fewer than k photons within photons.max_radius_mfp, or in the map): " << *stats.continued_paths << "\n";
     if (settings_.gather != GatherMode::collision) {
         uint64_t wide = 0;
         for (const auto& l : threads_->local) wide += l.march_wide;
         stats.march_wide_queries = wide;
         if (wide > 0 && log)
-            *log << "march: " << wide << " of " << stats.volume_estimates->queries << " queries had a kNN ball wider than "
-                 << "photons.max_radius_mfp = " << settings_.max_radius_mfp << " mean free paths and took NEE and a continued path instead\n";
+            *log << "march: " << wide << " march points took NEE and a continued path instead of an estimate (a kNN "
+                 << "ball wider than photons.max_radius_mfp = " << settings_.max_radius_mfp
+                 << " mean free paths, or fewer than k = " << k_ << " photons in the map); "
+                 << stats.volume_estimates->queries << " map queries in all\n";
     }
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
@@ -146,18 +158,17 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             if ((weight == 0.0).all()) break;
             if (settings_.direct == DirectLighting::nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
             const double sigma_t = total_sigma_t(scene_, x);
-            if (sigma_t > 0.0 && !map_->empty()) {
+            if (sigma_t > 0.0) {
                 auto& local = threads_->local.local();
                 const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
                 const bool bounded = radius < max_radius_;   // the mean-free-path bound (photon/bounded_radius.h)
-                // k above the stored count + 1: no ball can hold k - 1 photons, so no query is needed.
-                const bool too_few = bounded && k_ >= map_->size() + 2;
+                const bool starved = volume_map_starved();
                 Estimate<Rgb> s;
-                if (!too_few)
+                if (!starved)
                     s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius,
                                                local.buffers, &local.stats);
-                if (bounded) {
-                    const BoundedQuery q = too_few ? BoundedQuery::continue_path : bounded_query(s, k_);
+                if (bounded || starved) {
+                    const BoundedQuery q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
                     if (q == BoundedQuery::zero) break;
                     if (q == BoundedQuery::continue_path) {   // too few photons: scatter and go on
                         ++local.continued;
@@ -176,14 +187,14 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             break;
         }
         if ((hit.reflectance == 0.0).all()) break;
-        if (surface_map_) {   // the surface photon map gives the light the path would gather
+        // The surface photon map gives the light the path would gather. A map of fewer than k photons
+        // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
+        if (surface_map_ && surface_map_->size() >= k_) {
             if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
-            if (!surface_map_->empty()) {
-                auto& local = threads_->local.local();
-                const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
-                                                                    settings_.estimator, k_, max_radius_, local.buffers, &local.surface_stats);
-                radiance += throughput * hit.reflectance * (e.value / kPi);
-            }
+            auto& local = threads_->local.local();
+            const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
+                                                                settings_.estimator, k_, max_radius_, local.buffers, &local.surface_stats);
+            radiance += throughput * hit.reflectance * (e.value / kPi);
             break;
         }
         radiance += throughput * direct_light_on_surface(scene_, hit, rng, settings_.walk.mis);
@@ -226,6 +237,14 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     }
     const double ball = threads_->ball.mean(x, s.radius);
     return s.value / (ball > 0.0 ? ball : sigma_t);
+}
+
+bool PhotonMapIntegrator::volume_map_starved() const {
+    // A query needs k photons: a map of fewer than k (empty, thinned by store_probability, a tiny
+    // count, or k above the stored count) has no kNN ball anywhere, bound or no bound. Without the
+    // bound (max_radius_mfp = 0) estimator rule (b) would use the whole map instead, at the cost of
+    // a pass over the map per query (issue 24: k = 65536 over 55,265 photons ran for minutes).
+    return map_->size() < k_;
 }
 
 bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
@@ -311,14 +330,15 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
     if (nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
     auto& local = threads_->local.local();
+    const bool starved = volume_map_starved();
     Estimate<Rgb> s;
-    if (!map_->empty())
+    if (!starved)
         s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats);
     // The collision gather's bound (photon/bounded_radius.h) here: a ball spanning many mean free
     // paths averages the lit skin of a dense medium with its dark inside (biased low), so such a
     // point takes the light a path would find instead: NEE and one phase-sampled continuation,
     // both unbiased for the same incident radiance (the choice depends on x and the map only).
-    const bool wide = settings_.max_radius_mfp > 0.0 && (map_->empty() || s.radius * sigma_t > settings_.max_radius_mfp);
+    const bool wide = starved || (settings_.max_radius_mfp > 0.0 && s.radius * sigma_t > settings_.max_radius_mfp);
     if (wide) {
         ++local.march_wide;
         if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
@@ -330,7 +350,6 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         }
         return in;
     }
-    if (map_->empty()) return in;
     return in + normalised(s, x, -dir, g, max_radius_, sigma_t, local.buffers, local.linear_weights);
 }
 

@@ -15,7 +15,8 @@
 //   | passes   | 1                | independent passes (a fresh photon map each), the image  |
 //   |          |                  | is their mean; each renders spp / passes samples         |
 //   | time_limit | 0              | seconds; > 0: passes go on (beyond `passes`) while the   |
-//   |          |                  | next one is expected to end within it; 0: off            |
+//   |          |                  | next one is expected to end within it; 0: off (records   |
+//   |          |                  | stay bounded: render/run_stats.h PassSummary)            |
 //   | first_pass | 0              | index of this run's first pass: machines rendering       |
 //   |          |                  | passes 0..7 and 8..15 merge (vpm merge) into the 16-pass |
 //   |          |                  | image                                                    |

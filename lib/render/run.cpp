@@ -1,5 +1,7 @@
 #include "render/run.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -20,6 +22,11 @@ nlohmann::json toml_to_json(const toml::table& table) {
 // Streams of pass p of a run with stream offset r: pass 0 keeps r (a one-pass run is what it always
 // was); later passes sit 2^20 offsets apart so that repeats (consecutive r) never share a pass.
 constexpr uint64_t kPassStreamStride = uint64_t(1) << 20;
+// Pass indices stay ints (render.first_pass, vpm merge): a time limit stops before INT_MAX passes.
+constexpr int64_t kMaxPasses = 2147483647;
+// Camera samples below which a pass is cheaper rendered together with the next ones: one go over
+// the image costs a task launch, a progress bar and a pass over the pixel sums whatever it holds.
+constexpr int64_t kMinGroupSamples = int64_t(1) << 16;
 
 }  // namespace
 
@@ -28,19 +35,42 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     const RenderSettings& rs = config.render;
     std::unique_ptr<Integrator> integrator = config.create_integrator();
     RenderStats& render = result.stats.render;
-    std::vector<double> sum;   // pass images summed, for more than one pass
+    // Pass values summed per pixel (3 doubles per pixel: RenderSettings::read checks they fit).
+    std::vector<double> sum(size_t(rs.width) * size_t(rs.height) * 3, 0.0);
+    std::vector<double> means;
     result.stats.first_pass = rs.first_pass;
+    const int spp = rs.spp_per_pass();
+    // Passes of an integrator without per-pass state go in groups of at least kMinGroupSamples
+    // camera samples, rendered in one go over the image (render_passes: the same image as one by one).
+    const double pass_samples = double(rs.width) * double(rs.height) * double(spp);
+    const int64_t group = integrator->stateless_passes()
+                              ? int64_t(std::min(65536.0, std::ceil(double(kMinGroupSamples) / pass_samples)))
+                              : 1;
     const Timer run_timer;
-    for (int pass = 0;; ++pass) {
-        const Timer pass_timer;
-        const int index = rs.first_pass + pass;   // the pass's identity: its streams
+    int64_t done = 0;   // passes rendered
+    for (;;) {
+        // How many passes this group renders: the configured ones first, then, under a time limit,
+        // as many as the measured time per pass says still fit (at least one: the limit is checked
+        // before a group starts). The image depends on the total pass count only.
+        int64_t n = 1;
+        if (done < rs.passes) {
+            n = std::min<int64_t>(group, rs.passes - done);
+        } else {
+            const double per_pass = run_timer.seconds() / double(done);
+            const double fit = per_pass > 0.0 ? std::floor((rs.time_limit - run_timer.seconds()) / per_pass) : double(group);
+            n = std::max<int64_t>(1, std::min<int64_t>(group, int64_t(std::min(fit, double(group)))));
+            n = std::min<int64_t>(n, kMaxPasses - rs.first_pass - done);
+        }
+        const Timer group_timer;
+        const double started = run_timer.seconds();
+        const int index = int(rs.first_pass + done);   // the first pass's identity: its streams
         const uint64_t stream = options.stream_offset + uint64_t(index) * kPassStreamStride;
         PassContext context;
         context.seed = rs.seed;
         context.stream_offset = stream;
         context.run_stream_offset = options.stream_offset;
         context.pass = index;
-        context.first_of_run = pass == 0;
+        context.first_of_run = done == 0;
         context.progress = options.progress;
         context.log = options.log;
         integrator->prepare(context, result.stats);
@@ -48,47 +78,48 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         RenderOptions ro;
         ro.width = rs.width;
         ro.height = rs.height;
-        ro.spp = rs.spp_per_pass();
+        ro.spp = spp;
         ro.seed = rs.seed;
         ro.progress = options.progress;
         ro.stream_offset = stream;
-        RenderStats pass_render;
-        Image image = render_image(config.scene->camera, *integrator, ro, pass_render);
-        result.stats.phase("render", pass_render.seconds);
-        render.samples += pass_render.samples;
-        render.nonfinite_samples += pass_render.nonfinite_samples;
-        render.seconds += pass_render.seconds;
-        result.stats.passes.push_back({pass_timer.seconds(), run_timer.seconds(), ro.spp, image.mean()});
+        RenderStats group_render;
+        render_passes(config.scene->camera, *integrator, ro, int(n), kPassStreamStride, sum, means, group_render);
+        result.stats.phase("render", group_render.seconds);
+        render.samples += group_render.samples;
+        render.nonfinite_samples += group_render.nonfinite_samples;
+        render.seconds += group_render.seconds;
+        const double seconds = group_timer.seconds(), each = seconds / double(n);
+        double mean_of_means = 0.0;
+        for (int64_t g = 0; g < n; ++g) {
+            result.stats.add_pass({each, started + each * double(g + 1), spp, means[size_t(g)]});
+            mean_of_means += means[size_t(g)] / double(n);
+        }
+        const int64_t before = done;
+        done += n;
+        const PassGroupStats this_group{done, n, spp, seconds, run_timer.seconds(), mean_of_means};
+        if (options.on_pass_group) options.on_pass_group(this_group);
 
-        const int done = pass + 1;
-        const double mean_pass = run_timer.seconds() / done;
-        const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit)) &&
+        const double mean_pass = run_timer.seconds() / double(done);
+        const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
+                                                done < kMaxPasses - rs.first_pass)) &&
                           !(options.cancelled && options.cancelled());
-        if (done == 1 && !more) {
-            result.image = std::move(image);   // one pass: the image as rendered
-            if (options.on_pass) options.on_pass(result.image, result.stats.passes.back());
-            break;
-        }
-        if (sum.empty()) sum.assign(image.rgb.size(), 0.0);
-        for (size_t i = 0; i < sum.size(); ++i) sum[i] += double(image.rgb[i]);
-        if (options.on_pass) {
+        if (options.on_pass || !more) {
             Image mean(rs.width, rs.height);
-            for (size_t i = 0; i < sum.size(); ++i) mean.rgb[i] = float(sum[i] / double(done));
-            options.on_pass(mean, result.stats.passes.back());
+            for (size_t i = 0; i < sum.size(); ++i) mean.rgb[i] = float(sum[i] / double(done));   // exact for one pass
+            if (options.on_pass) options.on_pass(mean, this_group);
+            if (!more) result.image = std::move(mean);
         }
-        if (options.log)
+        // A line when the count passes 1, 2, 4, 8, ...: a time-limited run may make millions.
+        auto bits = [](int64_t v) { return v > 0 ? 64 - __builtin_clzll(uint64_t(v)) : 0; };   // floor(log2 v) + 1
+        if (options.log && (done > 1 || more) && bits(done) > bits(before))
             *options.log << "pass " << done << (rs.time_limit > 0 ? "" : "/" + std::to_string(rs.passes)) << ": "
-                         << pass_timer.seconds() << " s, " << run_timer.seconds() << " s elapsed\n";
-        if (!more) {
-            result.image = Image(rs.width, rs.height);
-            for (size_t i = 0; i < sum.size(); ++i) result.image.rgb[i] = float(sum[i] / double(done));
-            break;
-        }
+                         << each << " s each, " << run_timer.seconds() << " s elapsed\n";
+        if (!more) break;
     }
     if (options.log) {
-        *options.log << "render: " << rs.width << "x" << rs.height << " at " << rs.spp_per_pass() * result.stats.passes.size()
-                     << " spp";
-        if (result.stats.passes.size() > 1) *options.log << " in " << result.stats.passes.size() << " passes";
+        const uint64_t passes = result.stats.pass_count();
+        *options.log << "render: " << rs.width << "x" << rs.height << " at " << uint64_t(rs.spp_per_pass()) * passes << " spp";
+        if (passes > 1) *options.log << " in " << passes << " passes";
         *options.log << " in " << render.seconds << " s (" << render.samples_per_second() / 1e6 << " M samples/s)";
         if (render.nonfinite_samples) *options.log << ", " << render.nonfinite_samples << " non-finite samples left out";
         *options.log << "\n";

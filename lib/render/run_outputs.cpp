@@ -50,9 +50,10 @@ size_t count_nonfinite_pixels(const Image& image) {
 }
 
 void write_run_outputs(const fs::path& output, RunResult& result, double exposure,
-                       const std::vector<std::pair<fs::path, std::string>>& extra_text) {
+                       const std::vector<std::pair<fs::path, std::string>>& extra_text, std::vector<StagedFile> staged) {
     std::vector<fs::path> extra;
     for (const auto& [path, text] : extra_text) extra.push_back(path);
+    for (const StagedFile& f : staged) extra.push_back(f.path());
     check_run_outputs(output, extra);
     const Timer timer;
     // The final image, not the samples: finite samples can still sum to an Inf pixel.
@@ -66,6 +67,7 @@ void write_run_outputs(const fs::path& output, RunResult& result, double exposur
     result.record.set("peak_rss_bytes", peak_rss_bytes());
     files.push_back(stage_text(sidecar_path_for(output), result.record.dump(2) + "\n"));
     for (const auto& [path, text] : extra_text) files.push_back(stage_text(path, text));
+    for (StagedFile& f : staged) files.push_back(std::move(f));
     commit_together(files);
 }
 

@@ -12,6 +12,7 @@
 
 #include "render/image.h"
 #include "render/run.h"
+#include "render/staged_file.h"
 
 namespace vpm {
 
@@ -26,7 +27,10 @@ size_t count_nonfinite_pixels(const Image& image);
 // Records render.nonfinite_pixels and the write phase, then writes OUT, its PNG preview, its
 // JSON sidecar and the `extra_text` files (path, contents) as one set (see above). Creates OUT's
 // folder. Throws FileError.
+// `staged` are further files already written to their temporaries (e.g. a table streamed during
+// the run); they are committed with the others.
 void write_run_outputs(const std::filesystem::path& output, RunResult& result, double exposure,
-                       const std::vector<std::pair<std::filesystem::path, std::string>>& extra_text = {});
+                       const std::vector<std::pair<std::filesystem::path, std::string>>& extra_text = {},
+                       std::vector<StagedFile> staged = {});
 
 }  // namespace vpm

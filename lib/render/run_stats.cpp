@@ -1,6 +1,7 @@
 #include "render/run_stats.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <nlohmann/json.hpp>
 
@@ -50,6 +51,28 @@ void PhotonPassStats::merge(const PhotonPassStats& o) {
     }
 }
 
+void PassSummary::add(const PassStats& p) {
+    ++count;
+    if (count == 1) {
+        spp = p.spp;
+        seconds_min = seconds_max = p.seconds;
+    }
+    seconds_total += p.seconds;
+    seconds_min = std::min(seconds_min, p.seconds);
+    seconds_max = std::max(seconds_max, p.seconds);
+    elapsed = p.elapsed;
+    const double d = p.image_mean - image_mean_mean;
+    image_mean_mean += d / double(count);
+    image_mean_m2 += d * (p.image_mean - image_mean_mean);
+}
+
+double PassSummary::image_mean_std() const { return count > 1 ? std::sqrt(image_mean_m2 / double(count - 1)) : 0.0; }
+
+void RunStats::add_pass(const PassStats& p) {
+    pass_summary.add(p);
+    if (passes.size() < kPassRecords) passes.push_back(p);
+}
+
 void RunStats::phase(const std::string& name, double seconds) {
     for (PhaseStats& p : phases)
         if (p.name == name) {
@@ -85,7 +108,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("phases." + p.name + ".seconds", p.seconds);
         record.set("phases." + p.name + ".peak_rss_bytes", p.peak_rss_bytes);
     }
-    if (!stats.passes.empty()) {
+    if (const PassSummary& s = stats.pass_summary; s.count > 0) {
         nlohmann::json seconds = nlohmann::json::array(), elapsed = nlohmann::json::array(),
                        means = nlohmann::json::array();
         for (const PassStats& p : stats.passes) {
@@ -93,12 +116,19 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             elapsed.push_back(p.elapsed);
             means.push_back(p.image_mean);
         }
-        record.set("passes.count", uint64_t(stats.passes.size()));
+        record.set("passes.count", s.count);
         record.set("passes.first", stats.first_pass);
-        record.set("passes.spp_per_pass", stats.passes.front().spp);
+        record.set("passes.spp_per_pass", s.spp);
+        // Per pass for the first `recorded` passes only: the sidecar stays small however many passes.
+        record.set("passes.recorded", uint64_t(stats.passes.size()));
         record.set("passes.seconds", seconds);
         record.set("passes.elapsed", elapsed);
         record.set("passes.image_mean", means);
+        record.set("passes.seconds_total", s.seconds_total);
+        record.set("passes.seconds_min", s.seconds_min);
+        record.set("passes.seconds_max", s.seconds_max);
+        record.set("passes.image_mean_mean", s.image_mean_mean);
+        record.set("passes.image_mean_std", s.image_mean_std());
     }
     record.set("render.samples", stats.render.samples);
     record.set("render.samples_per_second", stats.render.samples_per_second());

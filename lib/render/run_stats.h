@@ -67,10 +67,26 @@ struct PassStats {
     double image_mean = 0.0;   // mean over pixels and channels of this pass's image alone
 };
 
+// Every pass of a run, summarised in constant memory (a time-limited run may make millions).
+struct PassSummary {
+    uint64_t count = 0;
+    int spp = 0;                      // samples per pixel of each pass
+    double seconds_total = 0.0, seconds_min = 0.0, seconds_max = 0.0;
+    double elapsed = 0.0;             // at the end of the last pass
+    double image_mean_mean = 0.0;     // mean over passes of PassStats::image_mean
+    double image_mean_m2 = 0.0;       // Welford's sum of squared deviations of it
+    void add(const PassStats& p);
+    double image_mean_std() const;    // sample standard deviation over passes (0 for one)
+};
+
 struct RunStats {
+    // Passes are bounded in memory and in the sidecar: `passes` holds the first kPassRecords of
+    // them, `pass_summary` all of them (vpm render streams every pass to OUT.passes.csv).
+    static constexpr size_t kPassRecords = 256;
     std::vector<PhaseStats> phases;
-    std::vector<PassStats> passes;
-    int first_pass = 0;   // render.first_pass: passes are first_pass .. first_pass + passes.size() - 1
+    std::vector<PassStats> passes;    // the first kPassRecords passes
+    PassSummary pass_summary;         // every pass
+    int first_pass = 0;   // render.first_pass: passes are first_pass .. first_pass + pass_summary.count - 1
     RenderStats render;
     std::optional<PhotonPassStats> photons;            // integrators with a photon pass
     std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
@@ -78,6 +94,9 @@ struct RunStats {
     std::optional<uint64_t> continued_paths;           // photon map: camera paths continued (bounded radius)
     std::optional<uint64_t> march_wide_queries;        // gather = "march": queries beyond max_radius_mfp
 
+    // Counts a pass in the summary and keeps its record while fewer than kPassRecords are kept.
+    void add_pass(const PassStats& p);
+    uint64_t pass_count() const { return pass_summary.count; }
     // Adds `seconds` to a phase (phases repeat once per pass), with the peak resident memory now.
     void phase(const std::string& name, double seconds);
     // Counts and energy of a photon pass, summed over passes.

@@ -13,6 +13,7 @@
 #include "core/sampling.h"
 #include "photon/photon_radii.h"
 #include "photon/sample_point_estimate.h"
+#include "../support/sample_statistics.h"
 
 using namespace vpm;
 
@@ -27,13 +28,7 @@ std::vector<PhotonInput> uniform_ball(size_t n, Rng& rng) {
     return photons;
 }
 
-struct Accumulator {
-    double s = 0, s2 = 0;
-    int n = 0;
-    void add(double v) { s += v, s2 += v * v, ++n; }
-    double mean() const { return s / n; }
-    double se() const { return std::sqrt(std::max(0.0, s2 / n - mean() * mean()) / n); }
-};
+using Accumulator = test::Sample;
 
 }  // namespace
 

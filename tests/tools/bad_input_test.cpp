@@ -133,6 +133,23 @@ TEST(BadInput, JsonNumberOutOfRange) {
     expect_clean_failure(dir, "overflow.json", "{\"render\": {\"width\": 1e99999}}\n", {"overflow.json", "JSON"});
 }
 
+// Issue 24: a JSON config that is an array was reported as a TOML syntax error, and a duplicate
+// JSON key silently kept the last value.
+TEST(BadInput, JsonArrayAndDuplicateKeys) {
+    TempDir dir;
+    expect_clean_failure(dir, "array.json", "[1, 2]\n", {"array.json", "must be an object", "got a JSON array"});
+    expect_clean_failure(dir, "empty_array.json", "[]\n", {"empty_array.json", "got a JSON array"});
+    expect_clean_failure(dir, "dup.json", "{\"render\": {\"width\": 4, \"height\": 4, \"width\": 8}}\n",
+                         {"dup.json", "duplicate JSON key \"render.width\""});
+    expect_clean_failure(dir, "dup_top.json", "{\"render\": {}, \"render\": {}}\n", {"duplicate JSON key \"render\""});
+    // Equal keys in different objects are no duplicates.
+    write(dir.path / "ok.json", "{\"render\": {\"width\": 4, \"height\": 4, \"spp\": 1}, \"camera\": {\"fov\": 40},"
+                                " \"lights\": [{\"type\": \"point\", \"position\": [0, 3, 0], \"intensity\": 1},"
+                                " {\"type\": \"point\", \"position\": [0, 2, 0], \"intensity\": 1}]}\n");
+    const Outcome o = run_vpm("render -q '" + (dir.path / "ok.json").string() + "' -o '" + (dir.path / "ok.exr").string() + "'", dir.path);
+    EXPECT_EQ(o.code, 0) << o.err;
+}
+
 TEST(BadInput, UnknownKey) {
     TempDir dir;
     expect_clean_failure(dir, "unknown.toml", scene_text("widht = 3"), {"unknown.toml:", "render.widht"});

@@ -23,6 +23,9 @@ TEST(CliErrors, BadCommandLinesGiveOneLineAndExitCode2) {
         {"sweep merge", "vpm sweep: error: "},
         {"compare only_one.exr", "vpm compare: error: "},
         {"stress --bogus", "vpm stress: error: "},
+        {"stress --quick --only zzz --out " + quote(dir.path / "st"), "vpm stress: error: "},   // issue 24: ran 0 cells, "all ok"
+        {"study --k 1", "vpm study: error: "},                                               // issue 24: exit 1 before
+        {"study --k 3,,5", "vpm study: error: "},                                            // issue 24: accepted before
         {"bench", "vpm bench: error: "},
         {"bench nope", "vpm bench: error: "},
         {"bench equal-time --size 12", "vpm bench: error: "},

@@ -49,3 +49,41 @@ TEST(MakeSkyCli, WritesTheSunWhereTheOptionsPutIt) {
     for (int i = 0; i < 2000; ++i) in_disc += light->sample_incident(Vec3::Zero(), rng, s) && s.wi.dot(sun) > std::cos(0.15);
     EXPECT_GT(in_disc, 1000);
 }
+
+// Issue 24: NaN, Inf and radiances whose texels a float EXR cannot hold are refused before any
+// work (exit 2, one short line naming the option, no file), and NaN angles no longer drop the sun.
+TEST(MakeSkyCli, RefusesNonFiniteAndUnrepresentableValues) {
+    ScratchDir dir;
+    const fs::path out = dir.path / "sky.exr";
+    for (const std::string bad : {"--sun-radiance nan", "--sun-radiance inf", "--sun-radiance 1e300",
+                                  "--sun-radiance 1e999", "--sun-radiance -1", "--sky-radiance nan",
+                                  "--sky-radiance 1e31", "--sun-elevation nan", "--sun-azimuth nan",
+                                  "--sun-azimuth -inf", "--sun-radius nan", "--sun-elevation 91"}) {
+        const Outcome o = run_vpm("make-sky --width 8 --height 4 --out " + quote(out) + " " + bad, dir.path);
+        EXPECT_EQ(o.code, 2) << bad << ": " << o.err;
+        EXPECT_TRUE(o.one_line()) << o.err;
+        EXPECT_NE(o.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << o.err;
+        EXPECT_LT(o.err.size(), 200u) << o.err;   // no 309-digit DBL_MAX
+        EXPECT_FALSE(fs::exists(out)) << bad;
+    }
+    // The largest allowed radiance still gives finite texels.
+    const Outcome o = run_vpm("make-sky -q --width 8 --height 4 --sun-radius 30 --sun-radiance 1e30 --sky-radiance 1e30 --out " + quote(out), dir.path);
+    ASSERT_EQ(o.code, 0) << o.err;
+    for (float v : read_exr(out).rgb) ASSERT_TRUE(std::isfinite(v));
+}
+
+// Issue 24: a large map reports its progress (one line per interval when stderr is a file), and
+// two runs give the same map (rows in parallel, power sums in row order).
+TEST(MakeSkyCli, ReportsProgressAndIsDeterministic) {
+    ScratchDir dir;
+    const Outcome o = run_vpm("make-sky --width 64 --height 32 --out " + quote(dir.path / "a.exr"), dir.path,
+                              "VPM_PROGRESS_SECONDS=0 ");
+    ASSERT_EQ(o.code, 0) << o.err;
+    EXPECT_NE(o.err.find("make-sky: 100%"), std::string::npos) << o.err;
+    const Outcome q = run_vpm("make-sky -q --width 64 --height 32 --out " + quote(dir.path / "b.exr"), dir.path,
+                              "VPM_PROGRESS_SECONDS=0 ");
+    ASSERT_EQ(q.code, 0) << q.err;
+    EXPECT_EQ(q.err, "");
+    EXPECT_EQ(q.out.substr(q.out.find(':')), o.out.substr(o.out.find(':')));   // same size, mean and sun share
+    EXPECT_EQ(read_exr(dir.path / "a.exr").rgb, read_exr(dir.path / "b.exr").rgb);
+}

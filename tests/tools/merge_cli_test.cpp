@@ -10,6 +10,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "render/image_io.h"
 
 namespace fs = std::filesystem;
@@ -83,4 +85,73 @@ TEST_F(MergeCli, RefusesOverlapOtherSettingsAndMissingSidecars) {
     EXPECT_EQ(run_vpm("merge " + a + " " + c + " -o " + (dir / "x.exr").string(), dir, &err), 1);
     EXPECT_NE(err.find("c.json"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(dir / "x.exr"));
+}
+
+// Issue 24: a corrupt sidecar is one error naming the file and the key (exit 1), never an uncaught
+// JSON exception (exit 3), an overflowed pass count or a negative image.
+TEST_F(MergeCli, CorruptSidecarsAreOneErrorNamingTheKey) {
+    const std::string a = render("a.exr", "--set render.spp=2 --set render.passes=2");
+    const std::string b = render("b.exr", "--set render.spp=2 --set render.passes=2 --set render.first_pass=2");
+    const fs::path json = dir / "b.json";
+    std::ifstream in(json);
+    const nlohmann::json good = nlohmann::json::parse(in);
+    struct Case {
+        const char* pointer;
+        nlohmann::json value;
+        const char* key;   // expected in the message
+    };
+    const std::vector<Case> cases = {
+        {"/passes", 5, "passes"},
+        {"/passes/count", "two", "passes.count"},
+        {"/passes/count", 2147483648LL + 5, "passes.count"},
+        {"/passes/count", 2.5, "passes.count"},
+        {"/passes/count", 0, "passes.count"},
+        {"/passes/first", nullptr, "passes.first"},
+        {"/passes/first", -100, "passes.first"},
+        {"/passes/first", 2147483647LL, "passes.first + passes.count"},
+        {"/passes/first", 1e300, "passes.first"},
+        {"/passes/spp_per_pass", "1", "passes.spp_per_pass"},
+        {"/config", "x", "config"},
+        {"/config/render", 3, "config.render"},
+        {"/config/render/exposure", "bright", "config.render.exposure"},
+        {"/config/render/exposure", 1e300, "config.render.exposure"},
+    };
+    for (const Case& c : cases) {
+        nlohmann::json bad = good;
+        bad[nlohmann::json::json_pointer(c.pointer)] = c.value;
+        std::ofstream(json) << bad.dump();
+        std::string err;
+        EXPECT_EQ(run_vpm("merge " + a + " " + b + " -o " + (dir / "x.exr").string(), dir, &err), 1)
+            << c.pointer << " = " << c.value.dump() << ": " << err;
+        EXPECT_NE(err.find("b.json: " + std::string(c.key)), std::string::npos) << err;
+        EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+        EXPECT_FALSE(fs::exists(dir / "x.exr"));
+    }
+    // A missing count (the key named) and an input that is no JSON object at all.
+    nlohmann::json bad = good;
+    bad["passes"].erase("count");
+    std::ofstream(json) << bad.dump();
+    std::string err;
+    EXPECT_EQ(run_vpm("merge " + a + " " + b + " -o " + (dir / "x.exr").string(), dir, &err), 1);
+    EXPECT_NE(err.find("passes.count is missing"), std::string::npos) << err;
+    std::ofstream(json) << "[1, 2]";
+    EXPECT_EQ(run_vpm("merge " + a + " " + b + " -o " + (dir / "x.exr").string(), dir, &err), 1);
+    EXPECT_NE(err.find("not a vpm render sidecar"), std::string::npos) << err;
+    // The repaired sidecar merges again: 4 passes.
+    std::ofstream(json) << good.dump();
+    ASSERT_EQ(run_vpm("merge " + a + " " + b + " -o " + (dir / "x.exr").string(), dir, &err), 0) << err;
+    std::ifstream merged(dir / "x.json");
+    EXPECT_EQ(nlohmann::json::parse(merged)["passes"]["count"].get<int>(), 4);
+}
+
+// Issue 24: NaN in an input survives the mean; merge warns about it as render does.
+TEST_F(MergeCli, NonFiniteInputPixelsAreReported) {
+    const std::string a = render("a.exr", "--set render.spp=2 --set render.passes=2");
+    const std::string b = render("b.exr", "--set render.spp=2 --set render.passes=2 --set render.first_pass=2");
+    vpm::Image image = vpm::read_exr(b);
+    image.rgb[4] = std::nanf("");
+    vpm::write_exr(b, image);
+    std::string err;
+    ASSERT_EQ(run_vpm("merge " + a + " " + b + " -o " + (dir / "x.exr").string(), dir, &err), 0) << err;
+    EXPECT_NE(err.find("warning: 1 of 120 pixels are NaN or Inf"), std::string::npos) << err;
 }

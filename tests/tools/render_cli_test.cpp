@@ -164,3 +164,42 @@ v = [0, 0, -2]
     EXPECT_NE(err.find("no media and no surface map, so no photon pass"), std::string::npos) << err;
     EXPECT_FALSE(read_json(t.path / "g.json")["phases"].contains("trace"));
 }
+
+// Issue 24: photons.k above the stored count on the homogeneous sphere ran for minutes (each march
+// point gathered the whole map). Now a warning names k and the stored count, the map is never
+// queried and camera paths continue instead: a run of well under a second.
+TEST(RenderCli, KAboveTheStoredCountWarnsAndIsBounded) {
+    TempDir dir;
+    std::string err;
+    const int rc = run_vpm("render " + std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml --threads 1 "
+                           "--set render.width=16 --set render.height=16 --set render.spp=4 "
+                           "--set render.integrator=photon_map --set photons.count=20000 --set photons.k=65536 -o " +
+                               (dir.path / "k.exr").string(),
+                           dir.path, err);
+    ASSERT_EQ(rc, 0) << err;
+    EXPECT_NE(err.find("warning: photons.k = 65536 exceeds the "), std::string::npos) << err;
+    std::ifstream in(dir.path / "k.json");
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["photons"]["estimate_cases"]["queries"].get<uint64_t>(), 0u);
+    EXPECT_LT(j["photons"]["stored"].get<uint64_t>(), 65536u);
+    const uint64_t continued = j["photons"]["continued_paths"].get<uint64_t>() +
+                               j["photons"].value("march_wide_queries", uint64_t(0));
+    EXPECT_GT(continued, 0u);
+}
+
+// Issue 24: a light of zero power (here a black sky) was blamed on reachability ("none of its light
+// can reach the scene's media or shapes"); the warning now says its power is zero and why it can be.
+TEST(RenderCli, ZeroPowerLightIsNotBlamedOnReachability) {
+    TempDir dir;
+    std::ofstream(dir.path / "dark.toml") << "[render]\nwidth = 4\nheight = 4\nspp = 1\nintegrator = \"photon_map\"\n"
+                                             "[photons]\ncount = 2000\n"
+                                             "[[lights]]\ntype = \"environment\"\nradiance = 0\n"
+                                             "[[lights]]\ntype = \"point\"\nposition = [0, 0, 0]\nintensity = 1\n"
+                                             "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 1\n";
+    std::string err;
+    ASSERT_EQ(run_vpm("render " + (dir.path / "dark.toml").string() + " -o " + (dir.path / "d.exr").string(), dir.path, err), 0)
+        << err;
+    EXPECT_NE(err.find("warning: light 0 (constant environment"), std::string::npos) << err;
+    EXPECT_NE(err.find("its power towards the scene's media and shapes is zero (it emits nothing, or"), std::string::npos) << err;
+    EXPECT_EQ(err.find("none of its light can reach the scene's media or shapes;"), std::string::npos) << err;
+}

@@ -78,6 +78,7 @@ TEST(SweepCli, SidecarsRecordTheThreadLimitAndOneRepeatPrintsNoNan) {
     EXPECT_EQ(references, 1);
     const std::string md = read_file(out / "summary.md");
     EXPECT_EQ(md.find(" nan"), std::string::npos) << md;   // (" ": "luminance" contains "nan")
+    EXPECT_EQ(md.find(".png"), std::string::npos) << md;   // issue 24: --no-plots made none, so none is listed
 }
 
 TEST(StudyCli, TrialsReachEveryScenarioAndThreadsAreRecorded) {
@@ -123,4 +124,35 @@ TEST(PlotSweep, EveryKIsLabelledAndTheSceneIsNamed) {
     const std::string cmd = "/usr/bin/python3 " + quote(dir.path / "check.py") + " " + quote(dir.path) + " 2> " +
                             quote(dir.path / "err.txt");
     EXPECT_EQ(std::system(cmd.c_str()), 0) << read_file(dir.path / "err.txt");
+}
+
+// Issue 24: study options are checked before any work, as a bad command line (exit 2, one line):
+// a run that cannot fit in memory (it ended in std::bad_alloc), k < 2 (exit 1 before), empty list
+// items (accepted before) and a scenario listed twice (a confusing CLI11 message before).
+TEST(StudyCli, BadOptionsAndRunsThatCannotFitAreOneUsageError) {
+    ScratchDir dir;
+    const fs::path out = dir.path / "study";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"--scenarios kernels --k 3 --n 4000000000000 --trials 2", "--n <= "},
+        {"--scenarios kernels --k 3 --n 1000 --trials 4000000000000", "--trials <= "},
+        {"--scenarios photon_map --k 3 --photon-map-size 4000000000000", "--photon-map-size"},
+        {"--k 1", "--k values must be >= 2"},
+        {"--k -3", "--k"},
+        {"--k 3,,5", "empty item"},
+        {"--dims 3,3", "listed twice"},
+        {"--scenarios kernels,kernels", "'kernels' is listed twice"},
+        {"--scenarios uniform,nope", "--scenarios"},
+        {"--trials 1", "--trials must be >= 2"},
+        {"--trials -5", "--trials"},          // wrapped to 2^64 - 5 before
+        {"--seed -1", "--seed"},              // ran the whole default study with seed 2^64 - 1
+        {"--threads -1", "--threads"},
+        {"--scenarios photon_map --k 3 --photon-map-size 3", "--photon-map-size (3) must exceed"},   // exit 1 after the output folder
+    };
+    for (const auto& [args, needle] : cases) {
+        const Outcome o = run_vpm("study --quiet --no-plots --threads 1 " + args + " --out " + quote(out), dir.path);
+        EXPECT_EQ(o.code, 2) << args << ": " << o.err;
+        EXPECT_TRUE(o.one_line()) << args << ": " << o.err;
+        EXPECT_NE(o.err.find(needle), std::string::npos) << args << ": " << o.err;
+        EXPECT_FALSE(fs::exists(out)) << args;
+    }
 }

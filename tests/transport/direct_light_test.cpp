@@ -13,6 +13,7 @@
 #include "transport/direct_light.h"
 #include "transport/mis.h"
 #include "transport/walk_steps.h"
+#include "../support/sample_statistics.h"
 
 using namespace vpm;
 
@@ -37,14 +38,9 @@ struct MeanAndError {
 
 template <class F>
 MeanAndError monte_carlo(int n, F sample) {
-    double s = 0.0, s2 = 0.0;
-    for (int i = 0; i < n; ++i) {
-        const double v = sample(i);
-        s += v;
-        s2 += v * v;
-    }
-    const double mean = s / n;
-    return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean) / n)};
+    test::Sample s;
+    for (int i = 0; i < n; ++i) s.add(sample(i));
+    return {s.mean(), s.se()};
 }
 
 }  // namespace

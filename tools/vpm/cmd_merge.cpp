@@ -32,6 +32,10 @@ int run_merge(int argc, char** argv) {
     result.record = std::move(merged.record);
     vpm::write_run_outputs(output, result, merged.exposure);
     if (!quiet) std::cerr << "merge: " << inputs.size() << " images, " << merged.passes << " passes -> " << output << "\n";
+    // As vpm render does: NaN or Inf in an input survives the weighted mean, so say so.
+    if (const size_t bad = vpm::count_nonfinite_pixels(result.image))
+        std::cerr << "vpm merge: warning: " << bad << " of " << size_t(result.image.width) * size_t(result.image.height)
+                  << " pixels are NaN or Inf (render.nonfinite_pixels in " << vpm::sidecar_path_for(output).string() << ")\n";
     return 0;
 }
 

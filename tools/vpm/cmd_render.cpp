@@ -1,5 +1,7 @@
 // vpm render CONFIG [-o OUT.exr] [--set KEY=VALUE]... [--threads N] [--quiet]
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -19,6 +21,7 @@
 #include "render/integrator_registry.h"
 #include "render/run.h"
 #include "render/run_outputs.h"
+#include "render/staged_file.h"
 #include "scene/lights/light_registry.h"
 #include "scene/media/medium_registry.h"
 
@@ -80,7 +83,9 @@ int run_render(int argc, char** argv) {
     // Before the work: a run that cannot write its outputs fails now, not after the render.
     std::filesystem::path passes_path = render.output;
     passes_path.replace_extension(".passes.csv");
-    if (!reference.empty()) vpm::check_run_outputs(render.output, {passes_path});
+    // A run of more than one pass streams one row per pass to OUT.passes.csv (bounded memory).
+    const bool passes_table = !reference.empty() || render.passes > 1 || render.time_limit > 0;
+    if (passes_table) vpm::check_run_outputs(render.output, {passes_path});
     else vpm::check_run_outputs(render.output);
     const int n_threads = render.threads > 0 ? render.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
@@ -93,21 +98,43 @@ int run_render(int argc, char** argv) {
     vpm::RunOptions options;
     options.progress = !quiet;
     options.log = log;
-    std::ostringstream passes_csv;
+    // One row per group of passes rendered together (one pass for the photon map: run.h), written to the table's staged
+    // temporary as the run goes (a time-limited run may make millions of passes: nothing per pass
+    // stays in memory) and committed with the other files.
+    std::vector<vpm::StagedFile> staged;
+    std::ofstream passes_csv;
+    auto pass_row = [&](const vpm::PassGroupStats& p) {
+        passes_csv << p.passes_done << ',' << p.passes_done * p.spp << ',' << p.elapsed << ',' << p.seconds << ','
+                   << p.passes << ',' << p.image_mean;
+    };
+    if (passes_table) {
+        staged.emplace_back(passes_path);
+        passes_csv.open(staged.back().temp());
+        if (!passes_csv) staged.back().abort("cannot create the temporary " + staged.back().temp().string());
+        passes_csv.precision(9);
+        passes_csv << "pass,spp,elapsed_s,seconds,passes,image_mean" << (reference.empty() ? "" : ",rel_rmse,rel_mean_error") << '\n';
+    }
     vpm::RunError last_error;
     if (!reference.empty()) {
         const vpm::Image ref = vpm::read_exr(reference);
         if (ref.width != render.width || ref.height != render.height)
             throw vpm::Error(reference + ": reference is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
                              ", the render " + std::to_string(render.width) + "x" + std::to_string(render.height));
-        passes_csv.precision(9);
-        passes_csv << "pass,spp,elapsed_s,rel_rmse,rel_mean_error\n";
-        int pass = 0, spp = 0;
-        options.on_pass = [&passes_csv, &last_error, ref, pass, spp](const vpm::Image& mean, const vpm::PassStats& p) mutable {
+        // Before the work, naming the file: errors are relative to the reference's mean luminance.
+        try {
+            vpm::reference_scale(ref);
+        } catch (const vpm::Error& e) {
+            throw vpm::Error(reference + ": --reference: " + e.what());
+        }
+        options.on_pass = [&, ref](const vpm::Image& mean, const vpm::PassGroupStats& p) {
             last_error = vpm::run_error(mean, ref);
-            spp += p.spp;
-            passes_csv << ++pass << ',' << spp << ',' << p.elapsed << ',' << last_error.rel_rmse << ','
-                       << last_error.rel_mean_error << '\n';
+            pass_row(p);
+            passes_csv << ',' << last_error.rel_rmse << ',' << last_error.rel_mean_error << '\n';
+        };
+    } else if (passes_table) {
+        options.on_pass_group = [&](const vpm::PassGroupStats& p) {
+            pass_row(p);
+            passes_csv << '\n';
         };
     }
     vpm::RunResult result = vpm::run(run_config, options);
@@ -121,12 +148,15 @@ int run_render(int argc, char** argv) {
     std::vector<std::string> args(argv, argv + argc);
     result.record.set("command_line", args);
     // The passes table is one of the run's files: committed together with the image and sidecar.
-    std::vector<std::pair<std::filesystem::path, std::string>> extra;
-    if (!reference.empty()) extra.emplace_back(passes_path, passes_csv.str());
-    vpm::write_run_outputs(render.output, result, render.exposure, extra);
+    if (passes_table) {
+        passes_csv.close();
+        if (!passes_csv) staged.back().abort("writing the passes table failed (disk full?)");
+    }
+    vpm::write_run_outputs(render.output, result, render.exposure, {}, std::move(staged));
     if (!reference.empty() && log)
         *log << "error against " << reference << ": rel RMSE " << last_error.rel_rmse << " after "
-             << result.stats.passes.size() << " pass(es); per pass in " << passes_path.string() << "\n";
+             << result.stats.pass_count() << " pass(es)\n";
+    if (passes_table && log) *log << "per pass: " << passes_path.string() << "\n";
     if (log) *log << "wrote " << render.output << " (+ .png, .json)\n";
     if (const size_t bad = vpm::count_nonfinite_pixels(result.image))
         std::cerr << "vpm render: warning: " << bad << " of " << size_t(result.image.width) * size_t(result.image.height)

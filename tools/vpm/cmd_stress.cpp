@@ -1,4 +1,5 @@
 // vpm stress [--out DIR] [--quick] [--md FILE] [--only TEXT]: the stress matrix of issue 6.
+#include <algorithm>
 #include <fstream>
 #include <filesystem>
 #include <iostream>
@@ -34,6 +35,12 @@ int run_stress_command(int argc, char** argv) {
     app.add_option("--only", only, "Run only cells whose 'axis/value' contains TEXT");
     app.add_flag("--quick", quick, "CI-sized subset: 8x8 images, 2000 photons, no photon counts above 1e3, no path-traced references");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    if (!only.empty()) {   // a filter that picks nothing would run 0 cells and report "all ok"
+        const std::vector<std::string> keys = vpm::stress_cell_keys(quick);
+        if (std::none_of(keys.begin(), keys.end(), [&](const std::string& k) { return k.find(only) != std::string::npos; }))
+            throw vpm::cli::UsageError("--only '" + only + "' matches none of the " + std::to_string(keys.size()) +
+                                       (quick ? " --quick" : "") + " cells (names are 'axis/value', e.g. '" + keys.front() + "')");
+    }
     if (md.empty()) md = out + "/STRESS.md";
     // Before the work: the scratch folder and the table must be writable.
     vpm::prepare_output_folder(out);

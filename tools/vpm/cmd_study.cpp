@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -32,7 +33,7 @@ std::vector<T> parse_list(const std::string& text, const char* what) {
     std::stringstream ss(text);
     std::string item;
     while (std::getline(ss, item, ',')) {
-        if (item.empty()) continue;
+        if (item.empty()) throw cli::UsageError(std::string(what) + ": '" + text + "' has an empty item (a comma too many)");
         try {
             size_t pos = 0;
             const long long v = std::stoll(item, &pos);
@@ -68,16 +69,18 @@ int run_study(int argc, char** argv) {
     app.add_option("--dims", dims, "dimensions, comma-separated (2: disc / pi r^2, 3: ball / 4/3 pi r^3)")
         ->capture_default_str();
     app.add_option("--k", ks, "k values, comma-separated (default 2..256 log-spaced)");
-    app.add_option("--trials", opt.trials, "trials per scenario and dimension (photon_map: a quarter, photon_pass: a tenth of them, at least 2)")->capture_default_str();
-    app.add_option("--n", opt.n, "points per trial (must exceed the largest k)")->capture_default_str();
+    // Unsigned options refuse a sign: CLI11 would otherwise wrap "-5" to 2^64 - 5.
+    app.add_option("--trials", opt.trials, "trials per scenario and dimension (photon_map: a quarter, photon_pass: a tenth of them, at least 2)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    app.add_option("--n", opt.n, "points per trial (must exceed the largest k)")->check(CLI::NonNegativeNumber)->capture_default_str();
     app.add_option("--seed", opt.seed, "random seed (results are identical on any thread count)")
-        ->capture_default_str();
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
     app.add_option("--scenarios", scenarios,
                    "comma-separated: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, "
                    "kernels (default: all)");
     app.add_option("--photon-map-size", opt.photon_map_size, "photons per map (photon_map) / photons emitted per map (photon_pass)")
-        ->capture_default_str();
-    app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    app.add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_study.py");
     app.add_flag("-q,--quiet", quiet, "no progress lines");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
@@ -88,12 +91,34 @@ int run_study(int argc, char** argv) {
             opt.scenarios.clear();
             std::stringstream ss(scenarios);
             std::string item;
-            while (std::getline(ss, item, ','))
-                if (!item.empty()) opt.scenarios.push_back(parse_scenario(item));
+            while (std::getline(ss, item, ',')) {
+                if (item.empty()) throw cli::UsageError("--scenarios: '" + scenarios + "' has an empty item (a comma too many)");
+                StudyScenario sc;
+                try {
+                    sc = parse_scenario(item);
+                } catch (const Error& e) {
+                    throw cli::UsageError(std::string("--scenarios: ") + e.what());
+                }
+                if (std::find(opt.scenarios.begin(), opt.scenarios.end(), sc) != opt.scenarios.end())
+                    throw cli::UsageError("--scenarios: '" + item + "' is listed twice");
+                opt.scenarios.push_back(sc);
+            }
         }
+        for (size_t i = 0; i < opt.dims.size(); ++i)
+            for (size_t j = 0; j < i; ++j)
+                if (opt.dims[i] == opt.dims[j]) throw cli::UsageError("--dims: " + std::to_string(opt.dims[i]) + " is listed twice");
         std::unique_ptr<tbb::global_control> gc;
         if (threads > 0)
             gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+        // Every option is checked (memory included) before the output folder is touched; a bad value
+        // is a bad command line (exit 2), like one CLI11 refuses.
+        try {
+            validate_study_options(opt);
+        } catch (const cli::UsageError&) {
+            throw;
+        } catch (const Error& e) {
+            throw cli::UsageError(e.what());
+        }
         auto log = [quiet](const std::string& s) {
             if (!quiet) std::cerr << s << std::endl;
         };
