@@ -126,7 +126,29 @@ MergedRun merge_runs(const std::vector<std::filesystem::path>& paths) {
     out.image = Image(a.image.width, a.image.height);
     for (size_t i = 0; i < sum.size(); ++i) out.image.rgb[i] = float(sum[i] / double(out.passes));
     out.record = RunRecord::with_environment();
-    out.record.set("config", a.sidecar["config"]);
+    // The config `vpm render MERGED.json` renders (issue 24): when the pass ranges are contiguous,
+    // the one-machine run of all of them (first_pass, passes and spp of the union, no time limit),
+    // which gives the merged image up to float rounding; with gaps no single run renders those
+    // passes, and "reproduces" says what the config does render.
+    nlohmann::json config = a.sidecar["config"];
+    bool contiguous = true;
+    for (size_t i = 1; i < by_first.size(); ++i)
+        contiguous = contiguous && by_first[i]->first == by_first[i - 1]->first + by_first[i - 1]->count;
+    const Input& first = *by_first.front();
+    if (contiguous && config.contains("render") && config["render"].is_object()) {
+        config["render"]["first_pass"] = first.first;
+        config["render"]["passes"] = out.passes;
+        config["render"]["spp"] = int64_t(out.passes) * int64_t(a.spp_per_pass);
+        config["render"]["time_limit"] = 0.0;
+        out.record.set("reproduces", "config renders passes " + std::to_string(first.first) + ".." +
+                                         std::to_string(first.first + out.passes - 1) + ", the merged image (up to float rounding)");
+    } else {
+        config = first.sidecar["config"];
+        out.record.set("reproduces", "config is " + first.exr.string() + "'s alone (passes " + std::to_string(first.first) +
+                                         ".." + std::to_string(first.first + first.count - 1) +
+                                         "): the merged pass ranges have gaps, which no single run renders");
+    }
+    out.record.set("config", config);
     out.record.set("merged_from", from);
     out.record.set("passes.count", out.passes);
     out.record.set("passes.first", by_first.front()->first);

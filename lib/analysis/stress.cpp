@@ -115,19 +115,18 @@ std::vector<CellSpec> specs(bool quick) {
     for (double a : {0.0, 0.5, 0.99, 0.999, 1.0}) sphere("albedo", num(a), {"media.0.albedo=" + num(a)});
     // Henyey-Greenstein g: the furnace radiance does not depend on g.
     for (double g : {-0.999, -0.9, 0.0, 0.9, 0.999}) furnace("g", num(g), {"media.0.g=" + num(g)});
-    // k (classic for k = 1, corrected otherwise); the last cell asks for more than are stored.
-    furnace("k", "1", {"photons.k=1", "photons.estimator=\"classic\""}, "classic estimator (corrected needs k >= 2)");
+    // k from the smallest allowed (2: every estimator needs k >= 2); the last cell asks for more than are stored.
     for (int k : {2, 3, 8, 1024})
         furnace("k", std::to_string(k), {"photons.k=" + std::to_string(k)},
                 k == 2 ? "corrected k = 2: unbiased, infinite variance" : "");
-    furnace("k", "> stored", {"photons.count=50", "photons.k=100000"}, "50 photons emitted, k = 100000: all photons used (rule b)");
+    furnace("k", "> stored", {"photons.count=50", "photons.k=100000"}, "50 photons emitted, k = 100000: fewer than k stored, camera paths continue");
     // Photon counts (max_bounces 100, sigma 0.5 so the map stays ~1.5 photons per emitted one).
     for (int64_t n : {int64_t(1), int64_t(10), int64_t(1000), int64_t(100000), int64_t(1000000), int64_t(10000000)}) {
         CellSpec* s = furnace("photons", num(double(n)), {"photons.count=" + std::to_string(n), "media.0.sigma_t_scale=0.5"});
         s->full_only = n > 1000;
     }
     // All photons coincident (library level: PhotonMap + estimate_in_scattering).
-    for (size_t k : {size_t(1), size_t(8), size_t(1024)}) {
+    for (size_t k : {size_t(2), size_t(8), size_t(1024)}) {
         CellSpec s{"coincident", "k=" + std::to_string(k), "-", {}};
         s.custom = [k](StressCell& c) { coincident_cell(c, 5000, k, 1e-9); };
         v.push_back(s);

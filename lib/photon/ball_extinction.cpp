@@ -111,6 +111,20 @@ BallExtinction::BallExtinction(const std::vector<std::unique_ptr<Medium>>& media
             for (uint32_t i = 1; i <= kMassPoints; ++i)
                 sum += m->sigma_t(e.box.lo + halton3(i).cwiseProduct(extent));
             e.mass = sum * v / kMassPoints;
+            if (sum > 0.0) {   // centroid and second moment for BallExtinction::moments
+                Vec3 first = Vec3::Zero();
+                for (uint32_t i = 1; i <= kMassPoints; ++i) {
+                    const Vec3 p = e.box.lo + halton3(i).cwiseProduct(extent);
+                    first += m->sigma_t(p) * p;
+                }
+                e.centroid = first / sum;
+                Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+                for (uint32_t i = 1; i <= kMassPoints; ++i) {
+                    const Vec3 q = e.box.lo + halton3(i).cwiseProduct(extent) - e.centroid;
+                    second += m->sigma_t(q + e.centroid) * (q * q.transpose());
+                }
+                e.second = second * (v / kMassPoints);
+            }
         }
         entries_.push_back(e);
     }
@@ -159,6 +173,58 @@ double BallExtinction::integral(const Vec3& x, double r, uint64_t* lookups) cons
         if (lookups) *lookups += kClippedPoints;
     }
     return total;
+}
+
+BallMoments BallExtinction::moments(const Vec3& x, double r) const {
+    // Sums of sigma_t, sigma_t d and sigma_t d d^T (d = p - x) over all media, then centred.
+    const double volume = (4.0 / 3.0) * kPi * r * r * r;
+    const Vec3 half = Vec3::Constant(r);
+    Bounds3 cube;
+    cube.lo = x - half;
+    cube.hi = x + half;
+    double s0 = 0.0;
+    Vec3 s1 = Vec3::Zero();
+    Eigen::Matrix3d s2 = Eigen::Matrix3d::Zero();
+    auto add = [&](double w, const Vec3& d) {
+        s0 += w;
+        s1 += w * d;
+        s2 += w * (d * d.transpose());
+    };
+    for (const Entry& e : entries_) {
+        if (e.box.contains(cube.lo) && e.box.contains(cube.hi)) {
+            const double w = volume / (2 * kBallPoints);
+            for (const Vec3& p : unit_ball_points()) {
+                add(w * e.medium->sigma_t(x + r * p), r * p);
+                add(w * e.medium->sigma_t(x - r * p), -r * p);
+            }
+            continue;
+        }
+        const Vec3 far = (e.box.lo - x).cwiseAbs().cwiseMax((e.box.hi - x).cwiseAbs());
+        if (far.squaredNorm() <= r * r) {   // the whole box: its precomputed moments about x
+            const Vec3 c = e.centroid - x;
+            s0 += e.mass;
+            s1 += e.mass * c;
+            s2 += e.second + e.mass * (c * c.transpose());
+            continue;
+        }
+        Bounds3 c;
+        c.lo = e.box.lo.cwiseMax(cube.lo);
+        c.hi = e.box.hi.cwiseMin(cube.hi);
+        const double vc = box_volume(c);
+        if (!(vc > 0.0)) continue;
+        const Vec3 extent = c.hi - c.lo;
+        const double w = vc / kClippedPoints;
+        for (const Vec3& h : clipped_points()) {
+            const Vec3 p = c.lo + h.cwiseProduct(extent);
+            if ((p - x).squaredNorm() <= r * r) add(w * e.medium->sigma_t(p), p - x);
+        }
+    }
+    BallMoments m;
+    m.m0 = s0;
+    if (!(s0 > 0.0)) return m;
+    m.offset = s1 / s0;
+    m.cov = s2 / s0 - m.offset * m.offset.transpose();
+    return m;
 }
 
 double BallExtinction::mean(const Vec3& x, double r, uint64_t* lookups) const {

@@ -44,6 +44,14 @@ namespace vpm {
 enum class BallRule { halton32, degree5, degree3, centre };
 double ball_mean_by_rule(const Medium& m, const Vec3& x, double r, BallRule rule);
 
+// The sigma_t-weighted moments of B(x, r): mass m0 = integral of sigma_t, the offset of its
+// centroid from x and its covariance (photons.extinction = "linear", photon/linear_estimate.h).
+struct BallMoments {
+    double m0 = 0.0;
+    Vec3 offset = Vec3::Zero();   // centroid - x
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();   // covariance about the centroid (sigma_t-weighted, normalised by m0)
+};
+
 class BallExtinction {
 public:
     explicit BallExtinction(const std::vector<std::unique_ptr<Medium>>& media);
@@ -52,12 +60,17 @@ public:
     double mean(const Vec3& x, double r, uint64_t* lookups = nullptr) const;
     // The integral of sigma_t over B(x, r).
     double integral(const Vec3& x, double r, uint64_t* lookups = nullptr) const;
+    // The moments above by the same three quadratures, the ball's with its 32 points and their
+    // antipodes (64), so that a ball of constant sigma_t has offset exactly 0.
+    BallMoments moments(const Vec3& x, double r) const;
 
 private:
     struct Entry {
         const Medium* medium;
         Bounds3 box;
         double mass;   // integral of sigma_t over the box
+        Vec3 centroid = Vec3::Zero();   // of sigma_t over the box
+        Eigen::Matrix3d second = Eigen::Matrix3d::Zero();   // integral of sigma_t (p - centroid)(p - centroid)^T over the box
     };
     std::vector<Entry> entries_;
 };

@@ -70,7 +70,7 @@ EstimatorTheory mse_optimal_theory(size_t k, size_t n, double c_w, const KernelM
 
 // The registry: one line per estimator.
 const EstimatorEntry kEstimators[] = {
-    {"classic", "sum_{i=1..k} w_i / V(r_k), bias +1/(k-1)", 1, estimate_classic<double>, estimate_classic<Rgb>,
+    {"classic", "sum_{i=1..k} w_i / V(r_k), bias +1/(k-1)", 2, estimate_classic<double>, estimate_classic<Rgb>,
      classic_theory, [](size_t k) { return double(k); }},
     {"corrected", "sum_{i=1..k-1} w_i / V(r_k), unbiased", 2, estimate_corrected<double>, estimate_corrected<Rgb>,
      corrected_theory, [](size_t k) { return double(k) - 1.0; }},

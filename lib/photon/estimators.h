@@ -10,7 +10,9 @@
 // w_i = f(w_i, w_o) Phi_i (or unit weights in the study) and squared distances. r_k is the distance
 // of the k-th nearest, V(r) the ball volume: dim 2 -> pi r^2, dim 3 -> 4/3 pi r^3.
 //
-//   classic     S = sum_{i=1..k}   w_i / V(r_k)                 bias +1/(k-1), needs k >= 1
+//   classic     S = sum_{i=1..k}   w_i / V(r_k)                 bias +1/(k-1), needs k >= 2
+//               (at k = 1 its mean is infinite, E[1/V(r_1)] diverges, and with a kernel that
+//               vanishes at the rim it is identically 0: refused like the corrected k = 1)
 //   corrected   S = sum_{i=1..k-1} w_i / V(r_k)                 unbiased,      needs k >= 2
 //               (drops the k-th, farthest photon; infinite variance at k = 2)
 //   mse_optimal S = (k-2)/(k-1) * sum_{i=1..k-1} w_i / V(r_k)   bias -1/(k-1), needs k >= 3
@@ -51,7 +53,7 @@
 //  (b) no max_radius (infinite) and fewer than k photons exist in total: use them all, with the
 //      radius at the farthest one, i.e. apply the estimator with k' = count (the kNN estimator
 //      of the whole sample: V(r_n)/|R| ~ Beta(n, 1), corrected stays unbiased for a uniform
-//      density). If k' is below the estimator's minimum (classic 1, corrected 2, mse_optimal 3)
+//      density). If k' is below the estimator's minimum (classic 2, corrected 2, mse_optimal 3)
 //      the estimate is 0 (counted as `insufficient`). Only the farthest photon's place matters
 //      here (it sets r and is the one corrected drops), so the photon-map front end passes the
 //      whole map in one linear pass with the farthest last instead of sorting it

@@ -8,7 +8,8 @@
 //   float    p[3]      position relative to the photon map's bounds centre (12 bytes)
 //   uint16_t dir[2]    octahedral direction, 2 x 16 bit                      ( 4 bytes)
 //   uint16_t power[3]  IEEE binary16 per channel of power / 2^e               ( 6 bytes)
-//   uint16_t reserved  the exponent e (int16) of the photon's largest channel ( 2 bytes)
+//   uint16_t reserved  low 12 bits: the exponent e (signed) of the photon's     ( 2 bytes)
+//                      largest channel; high 4 bits: its walk group (below)
 // plus 4 bytes per photon in the kd-tree's permutation array (uint32 index) = 28 bytes per photon,
 // see bytes_per_photon(). The kd-tree nodes add ~3 bytes per photon on top (32-byte nodes, one
 // per ~11 photons at leaf size 32): measured 30.8 bytes per photon in total for 1e5 and 1e6
@@ -28,6 +29,9 @@
 //               largest channel of any photon) flushed photons 2^24 times dimmer than the brightest
 //               to zero or to coarse subnormals (issue 12: a point light's photons next to a sky
 //               light's in one map came out 2x too bright).
+// Walk groups (issue 21): the photons of one emitted path share a group, photon index mod
+// kWalkGroups, so the leave-group-out estimator (photon/group_estimate.h) can tell which stored
+// photons may be correlated. A double's binary exponent (-1074 .. 1023) fits the 12 bits left.
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstddef>
@@ -39,11 +43,14 @@
 
 namespace vpm {
 
+constexpr int kWalkGroups = 16;
+
 // Double-precision photon as produced by the photon tracer; input for building a PhotonMap.
 struct PhotonInput {
     Vec3 position = Vec3::Zero();
     Vec3 direction = Vec3::UnitZ();   // incoming travel direction, unit length
     Rgb power = Rgb::Zero();          // watts
+    uint8_t group = 0;                // walk group, < kWalkGroups
 };
 
 struct Photon {
@@ -118,7 +125,14 @@ inline int16_t power_exponent(const Rgb& power) {
     if (!(m > 0.0) || !std::isfinite(m)) return 0;
     return static_cast<int16_t>(std::ilogb(m));
 }
-inline uint16_t exponent_bits(int16_t e) { return static_cast<uint16_t>(e); }
-inline double exponent_scale(uint16_t bits) { return std::ldexp(1.0, static_cast<int16_t>(bits)); }
+// `reserved`: e in the low 12 bits (two's complement), the walk group in the high 4.
+inline uint16_t exponent_bits(int16_t e, uint8_t group = 0) {
+    return static_cast<uint16_t>((uint16_t(e) & 0x0fffu) | (uint16_t(group & 0x0fu) << 12));
+}
+inline double exponent_scale(uint16_t bits) {
+    const int e = int(bits & 0x0fffu) - ((bits & 0x0800u) ? 0x1000 : 0);   // sign-extend 12 bits
+    return std::ldexp(1.0, e);
+}
+inline uint8_t walk_group(uint16_t bits) { return static_cast<uint8_t>(bits >> 12); }
 
 }  // namespace vpm

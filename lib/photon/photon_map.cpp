@@ -247,7 +247,7 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
             encode_direction(p.direction, r.dir);
             const int16_t e = power_exponent(p.power);   // per photon: any dynamic range in one map
             encode_power(p.power, std::ldexp(1.0, -e), r.power);
-            r.reserved = exponent_bits(e);
+            r.reserved = exponent_bits(e, p.group);
         }
     });
     index_ = std::make_unique<Index>(photons_.data(), photons_.size(), std::max<size_t>(1, leaf_size));
@@ -287,6 +287,7 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
         n.d2 = d2;
         n.power = decode_power(p.power, exponent_scale(p.reserved));
         n.direction = decode_direction(p.dir);
+        n.group = walk_group(p.reserved);
         out.items.push_back(n);
     }
     std::sort(out.items.begin(), out.items.end(), [](const Neighbour& a, const Neighbour& b) {
@@ -308,6 +309,7 @@ size_t PhotonMap::gather_all(const Vec3& query, NeighbourList& out) const {
         n.d2 = (rel - Vec3(p.p[0], p.p[1], p.p[2])).squaredNorm();
         n.power = decode_power(p.power, exponent_scale(p.reserved));
         n.direction = decode_direction(p.dir);
+        n.group = walk_group(p.reserved);
         if (i == 0 || n.d2 >= out.items[far].d2) far = i;   // ties: the highest index is "farthest"
         out.items.push_back(n);
     }

@@ -19,6 +19,7 @@ struct Neighbour {
     double d2 = 0.0;      // squared distance to the query, double precision from decoded positions
     Rgb power = Rgb::Zero();
     Vec3 direction = Vec3::UnitZ();   // incoming travel direction
+    uint8_t group = 0;                // walk group (photon.h)
 };
 
 // Result of a kNN query, sorted by (d2, index). Keep one per thread and reuse it.

@@ -40,13 +40,16 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.memory_budget_fraction = p.real("memory_budget_fraction", s.memory_budget_fraction, {0.0, 1.0, true, false});
     s.final_gather = p.boolean("final_gather", s.final_gather);
     s.extinction = p.choice("extinction", s.extinction,
-                            {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball}});
+                            {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball},
+                             {"linear", ExtinctionNormalisation::linear}});
     s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
     s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}});
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
+    s.clustering = p.choice("clustering", s.clustering,
+                            {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
     s.store_probability = p.real("store_probability", s.store_probability, {0.0, 1.0, true, false});
     s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});
     s.alpha = p.real("alpha", s.alpha, Range::open(0.0, 1.0));

@@ -15,7 +15,9 @@
 //   | max_bounces            | 1000        | collisions + bounces per photon path (truncation)        |
 //   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
-//   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x    |
+//   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x;   |
+//   |                        |             | "linear": the ball's, exact for linear radiance across   |
+//   |                        |             | it (photon/linear_estimate.h)                            |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
 //   |                        |             | fewer than k photons within: the camera path continues   |
 //   |                        |             | (photon/bounded_radius.h); 0: off                        |
@@ -39,6 +41,10 @@
 //   |                        |             | its per-sample variance misses the photon map's own      |
 //   |                        |             | noise (BENCHMARKS.md section 11)                         |
 //   | gather_queries         | 4           | points per segment for "march"                           |
+//   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
+//   |                        |             | linear extinction): each walk group's photons counted    |
+//   |                        |             | within the k-th photon of the other groups, exact for    |
+//   |                        |             | clustered walks (photon/group_estimate.h)                |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
 //   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
 //   | march_max_optical_depth| 2           | the "auto" threshold                                     |
@@ -61,7 +67,8 @@ namespace vpm {
 class Params;
 
 enum class DirectLighting { nee, photon_map };
-enum class ExtinctionNormalisation { ball, point };
+enum class ExtinctionNormalisation { ball, point, linear };
+enum class Clustering { ignore, leave_group_out };
 enum class PhotonAllocationRule { importance, power };
 enum class GatherMode { collision, march, automatic, pilot };
 enum class KSchedule { fixed, shrink };
@@ -81,6 +88,7 @@ struct PhotonMapSettings {
     GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
     double store_probability = 1.0;
+    Clustering clustering = Clustering::ignore;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
     double alpha = 2.0 / 3.0;

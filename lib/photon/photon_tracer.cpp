@@ -95,6 +95,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
         Ray ray = e.ray;
         bool scattered = false;
         int bounces = 0;
+        const uint8_t group = uint8_t(i % kWalkGroups);   // every photon of this walk (photon.h)
         for (;;) {
             if (bounces >= s.max_bounces) {
                 out.energy.truncated += power;
@@ -116,9 +117,9 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 const Vec3 x = ray.at(event.t);
                 ++out.collisions;
                 if (s.store_direct || scattered) {
-                    if (s.store_probability >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power});
+                    if (s.store_probability >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power, group});
                     else if (rng.uniform() < s.store_probability)
-                        out.photons.push_back(PhotonInput{x, ray.dir, power / s.store_probability});
+                        out.photons.push_back(PhotonInput{x, ray.dir, power / s.store_probability, group});
                 }
                 alive = roulette(power, event.medium->albedo(), rng);
                 if (alive) {
@@ -129,7 +130,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 ++out.surface_hits;
                 if (hit.emitter) ++out.light_hits;
                 if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
-                    out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power});
+                    out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power, group});
                 alive = roulette(power, hit.reflectance, rng);
                 if (alive) ray = diffuse_bounce(hit, rng);
             }

@@ -26,7 +26,7 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
         // Emission belongs to the path of `depth` scattering events, like escaping does; the
         // light is black, so the path ends on it.
         if (!v.medium && v.hit.emitter) {
-            radiance += throughput * emitted_radiance(v.hit, ray.dir, emission);
+            radiance += throughput * emitted_radiance(scene_, ray, v.hit, emission);
             break;
         }
         if (max_depth >= 0 && depth + 1 > max_depth) break;

@@ -13,6 +13,8 @@
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
 #include "scene/media/homogeneous_medium.h"
+#include "photon/group_estimate.h"
+#include "photon/linear_estimate.h"
 #include "config/params.h"
 #include "transport/direct_light.h"
 #include "transport/mis.h"
@@ -54,6 +56,7 @@ struct PhotonMapIntegrator::ThreadState {
         uint64_t lookups = 0;     // sigma_t lookups of the ball quadrature (pilot cost)
         double march_weight_max = 0.0, march_weight_sum = 0.0;   // relative march point weights
         uint64_t march_points = 0;
+        std::vector<Rgb> linear_weights;   // photons.extinction = "linear"
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
@@ -179,7 +182,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                 radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng);
             break;
         }
-        if (!event && hit.emitter) radiance += throughput * emitted_radiance(hit, ray.dir, emission);   // black: ends below
+        if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
         if (max_depth >= 0 && depth + 1 > max_depth) break;
         if (march) {
             // The medium's in-scattering along this segment comes from the march; the collision
@@ -221,9 +224,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                         continue;
                     }
                 }
-                // The ball can miss every quadrature point's smoke only if it is tiny; then use the point.
-                const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius, &local.lookups) : 0.0;
-                radiance += weight * s.value / (ball > 0.0 ? ball : sigma_t);
+                radiance += weight * normalised(s, x, -ray.dir, m.g(), radius, sigma_t, local.buffers, local.linear_weights);
             }
             break;
         }
@@ -245,6 +246,39 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
         if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
     }
     return radiance;
+}
+
+Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec3& w_o, double g, double max_radius,
+                                    double sigma_t, GatherBuffers& buffers, std::vector<Rgb>& scratch) const {
+    // S estimates sigma_t times the incident radiance. The ball can miss every quadrature point's
+    // smoke only if it is tiny; then use the point.
+    if (settings_.extinction == ExtinctionNormalisation::point || !(s.radius > 0.0)) return s.value / sigma_t;
+    const bool linear = settings_.extinction == ExtinctionNormalisation::linear;
+    if (settings_.clustering == Clustering::leave_group_out && s.kind == EstimateCase::knn &&
+        std::string(settings_.estimator.name()) == "corrected" && settings_.estimator.kernel().is_constant()) {
+        // photon/group_estimate.h: a few more neighbours than k, so each group's k-th other photon is in the list.
+        for (size_t want = k_ + k_ / 2 + 8;; want *= 2) {
+            const size_t found = map_->knn(x, want, max_radius, buffers.list);
+            if (buffers.w.size() < found) {
+                buffers.w.resize(found);
+                buffers.d2.resize(found);
+            }
+            for (size_t i = 0; i < found; ++i) {
+                buffers.w[i] = hg_eval(buffers.list[i].direction.dot(w_o), g) * buffers.list[i].power;
+                buffers.d2[i] = buffers.list[i].d2;
+            }
+            const bool complete = found < want || found == map_->size();
+            const GroupEstimate e = leave_group_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear);
+            if (!e.need_more) return e.value;
+        }
+    }
+    if (linear) {
+        const BallMoments m = threads_->ball.moments(x, s.radius);
+        if (m.m0 > 0.0) return linear_estimate(s, settings_.estimator, buffers, *map_, x, m, scratch);
+        return s.value / sigma_t;
+    }
+    const double ball = threads_->ball.mean(x, s.radius, &threads_->local.local().lookups);
+    return s.value / (ball > 0.0 ? ball : sigma_t);
 }
 
 bool PhotonMapIntegrator::volume_map_starved() const {
@@ -370,8 +404,7 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         }
         return in;
     }
-    const double ball = settings_.extinction == ExtinctionNormalisation::ball && s.radius > 0.0 ? threads_->ball.mean(x, s.radius, &local.lookups) : 0.0;
-    return in + s.value / (ball > 0.0 ? ball : sigma_t);   // S estimates sigma_t times the incident radiance
+    return in + normalised(s, x, -dir, g, max_radius_, sigma_t, local.buffers, local.linear_weights);
 }
 
 void PhotonMapIntegrator::choose_gather(const PassContext& context) {

@@ -106,6 +106,10 @@ private:
     // A point whose kNN ball is wider than max_radius_mfp mean free paths gets NEE and a continued
     // path (scattering event number depth + 1) instead of its biased estimate.
     Rgb march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const;
+    // The volume estimate s at x (gathered into buffers) divided by sigma_t as photons.extinction says.
+    // w_o, g, max_radius: the query's, for the leave-group-out gather (photons.clustering).
+    Rgb normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec3& w_o, double g, double max_radius, double sigma_t,
+                   GatherBuffers& buffers, std::vector<Rgb>& scratch) const;
     // The phase-weighted incident radiance at march point x (weight: the point's, for roulette).
     Rgb incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight,
                                 int depth, Rng& rng) const;

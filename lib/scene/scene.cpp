@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include <algorithm>
+
 #include "scene/lights/light_registry.h"
 #include "scene/media/medium_registry.h"
 
@@ -64,18 +66,31 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
                                                      : "OpenVDB: not used (no grid media)");
 
     // Area lights are opaque geometry: what can be lit (and can block light) includes them.
-    for (auto& light : scene->lights) {
-        const Bounds3 b = light->bounds();
-        if (b.empty()) continue;
-        scene->area_lights_.push_back(light.get());
-        scene->bounds.extend(b);
-    }
+    for (auto& light : scene->lights)
+        if (!light->bounds().empty()) scene->area_lights_.push_back(light.get());
+    Bounds3 lit = scene->bounds;   // media and shapes
+    for (const Light* l : scene->area_lights_) lit.extend(l->bounds());
     for (size_t i = 0; i < scene->lights.size(); ++i) {
         Light& light = *scene->lights[i];
-        light.set_scene_bounds(scene->bounds);   // lights at infinity know their power only now
-        check_light_contract(light, light_tables[i]);
+        // What a light can light: the scene's bounds without its own box (an area light lights the rest).
+        Bounds3 target = light.bounds().empty() ? lit : scene->bounds;
+        if (!light.bounds().empty())
+            for (const Light* l : scene->area_lights_)
+                if (l != &light) target.extend(l->bounds());
+        light.set_scene_bounds(target);
+        // Lights at infinity emit over the bounds: their power is known only now.
+        Params& lp = light_tables[i];
+        std::string key = "type";
+        for (const char* k : {"radiance", "irradiance", "intensity", "file"})
+            if (lp.has(k)) {
+                key = k;
+                break;
+            }
+        require_finite_power(lp, key, light, "emission over the scene's bounds, " + format_value((target.hi - target.lo).norm()) + " across");
+        check_light_contract(light, lp);
         scene->build_log.push_back("light: " + light.describe());
     }
+    scene->bounds = lit;
     scene->build_log.push_back("camera: " + scene->camera.describe());
     return scene;
 }
@@ -96,7 +111,14 @@ bool Scene::intersect(const Ray& ray, double tmax, SurfaceHit& hit) const {
     bool found = surfaces && surfaces->intersect(ray, tmax, hit);
     EmitterHit e;
     for (const Light* light : area_lights_) {
-        if (!light->intersect(ray, found ? hit.t : tmax, e)) continue;
+        const bool on_emitter = found && hit.emitter;
+        if (!light->intersect(ray, on_emitter ? std::min(tmax, hit.t * (1.0 + kCoincidentEmitters)) : found ? hit.t : tmax, e))
+            continue;
+        if (on_emitter && e.t >= hit.t * (1.0 - kCoincidentEmitters)) {   // the same point: both emit
+            hit.emitted += e.radiance;
+            hit.coincident_emitters = true;
+            continue;
+        }
         found = true;
         hit = SurfaceHit{};
         hit.t = e.t;
@@ -112,7 +134,7 @@ double Scene::transmittance(const Ray& ray, double tmax, Rng& rng, const Light* 
     if (surfaces && surfaces->occluded(ray, tmax)) return 0.0;
     EmitterHit e;
     for (const Light* light : area_lights_)
-        if (light != target && light->intersect(ray, tmax, e)) return 0.0;
+        if (light != target && light->intersect(ray, tmax * (1.0 - kCoincidentEmitters), e)) return 0.0;
     double tr = 1.0;
     for (const auto& m : media) {
         tr *= m->transmittance(ray, tmax, rng);

@@ -24,6 +24,10 @@
 
 namespace vpm {
 
+// Relative distance within which two area lights' hits along a ray are the same point: coincident
+// or coplanar overlapping emitters add their radiance there and do not shadow each other (issue 24).
+constexpr double kCoincidentEmitters = 1e-9;
+
 // A real collision sampled along a ray among all media.
 struct MediumEvent {
     double t = kInfinity;
@@ -59,13 +63,15 @@ public:
 
     // Closest hit in (0, tmax) among the surfaces and the area lights (an analytic test per area
     // light: there are few, and a scene without shapes still builds no Embree device). An area
-    // light's hit is black (reflectance 0) with `emitter` and `emitted` set.
+    // light's hit is black (reflectance 0) with `emitter` and `emitted` set; where several area
+    // lights meet the ray at the same point (kCoincidentEmitters), `emitted` is their sum.
     bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const;
     // First real collision among all media in (0, tmax). Overlapping media add their sigma_t; the
     // minimum of independent free flights is exactly the free flight of the sum.
     MediumEvent sample_medium(const Ray& ray, double tmax, Rng& rng) const;
     // Visibility times medium transmittance (unbiased estimate) along ray over (0, tmax). Area
-    // lights occlude, except `target`: the light a shadow ray was sent to, which it reaches at tmax.
+    // lights occlude, except `target`: the light a shadow ray was sent to, which it reaches at tmax,
+    // and lights that meet the ray at that same point (coincident emitters).
     double transmittance(const Ray& ray, double tmax, Rng& rng, const Light* target = nullptr) const;
     // Radiance of rays escaping the scene in direction dir (environment lights).
     Rgb escaped_radiance(const Vec3& dir) const;

@@ -29,7 +29,7 @@ Rgb direct_light_on_surface(const Scene& scene, const SurfaceHit& hit, Rng& rng,
         if (!light->sample_incident(hit.position, rng, ls)) continue;
         const double cos_theta = ls.wi.dot(hit.normal);   // normal faces the viewer
         if (cos_theta <= 0.0) continue;
-        const Ray shadow = spawn_ray(hit.position, hit.normal, ls.wi);
+        const Ray shadow = spawn_ray(hit, ls.wi);
         const double dist = ls.distance == kInfinity ? kInfinity : (ls.distance - (shadow.origin - hit.position).norm()) * (1.0 - 1e-7);
         const double tr = scene.transmittance(shadow, dist, rng, light.get());
         // The walk's cosine-weighted bounce takes wi with pdf cos / pi.

@@ -65,8 +65,9 @@ struct EmissionWeighting {
     }
 };
 
-// Radiance of an area light hit (hit.emitter set) reached along dir, weighted.
-Rgb emitted_radiance(const SurfaceHit& hit, const Vec3& dir, const EmissionWeighting& w);
+// Radiance of an area light hit (hit.emitter set) reached along `ray`, weighted; coincident emitters
+// each with their own light-sampling pdf.
+Rgb emitted_radiance(const Scene& scene, const Ray& ray, const SurfaceHit& hit, const EmissionWeighting& w);
 // Radiance of the environment lights for a ray escaping along dir, weighted per light.
 Rgb escaped_radiance(const Scene& scene, const Vec3& dir, const EmissionWeighting& w);
 

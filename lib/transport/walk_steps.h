@@ -17,8 +17,8 @@ struct PathVertex {
     bool escaped() const { return !medium && !on_surface; }
 };
 
-// A ray leaving a surface point, offset along the normal against self-intersection.
-Ray spawn_ray(const Vec3& position, const Vec3& normal, const Vec3& dir);
+// A ray leaving a surface hit, offset along the normal against self-intersection.
+Ray spawn_ray(const SurfaceHit& hit, const Vec3& dir);
 
 inline PathVertex next_vertex(const Scene& scene, const Ray& ray, Rng& rng) {
     PathVertex v;
@@ -30,7 +30,7 @@ inline PathVertex next_vertex(const Scene& scene, const Ray& ray, Rng& rng) {
 // A cosine-distributed ray leaving a Lambertian hit (the weight reflectance is the caller's).
 inline Ray diffuse_bounce(const SurfaceHit& hit, Rng& rng) {
     const double u1 = rng.uniform(), u2 = rng.uniform();
-    return spawn_ray(hit.position, hit.normal, Frame(hit.normal).to_world(sample_cosine_hemisphere(u1, u2)).normalized());
+    return spawn_ray(hit, Frame(hit.normal).to_world(sample_cosine_hemisphere(u1, u2)).normalized());
 }
 
 // Russian roulette once a path has `vertices` >= rr_depth scattering events: survives with

@@ -15,7 +15,9 @@ using namespace vpm;
 TEST(Estimators, NamesParseValidateWarn) {
     for (const Estimator& e : Estimator::all()) EXPECT_EQ(Estimator::named(e.name()), e);
     EXPECT_THROW(Estimator::named("k-1"), Error);
-    EXPECT_NO_THROW(Estimator::named("classic").validate_k(1));
+    // classic at k = 1: infinite mean, or identically 0 with a kernel vanishing at the rim (issue 24)
+    EXPECT_THROW(Estimator::named("classic").validate_k(1), Error);
+    EXPECT_NO_THROW(Estimator::named("classic").validate_k(2));
     EXPECT_THROW(Estimator::named("classic").validate_k(0), Error);
     EXPECT_THROW(Estimator::named("corrected").validate_k(1), Error);
     EXPECT_NO_THROW(Estimator::named("corrected").validate_k(2));
@@ -116,10 +118,11 @@ TEST(Estimators, RuleB_AllPhotons) {
     EXPECT_EQ(one.value, 0.0);
     auto two = estimate_density(Estimator::named("mse_optimal"), w, d2, 2, true, 8, kInfinity, 3, &st);
     EXPECT_EQ(two.kind, EstimateCase::insufficient);
-    EXPECT_DOUBLE_EQ(estimate_density(Estimator::named("classic"), w, d2, 1, true, 8, kInfinity, 3).value,
-                     1.0 / ball_volume(3, 0.1));
+    auto classic_one = estimate_density(Estimator::named("classic"), w, d2, 1, true, 8, kInfinity, 3, &st);
+    EXPECT_EQ(classic_one.kind, EstimateCase::insufficient);   // classic needs k >= 2 like corrected
+    EXPECT_EQ(classic_one.value, 0.0);
     EXPECT_EQ(st.all_photons, 1u);
-    EXPECT_EQ(st.insufficient, 2u);
+    EXPECT_EQ(st.insufficient, 3u);
     // an incomplete list with fewer than k is a caller error
     EXPECT_THROW(estimate_density(Estimator::named("classic"), w, d2, 4, false, 8, kInfinity, 3), Error);
 }

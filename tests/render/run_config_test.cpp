@@ -93,6 +93,17 @@ TEST(RunConfig, KBelowTheEstimatorsMinimumNamesTheEstimator) {
     EXPECT_NE(msg.find("photons.k: the mse_optimal estimator needs k >= 3"), std::string::npos) << msg;
 }
 
+// Issue 24: classic with k = 1 has an infinite mean (constant kernel) or is identically 0 (kernels
+// vanishing at the rim); it is refused like the corrected k = 1, with or without a kernel.
+TEST(RunConfig, ClassicWithKOneIsRefused) {
+    for (const char* kernel : {"constant", "epanechnikov"}) {
+        const std::string msg = error_of({"photons.estimator=\"classic\"", "photons.k=1",
+                                          std::string("photons.kernel=\"") + kernel + "\""});
+        EXPECT_NE(msg.find("photons.k: the classic estimator needs k >= 2"), std::string::npos) << msg;
+    }
+    EXPECT_EQ(error_of({"photons.estimator=\"classic\"", "photons.k=2"}), "");
+}
+
 TEST(RunConfig, PhotonMapIntegratorRunsItsOwnPhotonPass) {
     // prepare() traces the photons and records the pass in the typed statistics.
     const RunConfig c = build({"render.integrator=\"photon_map\""});

@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "scene/lights/light_registry.h"
+#include "scene/scene.h"
 
 #include "../support/light_from_config.h"
 #include "../support/render_statistics.h"
@@ -116,6 +117,50 @@ TEST(Lights, ConfigErrors) {
     } catch (const ConfigError& e) {
         EXPECT_NE(std::string(e.what()).find("light.toml:5: lights.0.colour: unknown key"), std::string::npos) << e.what();
     }
+}
+
+namespace {
+// The message of the ConfigError that building `text`'s scene throws ("" when it builds).
+std::string scene_error(const std::string& text) {
+    try {
+        auto doc = parse_config(text, "light.toml", ".");
+        toml::table resolved;
+        Params root(doc, &resolved);
+        Scene::build(root, 4, 4);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+}  // namespace
+
+// Issue 24: values whose power or sampling pdf is not a finite double, or whose radiance cannot
+// reach a float32 image, are refused before any work, naming the key (they gave NaN/Inf images, a
+// sphere light of radius 1e300 vanished from the path tracer and stopped the photon pass).
+TEST(Lights, UnrepresentablePowerOrPdfIsRefusedNamingTheKey) {
+    const std::string medium = "[[media]]\ntype='homogeneous'\nshape='sphere'\nradius=1\n";
+    const std::pair<std::string, std::string> cases[] = {
+        {"type='sphere'\ncenter=[0,2,0]\nradius=1e300\nradiance=5", "lights.0.radius"},
+        {"type='sphere'\ncenter=[0,2,0]\nradius=1e-160\nradiance=5", "lights.0.radius"},
+        {"type='sphere'\ncenter=[0,2,0]\nradius=1e153\nradiance=1e30", "lights.0.radius"},   // power overflows
+        {"type='quad'\ncenter=[0,2,0]\nu=[1e200,0,0]\nv=[0,0,1]\nradiance=5", "lights.0.u"},
+        {"type='quad'\ncenter=[0,2,0]\nu=[1e-155,0,0]\nv=[0,0,1e-155]\nradiance=5", "lights.0.v"},   // area underflows
+        {"type='point'\nposition=[0,2,0]\nintensity=1e300", "lights.0.intensity"},
+        {"type='spot'\nposition=[0,2,0]\nlook_at=[0,0,0]\nintensity=1e308", "lights.0.intensity"},
+        {"type='directional'\ndirection=[0,-1,0]\nirradiance=[1,1e300,1]", "lights.0.irradiance"},
+        {"type='environment'\nradiance=1e300", "lights.0.radiance"},
+        {"type='quad'\ncenter=[0,2,0]\nu=[1,0,0]\nv=[0,0,1]\nradiance=1e308", "lights.0.radiance"},
+    };
+    for (const auto& [light, key] : cases) {
+        const std::string msg = scene_error("[[lights]]\n" + light + "\n" + medium);
+        EXPECT_NE(msg.find(key), std::string::npos) << light << " -> " << msg;
+    }
+    // Lights at infinity over huge bounds: the power is checked once the bounds are known.
+    const std::string huge = "[[media]]\ntype='homogeneous'\nshape='sphere'\nradius=1e160\n";
+    EXPECT_NE(scene_error("[[lights]]\ntype='environment'\nradiance=1\n" + huge).find("lights.0.radiance"), std::string::npos);
+    // The largest allowed values build.
+    EXPECT_EQ(scene_error("[[lights]]\ntype='point'\nposition=[0,2,0]\nintensity=1e30\n" + medium), "");
+    EXPECT_EQ(scene_error("[[lights]]\ntype='sphere'\ncenter=[0,2,0]\nradius=1e100\nradiance=1e30\n" + medium), "");
 }
 
 TEST(Lights, PointAndSpotEmitOnlyTowardTheScene) {

@@ -81,7 +81,7 @@ TEST(DirectLight, SphereLightNeeAndMisCombinationMatchTheClosedForm) {
         SurfaceHit hit;
         if (!scene->intersect(Ray{x, dir}, kInfinity, hit) || !hit.emitter) return 0.0;
         // phase / pdf = 1 for isotropic scattering sampled by its own pdf.
-        return emitted_radiance(hit, dir, EmissionWeighting::after(true, x, phase_pdf))[1];
+        return emitted_radiance(*scene, Ray{x, dir}, hit, EmissionWeighting::after(true, x, phase_pdf))[1];
     });
     EXPECT_NEAR(nee_mis.mean + walk.mean, expected, 4.0 * std::hypot(nee_mis.se, walk.se) + 1e-9 * expected)
         << "NEE + walk, MIS";

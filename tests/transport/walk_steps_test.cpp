@@ -66,6 +66,6 @@ TEST(WalkSteps, DiffuseBounceIsCosineDistributedAboveTheSurface) {
     EXPECT_NEAR(c1 / n, 2.0 / 3.0, 4.0 * std::sqrt(1.0 / 18.0 / n));
     EXPECT_NEAR(c2 / n, 0.5, 4.0 * std::sqrt(1.0 / 12.0 / n));
     // A ray spawned into the surface leaves from below it.
-    const Ray into = spawn_ray(hit.position, hit.normal, -hit.normal);
+    const Ray into = spawn_ray(hit, -hit.normal);
     EXPECT_LT((into.origin - hit.position).dot(hit.normal), 0.0);
 }

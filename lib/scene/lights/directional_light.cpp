@@ -44,10 +44,9 @@ private:
 }  // namespace
 
 std::unique_ptr<Light> make_directional_light(Params& p) {
-    const Range non_negative = Range::at_least(0.0);
     const Vec3 direction = p.vec3("direction");
     if (direction.norm() == 0.0) p.fail("direction", "must be a non-zero vector");
-    return std::make_unique<DirectionalLight>(direction.normalized(), p.rgb("irradiance", non_negative));
+    return std::make_unique<DirectionalLight>(direction.normalized(), p.rgb("irradiance", emission_range()));
 }
 
 }  // namespace vpm

@@ -14,7 +14,8 @@ void EmissionBounds::set(const Bounds3& box) {
     const Vec3 e = box.hi - box.lo;
     face_area_ = Vec3(e[1] * e[2], e[0] * e[2], e[0] * e[1]);
     area_ = 2.0 * face_area_.sum();
-    if (!std::isfinite(area_)) area_ = 0.0;
+    // An area that overflows (bounds beyond ~1e154) is kept: the light's power() is then not
+    // finite, which Scene::build refuses, instead of the light silently emitting nothing.
     margin_ = 1e-4 * e.norm() + 1e-9 * std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff()) + 1e-12;
 }
 

@@ -7,6 +7,7 @@
 //   scale      RGB or number multiplying the map (default 1), and
 //   rotate_y   degrees about +Y, right-handed (default 0).
 // Giving both radiance and file is an error; scale and rotate_y need file.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -113,7 +114,7 @@ private:
 // Reads the map of key `file`: every channel of every pixel finite and >= 0.
 std::unique_ptr<Light> make_environment_map_light(Params& p) {
     const std::string file = p.path("file").string();
-    const Rgb scale = p.rgb("scale", Rgb::Ones(), Range::at_least(0.0));
+    const Rgb scale = p.rgb("scale", Rgb::Ones(), emission_range());
     const double rotate_y = p.real("rotate_y", 0.0);
     ExrPixels pixels;
     try {
@@ -132,6 +133,14 @@ std::unique_ptr<Light> make_environment_map_light(Params& p) {
             p.fail("file", s.str());
         }
     }
+    float brightest = 0.0f;
+    for (const float v : pixels.rgb) brightest = std::max(brightest, v);
+    if (!(double(brightest) * scale.maxCoeff() <= kMaxEmission)) {
+        std::ostringstream s;
+        s << "scale " << format_rgb(scale) << " times the brightest texel of " << file << " (" << brightest << ") exceeds "
+          << kMaxEmission << ", the largest radiance a light may have (scene/lights/light_registry.h)";
+        p.fail("scale", s.str());
+    }
     LatLongMap map(pixels.width, pixels.height, std::move(pixels.rgb), scale, rotate_y);
     return std::make_unique<EnvironmentMapLight>(std::move(map), file, scale, rotate_y);
 }
@@ -146,8 +155,7 @@ std::unique_ptr<Light> make_environment_light(Params& p) {
     }
     for (const char* key : {"scale", "rotate_y"})
         if (p.has(key)) p.fail(key, "applies to an environment map only: give file as well (or leave it out)");
-    const Range non_negative = Range::at_least(0.0);
-    return std::make_unique<EnvironmentLight>(p.rgb("radiance", non_negative));
+    return std::make_unique<EnvironmentLight>(p.rgb("radiance", emission_range()));
 }
 
 }  // namespace vpm

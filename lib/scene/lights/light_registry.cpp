@@ -1,5 +1,6 @@
 #include "scene/lights/light_registry.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "core/registry.h"
@@ -33,6 +34,21 @@ std::unique_ptr<Light> make_light(Params& p) {
     std::unique_ptr<Light> light = registry_find(light_types(), type)->create(p);
     p.finish();
     return light;
+}
+
+void require_finite_power(Params& p, const std::string& key, const Light& light, const std::string& why) {
+    const Rgb power = light.power();
+    if (power.allFinite() && std::isfinite(luminance(power))) return;
+    std::ostringstream s;
+    s << "the light's power " << format_rgb(power) << " W is not a finite double (" << why
+      << "); make the light smaller or dimmer";
+    p.fail(key, s.str());
+}
+
+std::string format_value(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
 }
 
 std::string format_rgb(const Rgb& c) {

@@ -46,6 +46,21 @@ std::vector<std::string> light_names();
 // Reads `type`, builds that light from the rest of the table and reports unknown keys.
 std::unique_ptr<Light> make_light(Params& table);
 
+// The allowed range of every emission value a light reads (radiance, intensity, irradiance, an
+// environment map's scale times its brightest texel): [0, 1e30]. Images are float32 (largest 3.4e38),
+// and a render multiplies emission by sample counts, 1 / distance^2 and 1 / V(r_k): 1e30 leaves eight
+// orders of magnitude for them, and a scene scaled as a whole by s = 1e6 scales intensities by s^2 =
+// 1e12 only. Larger values gave NaN/Inf images or a photon pass that stopped on a NaN weight (issue 24).
+constexpr double kMaxEmission = 1e30;
+inline Range emission_range() { return Range::closed(0.0, kMaxEmission); }
+
+// Refuses (naming `key` of `p`) a light whose total power is not a finite double, e.g. a sphere or
+// quad so large that its area overflows; called where the power is known (for lights at infinity,
+// once the scene's bounds are set).
+void require_finite_power(Params& p, const std::string& key, const Light& light, const std::string& why);
+
+// A number for messages (%g with 6 digits).
+std::string format_value(double v);
 // "[r, g, b]" for describe() lines.
 std::string format_rgb(const Rgb& c);
 

@@ -46,9 +46,8 @@ private:
 }  // namespace
 
 std::unique_ptr<Light> make_point_light(Params& p) {
-    const Range non_negative = Range::at_least(0.0);
     const Vec3 position = p.vec3("position");
-    return std::make_unique<PointLight>(position, p.rgb("intensity", non_negative));
+    return std::make_unique<PointLight>(position, p.rgb("intensity", emission_range()));
 }
 
 }  // namespace vpm

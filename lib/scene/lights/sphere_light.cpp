@@ -5,6 +5,8 @@
 // the sphere subtends from the point (uniform in solid angle, pdf 1 / (2 pi (1 - cos theta_max))),
 // which is exact in direction and wastes no sample on the far side. pbrt falls back to area
 // sampling for points inside; here nothing inside is lit, so no fallback is needed.
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/sampling.h"
@@ -110,8 +112,14 @@ private:
 std::unique_ptr<Light> make_sphere_light(Params& p) {
     const Vec3 center = p.vec3("center");
     const double radius = p.real("radius", Range::positive());
-    const Rgb radiance = p.rgb("radiance", Range::at_least(0.0));
-    return std::make_unique<SphereLight>(center, radius, radiance);
+    // r^2 enters the area, the intersection and the cone NEE samples: it must be a normal finite double.
+    if (!(radius * radius >= std::numeric_limits<double>::min()) || !std::isfinite(4.0 * kPi * radius * radius))
+        p.fail("radius", "radius " + format_value(radius) + " is out of range: its area 4 pi r^2 is not a normal finite "
+                         "double (allowed: about 1.5e-154 to 2.8e153)");
+    const Rgb radiance = p.rgb("radiance", emission_range());
+    auto light = std::make_unique<SphereLight>(center, radius, radiance);
+    require_finite_power(p, "radius", *light, "radiance x pi x 4 pi r^2");
+    return light;
 }
 
 }  // namespace vpm

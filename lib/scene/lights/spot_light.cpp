@@ -74,11 +74,10 @@ private:
 }  // namespace
 
 std::unique_ptr<Light> make_spot_light(Params& p) {
-    const Range non_negative = Range::at_least(0.0);
     const Vec3 position = p.vec3("position");
     const Vec3 look_at = p.vec3("look_at");
     if ((look_at - position).norm() == 0.0) p.fail("look_at", "must differ from position");
-    const Rgb intensity = p.rgb("intensity", non_negative);
+    const Rgb intensity = p.rgb("intensity", emission_range());
     const double angle = p.real("cone_angle", 30.0, {0.0, 180.0, true, false});
     return std::make_unique<SpotLight>(position, (look_at - position).normalized(), intensity,
                                         std::cos(angle * kPi / 180.0));

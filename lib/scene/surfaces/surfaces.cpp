@@ -202,6 +202,7 @@ public:
             hit.position = ray.at(t);
             hit.normal = cos > 0.0 ? Vec3(-n) : n;
             hit.reflectance = g.reflectance;
+            hit.epsilon = eps_;
             return true;
         }
         return false;

@@ -18,10 +18,12 @@ struct SurfaceHit {
     Vec3 position = Vec3::Zero();
     Vec3 normal = Vec3::UnitZ();   // unit geometric normal, flipped to face the incoming ray
     Rgb reflectance = Rgb::Zero(); // Lambertian albedo; zero for black
+    double epsilon = 0.0;          // the surfaces' self-intersection epsilon (relative to their size)
     // Set by Scene::intersect when the hit is an area light (black, so paths end there): the light
     // and the radiance it sends back along the ray.
     const Light* emitter = nullptr;
-    Rgb emitted = Rgb::Zero();
+    Rgb emitted = Rgb::Zero();   // summed over coincident emitters (Scene::intersect)
+    bool coincident_emitters = false;   // more than one area light at this point
 };
 
 class Surfaces {
