@@ -89,7 +89,9 @@ TEST(SamplePointEstimate, PointAndBeamEstimatesAreUnbiasedForEveryK) {
             // dimension's normalisation (n_2 / n_3 = 1.25).
             // (resolvable at these trial counts for k <= 8: 1.14 at k = 8 is 7 SE away)
             const double balloon = double(ks[ki]) / double(ks[ki] - 1);
-            if (ks[ki] <= 8) EXPECT_GT(std::abs(p.mean() - balloon) / p.se(), 4.0) << "point, " << what;
+            if (ks[ki] <= 8) {
+                EXPECT_GT(std::abs(p.mean() - balloon) / p.se(), 4.0) << "point, " << what;
+            }
             if (!kernels[kk].is_constant()) {
                 const double other = kernels[kk].normalisation(3) / kernels[kk].normalisation(2);
                 EXPECT_GT(std::abs(b.mean() - other) / b.se(), 4.0) << "beam, " << what;

@@ -2,7 +2,8 @@
 // a renamed test) cannot leave a reader following a stale pointer. Paths are looked up from the
 // repository root, the mentioning file's folder, lib/ (include paths such as "photon/kernels.h")
 // configs/ (config comments name their siblings) and configs/sweeps/ (sweep examples name scenes
-// relative to the sweep file); outputs (out/, build/, $VAR/...) and extensions alone are skipped.
+// relative to the sweep file); outputs (out/, build/, $VAR/...), extensions alone and the optional
+// third-party files beside a checkout (../shared/..., absent in a plain clone) are skipped.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -64,7 +65,7 @@ std::vector<std::string> stale_paths(const fs::path& file, bool comments_only, b
             line = line.substr(hash);
         }
         for (const std::string& w : path_words(line)) {
-            if (w[0] == '$' || (w[0] == '.' && w.rfind("../", 0) != 0) || w.rfind("out/", 0) == 0 || w.rfind("build/", 0) == 0 || kGenerated.count(w)) continue;
+            if (w[0] == '$' || (w[0] == '.' && w.rfind("../", 0) != 0) || w.rfind("../shared/", 0) == 0 || w.rfind("out/", 0) == 0 || w.rfind("build/", 0) == 0 || kGenerated.count(w)) continue;
             if (!bare_names && w.find('/') == std::string::npos) continue;   // prose names a file by its name
             if (!exists_somewhere(w, file))
                 stale.push_back(fs::relative(file, kRoot).string() + ":" + std::to_string(n) + ": " + w);
