@@ -26,11 +26,18 @@ void check_medium_contract(const Medium& medium, const Params& table) {
                                "non-zero (scene/media/medium_registry.h)");
 }
 
-void check_light_contract(const Light& light, const Params& table) {
+void check_light_contract(const Light& light, const Params& table, const std::string& why) {
+    // The key the user can change: the light's emission, else its type.
+    std::string key = "type";
+    for (const char* k : {"radiance", "irradiance", "intensity", "file"})
+        if (table.has(k)) {
+            key = k;
+            break;
+        }
+    require_finite_power(table, key, light, why);
     const Rgb power = light.power();
-    if (!power.allFinite() || (power.array() < 0.0).any())
-        table.fail("type", "the light's total power " + format_rgb(power) +
-                               " is not a finite non-negative number; lower its intensity, radiance or size");
+    if ((power.array() < 0.0).any())
+        table.fail(key, "the light's total power " + format_rgb(power) + " is negative");
     if (!finite_or_empty(light.bounds()))
         table.fail("type", "the area light's bounds " + format_bounds(light.bounds()) + " are not a finite box");
 }
@@ -79,15 +86,8 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
                 if (l != &light) target.extend(l->bounds());
         light.set_scene_bounds(target);
         // Lights at infinity emit over the bounds: their power is known only now.
-        Params& lp = light_tables[i];
-        std::string key = "type";
-        for (const char* k : {"radiance", "irradiance", "intensity", "file"})
-            if (lp.has(k)) {
-                key = k;
-                break;
-            }
-        require_finite_power(lp, key, light, "emission over the scene's bounds, " + format_value((target.hi - target.lo).norm()) + " across");
-        check_light_contract(light, lp);
+        check_light_contract(light, light_tables[i],
+                             "emission over the scene's bounds, " + format_value((target.hi - target.lo).norm()) + " across");
         scene->build_log.push_back("light: " + light.describe());
     }
     scene->bounds = lit;

@@ -37,11 +37,12 @@ struct MediumEvent {
 
 // The contracts of the registry headers that a scene can check at build time, each one error
 // naming the table (`table` is the light's or medium's own Params): a medium's bounds are a
-// finite box (empty only when it holds no density), a light's power is finite and >= 0, an area
+// finite box (empty only when it holds no density), a light's power is finite (the error names
+// the light's emission key and says `why`, e.g. the bounds it emits over) and >= 0, an area
 // light's bounds are finite. Scene::build calls them for every object; a new light or medium
 // type that breaks them fails there, not as a dark or NaN image later.
 void check_medium_contract(const Medium& medium, const Params& table);
-void check_light_contract(const Light& light, const Params& table);
+void check_light_contract(const Light& light, const Params& table, const std::string& why);
 
 class Scene {
 public:

@@ -179,6 +179,7 @@ TEST(SceneContract, UnboundedMediumIsOneErrorNamingTheTable) {
 }
 
 TEST(SceneContract, NonFinitePowerIsOneErrorNamingTheTable) {
-    const std::string msg = contract_error([](const Params& p) { check_light_contract(OverflowingLight(), p); });
-    EXPECT_NE(msg.find("not a finite non-negative number"), std::string::npos) << msg;
+    const std::string msg = contract_error([](const Params& p) { check_light_contract(OverflowingLight(), p, "test"); });
+    EXPECT_NE(msg.find("media.0.type"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("is not a finite double (test)"), std::string::npos) << msg;
 }

@@ -36,7 +36,7 @@ std::unique_ptr<Light> make_light(Params& p) {
     return light;
 }
 
-void require_finite_power(Params& p, const std::string& key, const Light& light, const std::string& why) {
+void require_finite_power(const Params& p, const std::string& key, const Light& light, const std::string& why) {
     const Rgb power = light.power();
     if (power.allFinite() && std::isfinite(luminance(power))) return;
     std::ostringstream s;

@@ -57,7 +57,7 @@ inline Range emission_range() { return Range::closed(0.0, kMaxEmission); }
 // Refuses (naming `key` of `p`) a light whose total power is not a finite double, e.g. a sphere or
 // quad so large that its area overflows; called where the power is known (for lights at infinity,
 // once the scene's bounds are set).
-void require_finite_power(Params& p, const std::string& key, const Light& light, const std::string& why);
+void require_finite_power(const Params& p, const std::string& key, const Light& light, const std::string& why);
 
 // A number for messages (%g with 6 digits).
 std::string format_value(double v);
