@@ -45,7 +45,11 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
-    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}});
+    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"threshold", GatherMode::threshold}});
+    if (s.gather == GatherMode::automatic && render.has("time_limit") && render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) > 0.0) {
+        s.size_photons = !p.has("count");
+        s.size_samples = !render.has("spp") && !render.has("passes");
+    }
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
     s.clustering = p.choice("clustering", s.clustering,

@@ -70,7 +70,7 @@ enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point, linear };
 enum class Clustering { ignore, leave_group_out };
 enum class PhotonAllocationRule { importance, power };
-enum class GatherMode { collision, march, automatic, pilot };
+enum class GatherMode { collision, march, automatic, pilot, threshold };
 enum class KSchedule { fixed, shrink };
 
 struct PhotonMapSettings {
@@ -91,6 +91,9 @@ struct PhotonMapSettings {
     Clustering clustering = Clustering::ignore;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
+    // gather = "auto" with render.time_limit > 0: the plan sizes the photons per pass unless
+    // photons.count is given, the samples per pass unless render.spp or render.passes is.
+    bool size_photons = false, size_samples = false;
     double alpha = 2.0 / 3.0;
     int k_floor = 4;
     WalkSettings walk;

@@ -48,6 +48,9 @@ public:
     // True when prepare() does nothing per pass: the run may then render several passes in one
     // sweep over the image (render_passes), which gives exactly the image of rendering them apart.
     virtual bool stateless_passes() const { return false; }
+    // Camera samples per pixel for the pass prepare() has just set up: `configured` unless the
+    // integrator sized its passes itself (the photon map's plan under render.time_limit).
+    virtual int samples_per_pass(int configured) const { return configured; }
 };
 
 // An integrator's typed settings, read from the config by its registry entry; builds the

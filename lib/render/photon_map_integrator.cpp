@@ -19,6 +19,7 @@
 #include "transport/direct_light.h"
 #include "transport/mis.h"
 #include "transport/walk_steps.h"
+#include "render/work_units.h"
 
 namespace vpm {
 
@@ -33,13 +34,14 @@ double total_sigma_t(const Scene& scene, const Vec3& x) {
 
 }  // namespace
 
-// "auto", and "pilot" before its pilot has run (maps built elsewhere and no prepare()): the per-segment threshold.
+// "threshold", and "auto" or "pilot" before its pilot has run (no prepare()): the per-segment threshold.
 PhotonMapIntegrator::Gather initial_gather(GatherMode mode) {
     switch (mode) {
         case GatherMode::collision: return PhotonMapIntegrator::Gather::collision;
         case GatherMode::march: return PhotonMapIntegrator::Gather::march;
         case GatherMode::automatic:
-        case GatherMode::pilot: break;
+        case GatherMode::pilot:
+        case GatherMode::threshold: break;
     }
     return PhotonMapIntegrator::Gather::threshold;
 }
@@ -80,13 +82,16 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     k_ = size_t(settings_.k_for_pass(context.pass));
     if (!owns_maps_) {
         if (settings_.gather == GatherMode::pilot) choose_gather(context);
+        if (settings_.gather == GatherMode::automatic && !plan_) plan_auto(context, stats);
         return;
     }
     std::ostream* log = context.first_of_run ? context.log : nullptr;
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
     if (scene_.has_media() || surface) {
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
-        owned_ = run_photon_pass(scene_, settings_, context, surface, stats, allocation_);
+        PhotonMapSettings pass_settings = settings_;   // pass 0 is the plan's pilot pass: photons.count
+        if (plan_ && context.pass != 0) pass_settings.count = plan_->count;
+        owned_ = run_photon_pass(scene_, pass_settings, context, surface, stats, allocation_);
         surface_map_ = surface ? &owned_.surface : nullptr;
         // k above the stored count: say so once per run (the maps are then not queried).
         const bool volume_short = scene_.has_media() && volume_map_starved();
@@ -103,6 +108,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     }
     if (!scene_.has_media() && log) *log << "photons: no media, so the volume photon map is empty\n";
     if (settings_.gather == GatherMode::pilot) choose_gather(context);
+    if (settings_.gather == GatherMode::automatic && !plan_) plan_auto(context, stats);
     if (scene_.uses_embree() && !surface && log)
         *log << "photons: final_gather = true, so no surface photon map (paths continue through surfaces)\n";
 }
@@ -110,6 +116,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
 void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     stats.volume_estimates = this->stats();
     if (pilot_) stats.gather_pilot = pilot_;
+    if (auto_stats_) stats.auto_gather = auto_stats_;
     stats.continued_paths = continued_paths();
     if (log)
         *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
@@ -279,6 +286,21 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     }
     const double ball = threads_->ball.mean(x, s.radius, &threads_->local.local().lookups);
     return s.value / (ball > 0.0 ? ball : sigma_t);
+}
+
+void PhotonMapIntegrator::with_fresh_counters(const std::function<void()>& f) {
+    std::unique_ptr<ThreadState> run = std::move(threads_);
+    threads_ = std::make_unique<ThreadState>(scene_);
+    f();
+    threads_ = std::move(run);
+}
+
+double PhotonMapIntegrator::counted_work() const {
+    const WorkUnits w = work_units(scene_, int(k_));
+    double total = 0.0;
+    for (const auto& l : threads_->local)
+        total += w.query * double(l.stats.queries + l.surface_stats.queries) + w.ray * double(l.rays) + w.lookup * double(l.lookups);
+    return total;
 }
 
 bool PhotonMapIntegrator::volume_map_starved() const {

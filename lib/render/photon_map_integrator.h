@@ -44,6 +44,7 @@
 // Emission: the camera sees area lights and the sky directly. After a final-gather bounce, NEE and
 // the bounce are MIS-weighted like the path tracer's (render.mis, transport/mis.h); after a path
 // continued in a medium (max_radius_mfp) NEE weighs 1 and the emission the path meets counts 0.
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -51,6 +52,7 @@
 #include "photon/photon_map.h"
 #include "render/integrator.h"
 #include "photon/photon_map_settings.h"
+#include "render/pass_plan.h"
 #include "render/photon_pass.h"
 #include "render/run_config.h"
 #include "render/run_stats.h"
@@ -72,6 +74,8 @@ public:
     Rgb radiance(const Ray& ray, Rng& rng) const override;
     void collect(RunStats& stats, std::ostream* log) const override;
     std::string name() const override { return "photon_map"; }
+    // gather = "auto" under render.time_limit: the plan's samples per pass (render/pass_plan.h).
+    int samples_per_pass(int configured) const override;
     // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
     // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
     enum class Gather { collision, march, threshold };
@@ -126,6 +130,17 @@ private:
     // the cost from deterministic counts (kNN queries, rays, ball-quadrature lookups). Same choice
     // on any machine, thread count and scale.
     void choose_gather(const PassContext& context);
+
+    // gather = "auto" (render/auto_gather.cpp): on the run's first pass, the map-noise pilot
+    // (render/map_noise_pilot.h) measures collision and march, and the plan (render/pass_plan.h)
+    // picks the gather, and under render.time_limit the photons and samples per pass.
+    std::optional<PassPlan> plan_;
+    std::optional<AutoGatherStats> auto_stats_;
+    void plan_auto(const PassContext& context, RunStats& stats);
+    // Runs f with fresh per-thread counters and buffers, so that a pilot's work is not the run's.
+    void with_fresh_counters(const std::function<void()>& f);
+    // Work units counted so far over all threads (render/work_units.h): queries, rays, lookups.
+    double counted_work() const;
 };
 
 // The registry's reader: [photons] and the walk keys of [render].

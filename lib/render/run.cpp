@@ -39,7 +39,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     std::vector<double> sum(size_t(rs.width) * size_t(rs.height) * 3, 0.0);
     std::vector<double> means;
     result.stats.first_pass = rs.first_pass;
-    const int spp = rs.spp_per_pass();
+    int spp = rs.spp_per_pass();   // the integrator may size it (samples_per_pass) once prepared
     // Passes of an integrator without per-pass state go in groups of at least kMinGroupSamples
     // camera samples, rendered in one go over the image (render_passes: the same image as one by one).
     const double pass_samples = double(rs.width) * double(rs.height) * double(spp);
@@ -74,6 +74,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         context.progress = options.progress;
         context.log = options.log;
         integrator->prepare(context, result.stats);
+        spp = integrator->samples_per_pass(rs.spp_per_pass());
 
         RenderOptions ro;
         ro.width = rs.width;
@@ -100,6 +101,10 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         if (options.on_pass_group) options.on_pass_group(this_group);
 
         const double mean_pass = run_timer.seconds() / double(done);
+        if (options.log && before == 0 && rs.time_limit > 0 && run_timer.seconds() > rs.time_limit)
+            *options.log << "warning: render.time_limit = " << rs.time_limit << " s is shorter than the first "
+                         << (n > 1 ? "passes" : "pass") << " (" << run_timer.seconds() << " s): " << done
+                         << (done > 1 ? " passes" : " pass") << " written, at least render.passes = " << rs.passes << "\n";
         const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
                                                 done < kMaxPasses - rs.first_pass)) &&
                           !(options.cancelled && options.cancelled());
@@ -118,7 +123,8 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     }
     if (options.log) {
         const uint64_t passes = result.stats.pass_count();
-        *options.log << "render: " << rs.width << "x" << rs.height << " at " << uint64_t(rs.spp_per_pass()) * passes << " spp";
+        *options.log << "render: " << rs.width << "x" << rs.height << " at "
+                     << render.samples / (uint64_t(rs.width) * uint64_t(rs.height)) << " spp";
         if (passes > 1) *options.log << " in " << passes << " passes";
         *options.log << " in " << render.seconds << " s (" << render.samples_per_second() / 1e6 << " M samples/s)";
         if (render.nonfinite_samples) *options.log << ", " << render.nonfinite_samples << " non-finite samples left out";

@@ -184,6 +184,30 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.gather_pilot.cost", nlohmann::json(g->cost));
         record.set("photons.gather_pilot.chosen_count", nlohmann::json(g->chosen_count));
     }
+    if (const auto& a = stats.auto_gather) {
+        record.set("photons.auto_gather.chosen", a->chosen);
+        std::vector<std::string> names;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, cost;
+        for (const auto& c : a->candidates) {
+            names.push_back(c.name);
+            v_camera.push_back(c.v_camera);
+            v_map_half.push_back(c.v_map_half);
+            v_map_quarter.push_back(c.v_map_quarter);
+            cost.push_back(c.sample_cost);
+        }
+        record.set("photons.auto_gather.candidates", nlohmann::json(names));
+        record.set("photons.auto_gather.v_camera", nlohmann::json(v_camera));
+        record.set("photons.auto_gather.v_map_half", nlohmann::json(v_map_half));
+        record.set("photons.auto_gather.v_map_quarter", nlohmann::json(v_map_quarter));
+        record.set("photons.auto_gather.sample_cost", nlohmann::json(cost));
+        record.set("photons.auto_gather.photon_cost", a->photon_cost);
+        record.set("photons.auto_gather.count", a->count);
+        record.set("photons.auto_gather.spp", a->spp);
+        record.set("photons.auto_gather.beta", a->beta);
+        record.set("photons.auto_gather.beta_measured", a->beta_measured);
+        record.set("photons.auto_gather.size_photons", a->size_photons);
+        record.set("photons.auto_gather.size_samples", a->size_samples);
+    }
     if (stats.volume_estimates) write_estimates("photons.estimate_cases.", *stats.volume_estimates, record);
     if (stats.surface_estimates) write_estimates("photons.surface_estimate_cases.", *stats.surface_estimates, record);
 }

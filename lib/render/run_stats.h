@@ -9,6 +9,7 @@
 
 #include "photon/estimators.h"
 #include "photon/photon_tracer.h"
+#include "render/pass_plan.h"
 #include "render/render_loop.h"
 
 namespace vpm {
@@ -88,6 +89,18 @@ struct GatherPilotStats {
     std::vector<uint64_t> chosen_count;    // passes that chose each candidate (bounded however many passes)
 };
 
+// photons.gather = "auto": what the map-noise pilot measured and what the plan chose (render/pass_plan.h).
+struct AutoGatherStats {
+    std::vector<GatherMeasurement> candidates;
+    double photon_cost = 0.0;      // work units per emitted photon
+    std::string chosen;
+    int64_t count = 0;             // photons per pass after the first
+    int spp = 0;                   // samples per pass
+    double beta = 1.0;             // V_map ~ N^-beta
+    bool beta_measured = false;
+    bool size_photons = false, size_samples = false;
+};
+
 struct RunStats {
     // Passes are bounded in memory and in the sidecar: `passes` holds the first kPassRecords of
     // them, `pass_summary` all of them (vpm render streams every pass to OUT.passes.csv).
@@ -103,6 +116,7 @@ struct RunStats {
     std::optional<uint64_t> continued_paths;           // photon map: camera paths continued (bounded radius)
     std::optional<uint64_t> march_wide_queries;        // gather = "march": queries beyond max_radius_mfp
     std::optional<GatherPilotStats> gather_pilot;      // gather = "pilot"
+    std::optional<AutoGatherStats> auto_gather;        // gather = "auto"
     // March points' weights relative to their value where the majorant is exact (T sigma_t /
     // (mu e^-tau_mu) = 1 in homogeneous media): the largest and the mean, over the camera pass.
     std::optional<double> march_weight_max, march_weight_mean;

@@ -1,0 +1,84 @@
+#include "render/map_noise_pilot.h"
+
+#include <tbb/parallel_for.h>
+
+#include "photon/walk_group_split.h"
+
+namespace vpm {
+
+namespace {
+
+double luminance_of(const Rgb& l) { return all_finite(l) ? 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2] : 0.0; }
+
+// Per pixel: the mean of a's samples minus b's, squared, less the samples' share Var(a - b) / n.
+double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b) {
+    constexpr int kPixels = kPilotSide * kPilotSide, n = kPilotSamples;
+    double sum = 0.0;
+    for (int j = 0; j < kPixels; ++j) {
+        double mean = 0.0, m2 = 0.0;
+        for (int s = 0; s < n; ++s) {
+            const double d = a[size_t(j * n + s)] - b[size_t(j * n + s)];
+            const double delta = d - mean;
+            mean += delta / (s + 1);
+            m2 += delta * (d - mean);
+        }
+        sum += mean * mean - m2 / (n - 1) / n;
+    }
+    return sum / kPixels;   // E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b)
+}
+
+}  // namespace
+
+std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const PhotonMap& map,
+                                               const std::vector<std::string>& names, bool quarters,
+                                               MapNoisePilotHooks& hooks, uint64_t seed, uint64_t stream) {
+    constexpr int kPixels = kPilotSide * kPilotSide, n = kPilotSamples;
+    const std::vector<PhotonMap> halves = split_by_walk_group(map, 2);
+    std::vector<PhotonMap> fourths;
+    if (quarters) fourths = split_by_walk_group(map, 4);
+    std::vector<const PhotonMap*> maps = {&map, &halves[0], &halves[1]};
+    for (const PhotonMap& q : fourths) maps.push_back(&q);
+    const int width = camera.width(), height = camera.height();
+    std::vector<GatherMeasurement> out;
+    for (size_t c = 0; c < names.size(); ++c) {
+        std::vector<std::vector<double>> values(maps.size(), std::vector<double>(size_t(kPixels * n)));
+        double cost = 0.0;
+        for (size_t m = 0; m < maps.size(); ++m) {
+            hooks.use(int(c), maps[m]);
+            const double before = hooks.work();
+            tbb::parallel_for(0, kPixels, [&](int j) {
+                const int px = std::min(width - 1, int((j % kPilotSide + 0.5) / kPilotSide * width));
+                const int py = std::min(height - 1, int((j / kPilotSide + 0.5) / kPilotSide * height));
+                for (int s = 0; s < n; ++s) {
+                    // The same numbers for every map and candidate: the differences are the maps'.
+                    Rng rng(seed, stream * uint64_t(kPixels * n) + uint64_t(j * n + s));
+                    const double jx = rng.uniform(), jy = rng.uniform();
+                    values[m][size_t(j * n + s)] = luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
+                }
+            });
+            if (m == 0) cost = (hooks.work() - before) / double(kPixels * n);
+        }
+        GatherMeasurement g;
+        g.name = names[c];
+        g.sample_cost = cost;
+        double v = 0.0;
+        for (int j = 0; j < kPixels; ++j) {
+            double mean = 0.0, m2 = 0.0;
+            for (int s = 0; s < n; ++s) {
+                const double x = values[0][size_t(j * n + s)], delta = x - mean;
+                mean += delta / (s + 1);
+                m2 += delta * (x - mean);
+            }
+            v += m2 / (n - 1);
+        }
+        g.v_camera = v / kPixels;
+        g.v_map_half = 0.5 * map_variance_of_difference(values[1], values[2]);
+        g.v_map_quarter = quarters ? 0.25 * (map_variance_of_difference(values[3], values[4]) +
+                                             map_variance_of_difference(values[5], values[6]))
+                                   : -1.0;
+        out.push_back(g);
+    }
+    return out;
+}
+
+}  // namespace vpm

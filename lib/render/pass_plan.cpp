@@ -1,0 +1,66 @@
+#include "render/pass_plan.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/math.h"
+
+namespace vpm {
+
+double map_variance_exponent(double v_half, double v_quarter, bool& measured) {
+    measured = v_half > 0.0 && v_quarter > 0.0 && std::isfinite(v_half) && std::isfinite(v_quarter);
+    if (!measured) return 1.0;
+    // Outside [1/3, 1] the ratio is pilot noise: no footprint makes the map's variance fall faster
+    // than 1/N (independent balls) or slower than N^-1/3 (one ball across the pixel).
+    return std::clamp(std::log2(v_quarter / v_half), 1.0 / 3.0, 1.0);
+}
+
+PassPlan plan_passes(const PlanInputs& in) {
+    if (in.candidates.empty()) throw Error("plan_passes: no candidate gathers");
+    if (!(in.count >= 1) || !(in.spp >= 1) || !(in.pixels > 0.0))
+        throw Error("plan_passes: photons.count, samples per pass and pixels must be positive");
+    PassPlan plan;
+    plan.count = in.count;
+    plan.spp = in.spp;
+    double best = kInfinity, best_cost = kInfinity;
+    for (size_t c = 0; c < in.candidates.size(); ++c) {
+        const GatherMeasurement& m = in.candidates[c];
+        bool measured = false;
+        const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
+        const double v_map_half = std::max(0.0, m.v_map_half);   // < 0: the map's noise is below the pilot's resolution
+        double cand_best = kInfinity, cand_cost = kInfinity;
+        int64_t cand_n = in.count;
+        int cand_s = in.spp;
+        const int doublings = in.size_photons ? kPlanMaxPhotonDoublings : 0;
+        for (int i = 0; i <= doublings; ++i) {
+            const double n = double(in.count) * double(int64_t(1) << i);
+            const double v_map = v_map_half * std::pow(0.5 * double(in.count) / n, beta);
+            for (int s = in.size_samples ? 1 : in.spp; s <= (in.size_samples ? kPlanMaxSpp : in.spp); s *= 2) {
+                const double cost = in.photon_cost * n + in.pixels * double(s) * m.sample_cost;
+                const double score = (v_map + m.v_camera / double(s)) * cost;
+                if (score < cand_best || (score == cand_best && cost < cand_cost)) {
+                    cand_best = score;
+                    cand_cost = cost;
+                    cand_n = int64_t(n);
+                    cand_s = s;
+                }
+                if (!in.size_samples) break;
+            }
+        }
+        plan.score.push_back(cand_best);
+        // Least score; equal scores (nothing lit: every variance 0) go to the cheaper pass.
+        if (cand_best < best || (cand_best == best && cand_cost < best_cost)) {
+            best = cand_best;
+            best_cost = cand_cost;
+            plan.chosen = int(c);
+            plan.count = cand_n;
+            plan.spp = cand_s;
+            plan.beta = beta;
+            plan.beta_measured = measured;
+        }
+    }
+    return plan;
+}
+
+}  // namespace vpm

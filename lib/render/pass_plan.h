@@ -1,0 +1,60 @@
+#pragma once
+// Photons per pass N, camera samples per pass S and the gather, chosen from measurements
+// (render/map_noise_pilot.h) instead of fixed settings. With P passes the image's error is about
+//
+//     error^2 = (V_map(N) + V_camera / S) / P + bias(N)^2,
+//
+// V_camera the per-sample variance of a pixel given the map, V_map(N) the variance of a pixel's
+// mean that comes from the map itself (shared by every sample of a pass, so it falls with N and P
+// only). A pass costs C(N, S) = c_photon N + pixels S c_sample in counted work units, so for a
+// fixed time the error^2 x time to minimise is (V_map(N) + V_camera / S) C(N, S). V_map is measured
+// at N0 / 2 and N0 / 4 photons (the pilot's independent part maps) and extrapolated as N^-beta:
+// beta = 1 where a pixel's footprint holds many kNN balls, 1/3 where one ball spans the pixel's
+// cross-section (the balls then only average along the ray). The bias term is not measured: N
+// never goes below the configured count N0, so the bias stays at most the configured one.
+// Every input is a count or a variance: the plan is the same on any machine and thread count,
+// and scale-invariant.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vpm {
+
+struct GatherMeasurement {
+    std::string name;             // "collision", "march"
+    double v_camera = 0.0;        // per-sample variance of a pixel's luminance given the map
+    double v_map_half = 0.0;      // variance of a pixel's mean from the map at N0 / 2 (may be < 0: noise)
+    double v_map_quarter = 0.0;   // the same at N0 / 4 (not measured: < 0)
+    double sample_cost = 0.0;     // counted work units per camera sample
+};
+
+struct PlanInputs {
+    std::vector<GatherMeasurement> candidates;
+    double photon_cost = 0.0;   // counted work units per emitted photon (trace and build)
+    double pixels = 0.0;
+    int64_t count = 0;          // N0: photons.count
+    int spp = 1;                // S0: samples per pass as configured
+    bool size_photons = false;  // false: N stays N0
+    bool size_samples = false;  // false: S stays S0
+};
+
+struct PassPlan {
+    int chosen = 0;              // index into candidates
+    int64_t count = 0;           // N
+    int spp = 1;                 // S
+    double beta = 1.0;           // V_map ~ N^-beta, the chosen candidate's
+    bool beta_measured = false;  // false: 1 assumed (the quarter-map figure was noise or absent)
+    std::vector<double> score;   // per candidate: least (V_map + V_camera / S) C over its (N, S)
+};
+
+// Largest factors over the configured sizes the plan considers (powers of two up to these).
+constexpr int kPlanMaxPhotonDoublings = 6;
+constexpr int kPlanMaxSpp = 256;
+
+// The exponent beta from V_map at N0/2 and N0/4, within [1/3, 1]; `measured` false when either
+// variance is not positive (then 1).
+double map_variance_exponent(double v_half, double v_quarter, bool& measured);
+
+PassPlan plan_passes(const PlanInputs& in);
+
+}  // namespace vpm

@@ -1,0 +1,22 @@
+#pragma once
+// Work units per counted operation for the photon map's automatic choices (render/pass_plan.h):
+// the costs come from counts, never from the clock, so a seed gives the same choices on any
+// machine. Units are nanoseconds of one core of the development machine, fitted to the render
+// and photon-pass phase times of forced-gather runs over matrix cells (BENCHMARKS.md section 11.6);
+// only their ratios matter.
+#include "scene/scene.h"
+
+namespace vpm {
+
+struct WorkUnits {
+    double query = 0.0;       // a kNN query (grows with k)
+    double ray = 0.0;         // a tracked segment: free flight, shadow ray or march transmittance
+    double lookup = 0.0;      // a sigma_t lookup of the ball quadrature
+    double collision = 0.0;   // a real collision of the photon walk
+    double path = 0.0;        // an emitted photon path
+    double stored = 0.0;      // a stored photon (kd-tree build)
+};
+
+WorkUnits work_units(const Scene& scene, int k);
+
+}  // namespace vpm

@@ -1,0 +1,160 @@
+// photons.gather = "auto" (issue 20): the map-noise pilot (render/map_noise_pilot.h) measures the
+// collision and march gathers with the pass's map and its independent halves and quarters, and
+// the plan (render/pass_plan.h) picks the gather and, under render.time_limit with photons.count
+// and render.spp not given, the photons and samples per pass. The choices come from counts and
+// fixed streams: the same on 1 and 2 threads and at scale 1e3, and the image stays unbiased.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "config/params.h"
+#include "core/error.h"
+#include "render/run.h"
+#include "../support/render_statistics.h"
+
+using namespace vpm;
+namespace fs = std::filesystem;
+
+namespace {
+
+// configs/thin_cube.toml without spp and count (so that a time limit sizes them), every length times s.
+std::string thin_cube(double s) {
+    auto v = [s](double x, double y, double z) {
+        std::ostringstream o;
+        o.precision(17);
+        o << "[" << x * s << ", " << y * s << ", " << z * s << "]";
+        return o.str();
+    };
+    std::ostringstream t;
+    t.precision(17);
+    t << "[render]\nwidth = 12\nheight = 12\nintegrator = \"photon_map\"\n\n"
+      << "[camera]\nposition = " << v(0.5, 0.5, 3.5) << "\nlook_at = " << v(0.5, 0.5, 0.5) << "\nfov = 35\n\n"
+      << "[photons]\nk = 32\n\n"
+      << "[[lights]]\ntype = \"point\"\nposition = " << v(2.5, 2.0, 2.0) << "\nintensity = " << 20.0 * s * s << "\n\n"
+      << "[[media]]\ntype = \"homogeneous\"\nshape = \"box\"\nmin = " << v(0, 0, 0) << "\nmax = " << v(1, 1, 1)
+      << "\nsigma_t_scale = " << 1.0 / s << "\nalbedo = 0.8\n";
+    return t.str();
+}
+
+std::string write(const std::string& name, const std::string& text) {
+    const fs::path dir = fs::temp_directory_path() / "vpm_auto_gather_test";
+    fs::create_directories(dir);
+    const fs::path p = dir / name;
+    std::ofstream(p) << text;
+    return p.string();
+}
+
+RunResult render(const std::string& file, const std::vector<std::string>& sets, std::ostream* log = nullptr) {
+    RunOptions o;
+    o.progress = false;
+    o.log = log;
+    return run(RunConfig::load(file, sets), o);
+}
+
+}  // namespace
+
+TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
+    const std::string f = write("cube.toml", thin_cube(1.0));
+    // One pass (a limit far below it): pass 0 is the pilot's, the plan's samples per pass apply.
+    const RunResult a = render(f, {"render.time_limit=1e-9", "photons.count=20000"});
+    ASSERT_TRUE(a.stats.auto_gather);
+    EXPECT_FALSE(a.stats.auto_gather->size_photons);   // count given
+    EXPECT_TRUE(a.stats.auto_gather->size_samples);
+    EXPECT_EQ(a.stats.pass_count(), 1u);
+    EXPECT_EQ(a.stats.render.samples, 144u * uint64_t(a.stats.auto_gather->spp));
+    ASSERT_EQ(a.stats.auto_gather->candidates.size(), 2u);
+    for (const auto& c : a.stats.auto_gather->candidates) {
+        EXPECT_GT(c.v_camera, 0.0) << c.name;
+        EXPECT_GT(c.sample_cost, 0.0) << c.name;
+        EXPECT_EQ(c.v_map_quarter, -1.0) << c.name;   // quarters only when the count is sized
+    }
+    const RunResult given = render(f, {"render.time_limit=1e-9", "render.spp=3", "photons.count=20000"});
+    ASSERT_TRUE(given.stats.auto_gather);
+    EXPECT_FALSE(given.stats.auto_gather->size_samples);
+    EXPECT_EQ(given.stats.render.samples, 144u * 3u);
+    const RunResult no_limit = render(f, {"photons.count=20000"});
+    ASSERT_TRUE(no_limit.stats.auto_gather);
+    EXPECT_FALSE(no_limit.stats.auto_gather->size_photons || no_limit.stats.auto_gather->size_samples);
+    EXPECT_EQ(no_limit.stats.render.samples, 144u * 16u);   // (its gather may differ: chosen at 16 samples per pass)
+}
+
+TEST(AutoGather, ATimeLimitShorterThanOnePassWritesOneAndSaysSo) {
+    std::ostringstream log;
+    const RunResult r = render(write("cube.toml", thin_cube(1.0)), {"render.time_limit=1e-9", "photons.count=20000"}, &log);
+    EXPECT_EQ(r.stats.pass_count(), 1u);
+    EXPECT_EQ(r.image.width, 12);
+    EXPECT_NE(log.str().find("warning: render.time_limit = 1e-09 s is shorter than the first pass"), std::string::npos) << log.str();
+    EXPECT_NE(log.str().find("gather: auto chose"), std::string::npos) << log.str();
+}
+
+TEST(AutoGather, SamePlanAndImageOnOneAndTwoThreads) {
+    const std::string f = write("cube.toml", thin_cube(1.0));
+    // render.first_pass = 1: the pilot map is pass 0's, traced apart, and the pass uses the planned count.
+    const std::vector<std::string> sets = {"render.time_limit=1e-9", "render.first_pass=1"};
+    std::vector<std::string> one = sets, two = sets;
+    one.push_back("render.threads=1");
+    two.push_back("render.threads=2");
+    const RunResult a = render(f, one), b = render(f, two);
+    ASSERT_TRUE(a.stats.auto_gather && b.stats.auto_gather);
+    const AutoGatherStats &x = *a.stats.auto_gather, &y = *b.stats.auto_gather;
+    EXPECT_TRUE(x.size_photons && x.size_samples);
+    EXPECT_EQ(x.chosen, y.chosen);
+    EXPECT_EQ(x.count, y.count);
+    EXPECT_EQ(x.spp, y.spp);
+    EXPECT_EQ(x.photon_cost, y.photon_cost);
+    for (size_t c = 0; c < x.candidates.size(); ++c) {
+        EXPECT_EQ(x.candidates[c].v_camera, y.candidates[c].v_camera);
+        EXPECT_EQ(x.candidates[c].v_map_half, y.candidates[c].v_map_half);
+        EXPECT_EQ(x.candidates[c].v_map_quarter, y.candidates[c].v_map_quarter);
+        EXPECT_EQ(x.candidates[c].sample_cost, y.candidates[c].sample_cost);
+    }
+    EXPECT_EQ(a.stats.photons->emitted, uint64_t(x.count));   // pass 1 emits the planned count
+    EXPECT_EQ(a.image.rgb, b.image.rgb);
+}
+
+TEST(AutoGather, SameChoicesAtScale1e3) {
+    const RunResult a = render(write("cube1.toml", thin_cube(1.0)), {"render.time_limit=1e-9"});
+    const RunResult b = render(write("cube1e3.toml", thin_cube(1e3)), {"render.time_limit=1e-9"});
+    ASSERT_TRUE(a.stats.auto_gather && b.stats.auto_gather);
+    const AutoGatherStats &x = *a.stats.auto_gather, &y = *b.stats.auto_gather;
+    EXPECT_EQ(x.chosen, y.chosen);
+    EXPECT_EQ(x.count, y.count);
+    EXPECT_EQ(x.spp, y.spp);
+    EXPECT_NEAR(y.photon_cost, x.photon_cost, 0.01 * x.photon_cost);
+    for (size_t c = 0; c < x.candidates.size(); ++c) {
+        EXPECT_NEAR(y.candidates[c].v_camera, x.candidates[c].v_camera, 0.02 * x.candidates[c].v_camera) << c;
+        EXPECT_NEAR(y.candidates[c].sample_cost, x.candidates[c].sample_cost, 0.02 * x.candidates[c].sample_cost) << c;
+    }
+}
+
+TEST(AutoGather, FurnaceStaysUnbiasedWithThePlan) {
+    // configs/uniform_furnace.toml (radiance 0.5 everywhere) without spp and count: the plan sizes
+    // both; one pass per run (the limit is below it), six independent runs.
+    const std::string f = write("furnace.toml",
+                                "[render]\nwidth = 12\nheight = 12\nintegrator = \"photon_map\"\ntime_limit = 1e-9\n\n"
+                                "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
+                                "[photons]\nk = 8\ndirect = \"photon_map\"\nmax_radius_mfp = 0\n\n"
+                                "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
+                                "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.6\nalbedo = 1.0\n");
+    const RunConfig config = RunConfig::load(f);
+    const test::Sample s = test::repeated_run_brightness(config, 6);
+    EXPECT_NEAR(s.mean(), 0.5, 3.0 * s.se() + 0.005);
+}
+
+TEST(AutoGather, GatherKeyNamesItsValues) {
+    const std::string f = write("cube.toml", thin_cube(1.0));
+    try {
+        RunConfig::load(f, {"photons.gather=\"bogus\""});
+        FAIL() << "accepted photons.gather = \"bogus\"";
+    } catch (const ConfigError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("gather"), std::string::npos) << m;
+        EXPECT_NE(m.find("threshold"), std::string::npos) << m;
+        EXPECT_NE(m.find("auto"), std::string::npos) << m;
+    }
+    EXPECT_NO_THROW(RunConfig::load(f, {"photons.gather=\"threshold\""}));
+}

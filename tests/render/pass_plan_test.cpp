@@ -1,0 +1,106 @@
+// render/pass_plan.h: photons and samples per pass and the gather from measured variances and
+// counted costs, minimising (V_map(N) + V_camera / S) x C(N, S).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "render/pass_plan.h"
+
+using namespace vpm;
+
+namespace {
+
+PlanInputs inputs(double v_camera, double v_half, double v_quarter, double sample_cost, double photon_cost) {
+    PlanInputs in;
+    in.candidates = {{"collision", v_camera, v_half, v_quarter, sample_cost}};
+    in.photon_cost = photon_cost;
+    in.pixels = 1000.0;
+    in.count = 1000;
+    in.spp = 16;
+    in.size_photons = in.size_samples = true;
+    return in;
+}
+
+double score(const PlanInputs& in, double n, double s, double beta) {
+    const GatherMeasurement& m = in.candidates[0];
+    const double v_map = m.v_map_half * std::pow(0.5 * double(in.count) / n, beta);
+    return (v_map + m.v_camera / s) * (in.photon_cost * n + in.pixels * s * m.sample_cost);
+}
+
+}  // namespace
+
+TEST(PassPlan, ExponentFromHalfAndQuarterMaps) {
+    bool measured = false;
+    EXPECT_NEAR(map_variance_exponent(1.0, 2.0, measured), 1.0, 1e-12);
+    EXPECT_TRUE(measured);
+    EXPECT_NEAR(map_variance_exponent(1.0, std::pow(2.0, 0.5), measured), 0.5, 1e-12);
+    EXPECT_NEAR(map_variance_exponent(1.0, 8.0, measured), 1.0, 1e-12);          // faster than 1/N: pilot noise
+    EXPECT_NEAR(map_variance_exponent(1.0, 1.0, measured), 1.0 / 3.0, 1e-12);    // flat: at most one ball per pixel
+    EXPECT_EQ(map_variance_exponent(-1.0, 2.0, measured), 1.0);
+    EXPECT_FALSE(measured);
+    EXPECT_EQ(map_variance_exponent(1.0, -1.0, measured), 1.0);
+    EXPECT_FALSE(measured);
+}
+
+TEST(PassPlan, PicksTheLeastErrorTimesCostOnItsGrid) {
+    // beta = 1: V_map(N) = a / N, and the optimum of (a/N + b/S)(cN N + cS S) over the grid.
+    const PlanInputs in = inputs(/*v_camera*/ 4.0, /*v_half*/ 0.02, /*v_quarter*/ 0.04, /*sample*/ 50.0, /*photon*/ 200.0);
+    const PassPlan p = plan_passes(in);
+    EXPECT_TRUE(p.beta_measured);
+    EXPECT_NEAR(p.beta, 1.0, 1e-12);
+    const double best = score(in, double(p.count), double(p.spp), 1.0);
+    ASSERT_EQ(p.score.size(), 1u);
+    EXPECT_NEAR(p.score[0], best, 1e-9 * best);
+    for (int i = 0; i <= kPlanMaxPhotonDoublings; ++i)
+        for (int s = 1; s <= kPlanMaxSpp; s *= 2) EXPECT_LE(best, score(in, 1000.0 * (1 << i), s, 1.0)) << i << " " << s;
+    // Camera noise dominating and cheap samples: more samples per pass than configured.
+    EXPECT_GT(p.spp, 16);
+}
+
+TEST(PassPlan, MapNoiseBuysPhotonsAndCameraNoiseBuysSamples) {
+    const PassPlan map_bound = plan_passes(inputs(0.01, 1.0, 2.0, 10.0, 10.0));
+    const PassPlan camera_bound = plan_passes(inputs(100.0, 1e-6, 2e-6, 10.0, 10.0));
+    EXPECT_GT(map_bound.count, camera_bound.count);
+    EXPECT_LT(map_bound.spp, camera_bound.spp);
+    EXPECT_EQ(camera_bound.count, 1000);   // never below the configured count (the bias stays at most its)
+}
+
+TEST(PassPlan, KeepsGivenSizesAndPicksTheGather) {
+    PlanInputs in = inputs(1.0, 0.1, 0.2, 10.0, 100.0);
+    in.candidates.push_back({"march", 0.1, 0.01, 0.02, 40.0});   // 10x less variance at 4x the samples' cost
+    in.size_photons = in.size_samples = false;
+    const PassPlan p = plan_passes(in);
+    EXPECT_EQ(p.count, 1000);
+    EXPECT_EQ(p.spp, 16);
+    EXPECT_EQ(p.chosen, 1);
+    ASSERT_EQ(p.score.size(), 2u);
+    EXPECT_LT(p.score[1], p.score[0]);
+    // Scale-invariant: all variances times 7 and all costs times 3 change nothing.
+    for (auto& c : in.candidates) {
+        c.v_camera *= 7;
+        c.v_map_half *= 7;
+        c.v_map_quarter *= 7;
+        c.sample_cost *= 3;
+    }
+    in.photon_cost *= 3;
+    EXPECT_EQ(plan_passes(in).chosen, 1);
+}
+
+TEST(PassPlan, NothingLitGoesToTheCheaperGather) {
+    PlanInputs in = inputs(0.0, 0.0, 0.0, 30.0, 10.0);
+    in.candidates.push_back({"march", 0.0, 0.0, 0.0, 20.0});
+    const PassPlan p = plan_passes(in);
+    EXPECT_EQ(p.chosen, 1);
+    EXPECT_EQ(p.spp, 1);
+    EXPECT_EQ(p.count, 1000);
+}
+
+TEST(PassPlan, RefusesEmptyOrNonPositiveInputs) {
+    PlanInputs in = inputs(1.0, 0.1, 0.2, 10.0, 100.0);
+    in.candidates.clear();
+    EXPECT_THROW(plan_passes(in), Error);
+    in = inputs(1.0, 0.1, 0.2, 10.0, 100.0);
+    in.pixels = 0.0;
+    EXPECT_THROW(plan_passes(in), Error);
+}
