@@ -72,7 +72,7 @@ struct MatrixMethodResult {
     double mse = 0;         // rel_rmse^2 minus the reference's noise
     double cost() const { return mse * seconds; }   // C
     uint64_t nonfinite_pixels = 0;
-    std::string chosen;     // photons.gather = "pilot": the gather its pilot chose (last pass)
+    std::string chosen;     // photons.gather = "auto": the gather, photons and samples per pass its plan chose
     double march_weight_max = 0, march_weight_mean = 0;   // march points' relative weights (RunStats)
 };
 

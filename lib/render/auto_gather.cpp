@@ -2,6 +2,7 @@
 // the first pass of a run. A member of PhotonMapIntegrator kept apart from its camera paths.
 #include <ostream>
 
+#include "core/progress.h"
 #include "core/rng.h"
 #include "render/map_noise_pilot.h"
 #include "render/photon_map_integrator.h"
@@ -14,6 +15,7 @@ int PhotonMapIntegrator::samples_per_pass(int configured) const {
 }
 
 void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats) {
+    const Timer timer;
     const WorkUnits w = work_units(scene_, int(k_));
     PlanInputs in;
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
@@ -52,9 +54,10 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             map_ = m;
         };
         hooks.trace = [&](const Ray& ray, Rng& rng) { return trace(ray, 0, rng); };
-        hooks.work = [&] { return counted_work(); };
+        hooks.counts = [&] { return counted_operations(); };
+        hooks.work = [&](const CountedOperations& c) { return w.query * c.queries + w.ray * c.rays + w.lookup * c.lookups; };
         with_fresh_counters([&] {
-            measured = measure_gathers(scene_.camera, *map, names, in.size_photons, hooks,
+            measured = measure_gathers(scene_.camera, *map, names, hooks,
                                        mix64(context.seed ^ 0x6d61706e6f697365ULL), context.run_stream_offset);
         });
         map_ = run_map;
@@ -77,10 +80,11 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     a.size_photons = in.size_photons;
     a.size_samples = in.size_samples;
     auto_stats_ = a;
+    stats.phase("pilot", timer.seconds());
     if (context.log) {
         std::ostream& log = *context.log;
         log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
-            << kPilotSamples << " samples with the map and its " << (in.size_photons ? "halves and quarters" : "halves");
+            << kPilotSamples << " samples with the map and its halves";
         if (map->size() == 0) log << "; the volume map is empty, nothing to measure";
         for (const auto& m : measured)
             log << "; " << m.name << ": per-sample variance " << m.v_camera << ", map variance at N/2 " << m.v_map_half
@@ -90,7 +94,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             log << "passes: " << a.count << " photons per pass after the first (" << (in.size_photons ? "sized" : "photons.count")
                 << "), " << (in.size_samples ? std::to_string(plan.spp) : std::string("render.spp")) << " samples per pass ("
                 << (in.size_samples ? "sized" : "given") << "), the map's variance taken as N^-" << plan.beta
-                << (plan.beta_measured ? " (measured)" : " (assumed: the quarter maps' figure was noise)") << "\n";
+                << (plan.beta_measured ? " (measured)" : " (assumed)") << "\n";
     }
 }
 

@@ -30,22 +30,20 @@ double map_variance_of_difference(const std::vector<double>& a, const std::vecto
 }  // namespace
 
 std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const PhotonMap& map,
-                                               const std::vector<std::string>& names, bool quarters,
+                                               const std::vector<std::string>& names,
                                                MapNoisePilotHooks& hooks, uint64_t seed, uint64_t stream) {
     constexpr int kPixels = kPilotSide * kPilotSide, n = kPilotSamples;
     const std::vector<PhotonMap> halves = split_by_walk_group(map, 2);
-    std::vector<PhotonMap> fourths;
-    if (quarters) fourths = split_by_walk_group(map, 4);
-    std::vector<const PhotonMap*> maps = {&map, &halves[0], &halves[1]};
-    for (const PhotonMap& q : fourths) maps.push_back(&q);
+    const std::vector<const PhotonMap*> maps = {&map, &halves[0], &halves[1]};
     const int width = camera.width(), height = camera.height();
     std::vector<GatherMeasurement> out;
     for (size_t c = 0; c < names.size(); ++c) {
         std::vector<std::vector<double>> values(maps.size(), std::vector<double>(size_t(kPixels * n)));
         double cost = 0.0;
+        CountedOperations ops;
         for (size_t m = 0; m < maps.size(); ++m) {
             hooks.use(int(c), maps[m]);
-            const double before = hooks.work();
+            const CountedOperations before = hooks.counts();
             tbb::parallel_for(0, kPixels, [&](int j) {
                 const int px = std::min(width - 1, int((j % kPilotSide + 0.5) / kPilotSide * width));
                 const int py = std::min(height - 1, int((j / kPilotSide + 0.5) / kPilotSide * height));
@@ -56,11 +54,18 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
                     values[m][size_t(j * n + s)] = luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
                 }
             });
-            if (m == 0) cost = (hooks.work() - before) / double(kPixels * n);
+            if (m == 0) {
+                const CountedOperations after = hooks.counts();
+                const double samples = double(kPixels * n);
+                ops = {(after.queries - before.queries) / samples, (after.rays - before.rays) / samples,
+                       (after.lookups - before.lookups) / samples};
+                cost = hooks.work(ops);
+            }
         }
         GatherMeasurement g;
         g.name = names[c];
         g.sample_cost = cost;
+        g.per_sample = ops;
         double v = 0.0;
         for (int j = 0; j < kPixels; ++j) {
             double mean = 0.0, m2 = 0.0;
@@ -73,9 +78,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         }
         g.v_camera = v / kPixels;
         g.v_map_half = 0.5 * map_variance_of_difference(values[1], values[2]);
-        g.v_map_quarter = quarters ? 0.25 * (map_variance_of_difference(values[3], values[4]) +
-                                             map_variance_of_difference(values[5], values[6]))
-                                   : -1.0;
+        g.v_map_quarter = -1.0;
         out.push_back(g);
     }
     return out;

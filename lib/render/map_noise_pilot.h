@@ -1,15 +1,19 @@
 #pragma once
 // The pilot behind photons.gather = "auto": for each candidate gather, at a grid of pilot pixels,
-// camera samples traced with the pass's photon map and with its independent parts (photon/
-// walk_group_split.h: halves, and quarters when the photon count is to be sized), every map with
-// the same random numbers per sample. From them, per candidate (render/pass_plan.h):
+// camera samples traced with the pass's photon map and with its two independent halves (photon/
+// walk_group_split.h), every map with the same random numbers per sample. From them, per candidate (render/pass_plan.h):
 //   V_camera  the per-sample variance at a pixel with the full map (within a pass),
 //   V_map     the variance of a pixel's mean from the map alone, at N0/2 from the two halves:
 //             E[(mean_A - mean_B)^2] = 2 V_map(N0/2) + Var(A - B) / n (the samples' own share of
-//             the difference, measured per pixel and subtracted), and at N0/4 from the quarters,
+//             the difference, measured per pixel and subtracted),
 //   cost      counted work units per sample with the full map (queries, rays, lookups).
 // A per-sample variance alone misses V_map: every sample of a pass sees the same map. Pixels,
 // samples and streams are fixed by the seed, so the figures are the same on any thread count.
+// Each pilot pixel's samples jitter within that one pixel: spread over a block of the image, their
+// variance would count the image's own variation as noise (the "pilot" gather's error: it made the
+// march's variance look 10x larger in the box at optical thickness 1, BENCHMARKS.md section 11.6).
+// Quarter maps (V_map at N0/4, hence the exponent beta) doubled the pilot's cost and changed no
+// plan in the matrix cells tried (the map's share was below the camera's in all of them): not traced.
 #include <functional>
 #include <string>
 #include <vector>
@@ -26,16 +30,16 @@ struct MapNoisePilotHooks {
     // parallel loops, never during one).
     std::function<void(int candidate, const PhotonMap* map)> use;
     std::function<Rgb(const Ray&, Rng&)> trace;   // one camera sample, thread-safe
-    std::function<double()> work;                 // counted work units so far, over all threads
+    std::function<CountedOperations()> counts;    // operations counted so far, over all threads
+    std::function<double(const CountedOperations&)> work;   // their work units
 };
 
 constexpr int kPilotSide = 8;       // pilot pixels: the centres of an 8 x 8 grid of image blocks
 constexpr int kPilotSamples = 8;    // samples per pilot pixel and map
 
-// `names`: the candidates' names, in the order `use` takes them. quarters: also trace the
-// four quarter maps (V_map at N0/4; else v_map_quarter = -1).
+// `names`: the candidates' names, in the order `use` takes them (v_map_quarter is left -1).
 std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const PhotonMap& map,
-                                               const std::vector<std::string>& names, bool quarters,
+                                               const std::vector<std::string>& names,
                                                MapNoisePilotHooks& hooks, uint64_t seed, uint64_t stream);
 
 }  // namespace vpm

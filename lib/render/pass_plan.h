@@ -8,9 +8,9 @@
 // mean that comes from the map itself (shared by every sample of a pass, so it falls with N and P
 // only). A pass costs C(N, S) = c_photon N + pixels S c_sample in counted work units, so for a
 // fixed time the error^2 x time to minimise is (V_map(N) + V_camera / S) C(N, S). V_map is measured
-// at N0 / 2 and N0 / 4 photons (the pilot's independent part maps) and extrapolated as N^-beta:
-// beta = 1 where a pixel's footprint holds many kNN balls, 1/3 where one ball spans the pixel's
-// cross-section (the balls then only average along the ray). The bias term is not measured: N
+// at N0 / 2 photons (the pilot's independent half maps) and extrapolated as N^-beta: beta = 1 where
+// a pixel's footprint holds many kNN balls, 1/3 where one ball spans the pixel's cross-section (the
+// balls then only average along the ray); measured from N0 / 4 where given, else 1. The bias term is not measured: N
 // never goes below the configured count N0, so the bias stays at most the configured one.
 // Every input is a count or a variance: the plan is the same on any machine and thread count,
 // and scale-invariant.
@@ -20,12 +20,20 @@
 
 namespace vpm {
 
+// Camera-side operations the photon map counts (per sample, or in all).
+struct CountedOperations {
+    double queries = 0.0;   // kNN queries
+    double rays = 0.0;      // tracked segments: free flights, shadow rays, march transmittances
+    double lookups = 0.0;   // sigma_t lookups of the ball quadrature
+};
+
 struct GatherMeasurement {
     std::string name;             // "collision", "march"
     double v_camera = 0.0;        // per-sample variance of a pixel's luminance given the map
     double v_map_half = 0.0;      // variance of a pixel's mean from the map at N0 / 2 (may be < 0: noise)
     double v_map_quarter = 0.0;   // the same at N0 / 4 (not measured: < 0)
     double sample_cost = 0.0;     // counted work units per camera sample
+    CountedOperations per_sample; // the operations behind it
 };
 
 struct PlanInputs {

@@ -19,7 +19,6 @@
 #include "transport/direct_light.h"
 #include "transport/mis.h"
 #include "transport/walk_steps.h"
-#include "render/work_units.h"
 
 namespace vpm {
 
@@ -295,12 +294,14 @@ void PhotonMapIntegrator::with_fresh_counters(const std::function<void()>& f) {
     threads_ = std::move(run);
 }
 
-double PhotonMapIntegrator::counted_work() const {
-    const WorkUnits w = work_units(scene_, int(k_));
-    double total = 0.0;
-    for (const auto& l : threads_->local)
-        total += w.query * double(l.stats.queries + l.surface_stats.queries) + w.ray * double(l.rays) + w.lookup * double(l.lookups);
-    return total;
+CountedOperations PhotonMapIntegrator::counted_operations() const {
+    CountedOperations c;
+    for (const auto& l : threads_->local) {
+        c.queries += double(l.stats.queries + l.surface_stats.queries);
+        c.rays += double(l.rays);
+        c.lookups += double(l.lookups);
+    }
+    return c;
 }
 
 bool PhotonMapIntegrator::volume_map_starved() const {

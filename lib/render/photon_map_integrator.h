@@ -139,8 +139,8 @@ private:
     void plan_auto(const PassContext& context, RunStats& stats);
     // Runs f with fresh per-thread counters and buffers, so that a pilot's work is not the run's.
     void with_fresh_counters(const std::function<void()>& f);
-    // Work units counted so far over all threads (render/work_units.h): queries, rays, lookups.
-    double counted_work() const;
+    // Operations counted so far over all threads (render/pass_plan.h).
+    CountedOperations counted_operations() const;
 };
 
 // The registry's reader: [photons] and the walk keys of [render].

@@ -48,6 +48,12 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
                               : 1;
     const Timer run_timer;
     int64_t done = 0;   // passes rendered
+    double first_group_seconds = 0.0;
+    int64_t first_group_passes = 0;
+    auto seconds_per_pass = [&] {
+        return done > first_group_passes ? (run_timer.seconds() - first_group_seconds) / double(done - first_group_passes)
+                                         : run_timer.seconds() / double(done);
+    };
     for (;;) {
         // How many passes this group renders: the configured ones first, then, under a time limit,
         // as many as the measured time per pass says still fit (at least one: the limit is checked
@@ -56,7 +62,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         if (done < rs.passes) {
             n = std::min<int64_t>(group, rs.passes - done);
         } else {
-            const double per_pass = run_timer.seconds() / double(done);
+            const double per_pass = seconds_per_pass();
             const double fit = per_pass > 0.0 ? std::floor((rs.time_limit - run_timer.seconds()) / per_pass) : double(group);
             n = std::max<int64_t>(1, std::min<int64_t>(group, int64_t(std::min(fit, double(group)))));
             n = std::min<int64_t>(n, kMaxPasses - rs.first_pass - done);
@@ -100,7 +106,11 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         const PassGroupStats this_group{done, n, spp, seconds, run_timer.seconds(), mean_of_means};
         if (options.on_pass_group) options.on_pass_group(this_group);
 
-        const double mean_pass = run_timer.seconds() / double(done);
+        // Time per pass from the passes after the first: the first also holds one-off work (the
+        // photon map's pilot, the light allocation) and would stop a time-limited run early.
+        if (before == 0) first_group_seconds = run_timer.seconds();
+        if (before == 0) first_group_passes = done;
+        const double mean_pass = seconds_per_pass();
         if (options.log && before == 0 && rs.time_limit > 0 && run_timer.seconds() > rs.time_limit)
             *options.log << "warning: render.time_limit = " << rs.time_limit << " s is shorter than the first "
                          << (n > 1 ? "passes" : "pass") << " (" << run_timer.seconds() << " s): " << done
