@@ -46,7 +46,8 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
     s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"threshold", GatherMode::threshold}});
-    if (s.gather == GatherMode::automatic && render.has("time_limit") && render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) > 0.0) {
+    s.time_limit = render.has("time_limit") ? render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) : 0.0;
+    if (s.gather == GatherMode::automatic && s.time_limit > 0.0) {
         s.size_photons = !p.has("count");
         s.size_samples = !render.has("spp") && !render.has("passes");
     }

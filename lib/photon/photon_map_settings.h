@@ -30,7 +30,12 @@
 //   |                        |             | transmittance (every ray gathers, also in thin media);   |
 //   |                        |             | a point whose ball exceeds max_radius_mfp takes NEE and  |
 //   |                        |             | a continued path (counted: photons.march_wide_queries).  |
-//   |                        |             | "auto": per camera segment, "march" where the media's    |
+//   |                        |             | "auto": the run's first pass measures collision and march|
+//   |                        |             | (per-sample and photon-map variance, counted work) and   |
+//   |                        |             | keeps the least error^2 x work; under render.time_limit  |
+//   |                        |             | it also sizes photons and samples per pass unless count  |
+//   |                        |             | or spp is given (render/pass_plan.h, map_noise_pilot.h). |
+//   |                        |             | "threshold": per camera segment, "march" where the media's|
 //   |                        |             | majorant optical depth along it is at most               |
 //   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
 //   |                        |             | geometry alone, so the mixture stays unbiased).          |
@@ -47,7 +52,7 @@
 //   |                        |             | clustered walks (photon/group_estimate.h)                |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
 //   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
-//   | march_max_optical_depth| 2           | the "auto" threshold                                     |
+//   | march_max_optical_depth| 2           | the "threshold" gather's threshold                       |
 //   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
 //   |                        |             | counting from render.first_pass) uses                    |
 //   |                        |             | k_i = max(k_floor, round(k i^(alpha-1))), the kNN form of |
@@ -94,6 +99,7 @@ struct PhotonMapSettings {
     // gather = "auto" with render.time_limit > 0: the plan sizes the photons per pass unless
     // photons.count is given, the samples per pass unless render.spp or render.passes is.
     bool size_photons = false, size_samples = false;
+    double time_limit = 0.0;   // render.time_limit (the plan's budget)
     double alpha = 2.0 / 3.0;
     int k_floor = 4;
     WalkSettings walk;

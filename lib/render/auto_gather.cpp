@@ -23,6 +23,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     in.spp = 1;   // replaced below when not sized: the plan then only picks the gather
     in.size_photons = owns_maps_ && settings_.size_photons;
     in.size_samples = settings_.size_samples;
+    in.budget = settings_.time_limit * kWorkUnitsPerSecond;
     // The pilot's map is pass 0's, so that every range of passes rendered apart (render.first_pass,
     // vpm merge) makes the same plan: a run starting later traces it apart, with pass 0's streams.
     PhotonMaps pilot_maps;
@@ -62,7 +63,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         });
         map_ = run_map;
     } else {
-        for (const auto& n : names) measured.push_back(GatherMeasurement{n, 0.0, 0.0, -1.0, 0.0});
+        for (const auto& n : names) measured.push_back(GatherMeasurement{n, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, {}});
     }
     in.candidates = measured;
     PassPlan plan = plan_passes(in);
@@ -88,6 +89,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         if (map->size() == 0) log << "; the volume map is empty, nothing to measure";
         for (const auto& m : measured)
             log << "; " << m.name << ": per-sample variance " << m.v_camera << ", map variance at N/2 " << m.v_map_half
+                << ", squared bias " << m.bias2 << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
                 << ", work " << m.sample_cost << " per sample";
         log << "; work " << in.photon_cost << " per photon)\n";
         if (in.size_photons || in.size_samples)

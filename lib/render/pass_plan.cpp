@@ -23,22 +23,33 @@ PassPlan plan_passes(const PlanInputs& in) {
     PassPlan plan;
     plan.count = in.count;
     plan.spp = in.spp;
+    const double cap = in.budget > 0.0 ? in.budget / kPlanMinPasses : kInfinity;
     double best = kInfinity, best_cost = kInfinity;
     for (size_t c = 0; c < in.candidates.size(); ++c) {
         const GatherMeasurement& m = in.candidates[c];
         bool measured = false;
         const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
         const double v_map_half = std::max(0.0, m.v_map_half);   // < 0: the map's noise is below the pilot's resolution
+        const double bias2_n0 = std::max(0.0, m.bias2);
+        const bool trusted = !(m.max_weight > kPlanMaxMarchWeight);
         double cand_best = kInfinity, cand_cost = kInfinity;
         int64_t cand_n = in.count;
         int cand_s = in.spp;
         const int doublings = in.size_photons ? kPlanMaxPhotonDoublings : 0;
+        const int s_lo = in.size_samples ? 1 : in.spp, s_hi = in.size_samples ? kPlanMaxSpp : in.spp;
         for (int i = 0; i <= doublings; ++i) {
             const double n = double(in.count) * double(int64_t(1) << i);
             const double v_map = v_map_half * std::pow(0.5 * double(in.count) / n, beta);
-            for (int s = in.size_samples ? 1 : in.spp; s <= (in.size_samples ? kPlanMaxSpp : in.spp); s *= 2) {
+            const double bias2 = bias2_n0 * std::pow(double(in.count) / n, 4.0 / 3.0);
+            for (int s = s_lo; s <= s_hi; s *= 2) {
                 const double cost = in.photon_cost * n + in.pixels * double(s) * m.sample_cost;
-                const double score = (v_map + m.v_camera / double(s)) * cost;
+                // Over the cap only the smallest pass is considered (then it is the only one).
+                const bool smallest = i == 0 && s == s_lo;
+                if (cost > cap && !smallest) continue;
+                const double variance = v_map + m.v_camera / double(s);
+                double score = variance * cost;
+                if (in.budget > 0.0) score = cost <= in.budget ? score + bias2 * in.budget : (variance + bias2) * cost;
+                if (!trusted) score = kInfinity;
                 if (score < cand_best || (score == cand_best && cost < cand_cost)) {
                     cand_best = score;
                     cand_cost = cost;
@@ -49,7 +60,7 @@ PassPlan plan_passes(const PlanInputs& in) {
             }
         }
         plan.score.push_back(cand_best);
-        // Least score; equal scores (nothing lit: every variance 0) go to the cheaper pass.
+        // Least score; equal scores (nothing lit: every variance 0; or no candidate trusted) go to the cheaper pass.
         if (cand_best < best || (cand_best == best && cand_cost < best_cost)) {
             best = cand_best;
             best_cost = cand_cost;

@@ -10,10 +10,13 @@
 // fixed time the error^2 x time to minimise is (V_map(N) + V_camera / S) C(N, S). V_map is measured
 // at N0 / 2 photons (the pilot's independent half maps) and extrapolated as N^-beta: beta = 1 where
 // a pixel's footprint holds many kNN balls, 1/3 where one ball spans the pixel's cross-section (the
-// balls then only average along the ray); measured from N0 / 4 where given, else 1. The bias term is not measured: N
-// never goes below the configured count N0, so the bias stays at most the configured one.
-// Every input is a count or a variance: the plan is the same on any machine and thread count,
-// and scale-invariant.
+// balls then only average along the ray); measured from N0 / 4 where given, else 1.
+// With a budget T (render.time_limit, in work units) P = T / C passes fit, and the bias, which does
+// not average out, enters: error^2 x time = (V_map(N) + V_camera / S) C + bias(N)^2 T for C <= T,
+// (V_map + V_camera / S + bias^2) C for a pass longer than the budget (one pass is still made);
+// bias(N)^2 = bias(N0)^2 (N0 / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N never
+// goes below the configured count N0. Every input is a count, a variance or a config value: the
+// plan is the same on any machine and thread count, and scale-invariant.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,6 +28,7 @@ struct CountedOperations {
     double queries = 0.0;   // kNN queries
     double rays = 0.0;      // tracked segments: free flights, shadow rays, march transmittances
     double lookups = 0.0;   // sigma_t lookups of the ball quadrature
+    double march_weight_max = 0.0;   // largest relative march point weight (not a count: a maximum)
 };
 
 struct GatherMeasurement {
@@ -32,7 +36,9 @@ struct GatherMeasurement {
     double v_camera = 0.0;        // per-sample variance of a pixel's luminance given the map
     double v_map_half = 0.0;      // variance of a pixel's mean from the map at N0 / 2 (may be < 0: noise)
     double v_map_quarter = 0.0;   // the same at N0 / 4 (not measured: < 0)
+    double bias2 = 0.0;           // squared bias of a pixel at N0 (may be < 0: noise), ~ N^-4/3
     double sample_cost = 0.0;     // counted work units per camera sample
+    double max_weight = 0.0;      // largest march point weight relative to an exact majorant's (0: no march)
     CountedOperations per_sample; // the operations behind it
 };
 
@@ -44,7 +50,15 @@ struct PlanInputs {
     int spp = 1;                // S0: samples per pass as configured
     bool size_photons = false;  // false: N stays N0
     bool size_samples = false;  // false: S stays S0
+    // render.time_limit in work units (kWorkUnitsPerSecond per second: one core); 0: no budget,
+    // the bias term is left out and error^2 x work per pass is minimised.
+    double budget = 0.0;
 };
+
+// Work units per second of render.time_limit: a nominal single core (units are nanoseconds of one
+// core of the development machine, render/work_units.h). With more cores more passes fit than the
+// plan assumes, which only shifts it towards variance; the plan never reads the clock.
+constexpr double kWorkUnitsPerSecond = 1e9;
 
 struct PassPlan {
     int chosen = 0;              // index into candidates
@@ -58,6 +72,15 @@ struct PassPlan {
 // Largest factors over the configured sizes the plan considers (powers of two up to these).
 constexpr int kPlanMaxPhotonDoublings = 6;
 constexpr int kPlanMaxSpp = 256;
+// With a budget, a planned pass costs at most budget / kPlanMinPasses work units: a pass cannot be
+// cut short, and the counted units run up to 3x below the time in grids (render/work_units.cpp), so
+// a pass the plan thinks fits once could take three budgets. When no size fits, the smallest pass.
+constexpr double kPlanMinPasses = 8.0;
+// A gather whose march points weighed more than this (relative to an exact majorant's: 1 in
+// homogeneous media) is not trusted: its weights are heavy-tailed (up to e^(tau_majorant - tau)),
+// and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.6:
+// the forced march lost 40-30000x to the collision gather wherever its largest weight passed 30).
+constexpr double kPlanMaxMarchWeight = 8.0;
 
 // The exponent beta from V_map at N0/2 and N0/4, within [1/3, 1]; `measured` false when either
 // variance is not positive (then 1).

@@ -300,6 +300,7 @@ CountedOperations PhotonMapIntegrator::counted_operations() const {
         c.queries += double(l.stats.queries + l.surface_stats.queries);
         c.rays += double(l.rays);
         c.lookups += double(l.lookups);
+        c.march_weight_max = std::max(c.march_weight_max, l.march_weight_max);
     }
     return c;
 }

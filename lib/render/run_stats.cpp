@@ -187,13 +187,15 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, cost, queries, rays, lookups;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, cost, queries, rays, lookups;
         for (const auto& c : a->candidates) {
             names.push_back(c.name);
             v_camera.push_back(c.v_camera);
             v_map_half.push_back(c.v_map_half);
             v_map_quarter.push_back(c.v_map_quarter);
             cost.push_back(c.sample_cost);
+            bias2.push_back(c.bias2);
+            weights.push_back(c.max_weight);
             queries.push_back(c.per_sample.queries);
             rays.push_back(c.per_sample.rays);
             lookups.push_back(c.per_sample.lookups);
@@ -203,6 +205,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.v_map_half", nlohmann::json(v_map_half));
         record.set("photons.auto_gather.v_map_quarter", nlohmann::json(v_map_quarter));
         record.set("photons.auto_gather.sample_cost", nlohmann::json(cost));
+        record.set("photons.auto_gather.bias2", nlohmann::json(bias2));
+        record.set("photons.auto_gather.march_weight_max", nlohmann::json(weights));
         record.set("photons.auto_gather.queries_per_sample", nlohmann::json(queries));
         record.set("photons.auto_gather.rays_per_sample", nlohmann::json(rays));
         record.set("photons.auto_gather.lookups_per_sample", nlohmann::json(lookups));

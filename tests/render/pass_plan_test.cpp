@@ -13,7 +13,7 @@ namespace {
 
 PlanInputs inputs(double v_camera, double v_half, double v_quarter, double sample_cost, double photon_cost) {
     PlanInputs in;
-    in.candidates = {{"collision", v_camera, v_half, v_quarter, sample_cost}};
+    in.candidates = {{"collision", v_camera, v_half, v_quarter, /*bias2*/ 0.0, sample_cost}};
     in.photon_cost = photon_cost;
     in.pixels = 1000.0;
     in.count = 1000;
@@ -68,7 +68,7 @@ TEST(PassPlan, MapNoiseBuysPhotonsAndCameraNoiseBuysSamples) {
 
 TEST(PassPlan, KeepsGivenSizesAndPicksTheGather) {
     PlanInputs in = inputs(1.0, 0.1, 0.2, 10.0, 100.0);
-    in.candidates.push_back({"march", 0.1, 0.01, 0.02, 40.0});   // 10x less variance at 4x the samples' cost
+    in.candidates.push_back({"march", 0.1, 0.01, 0.02, 0.0, 40.0, 1.0, {}});   // 10x less variance at 4x the samples' cost
     in.size_photons = in.size_samples = false;
     const PassPlan p = plan_passes(in);
     EXPECT_EQ(p.count, 1000);
@@ -89,7 +89,7 @@ TEST(PassPlan, KeepsGivenSizesAndPicksTheGather) {
 
 TEST(PassPlan, NothingLitGoesToTheCheaperGather) {
     PlanInputs in = inputs(0.0, 0.0, 0.0, 30.0, 10.0);
-    in.candidates.push_back({"march", 0.0, 0.0, 0.0, 20.0});
+    in.candidates.push_back({"march", 0.0, 0.0, 0.0, 0.0, 20.0, 1.0, {}});
     const PassPlan p = plan_passes(in);
     EXPECT_EQ(p.chosen, 1);
     EXPECT_EQ(p.spp, 1);
@@ -103,4 +103,38 @@ TEST(PassPlan, RefusesEmptyOrNonPositiveInputs) {
     in = inputs(1.0, 0.1, 0.2, 10.0, 100.0);
     in.pixels = 0.0;
     EXPECT_THROW(plan_passes(in), Error);
+}
+
+TEST(PassPlan, ABudgetBuysPhotonsAgainstTheBias) {
+    // The bias does not average over passes: with a budget it costs bias(N)^2 T whatever the pass
+    // sizes, and N^-4/3 of it is bought back with photons; without a budget it is left out.
+    PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1e-6, /*v_quarter*/ 2e-6, /*sample*/ 10.0, /*photon*/ 100.0);
+    in.candidates[0].bias2 = 1e-2;
+    const PassPlan none = plan_passes(in);
+    EXPECT_EQ(none.count, 1000);
+    in.budget = 1e9;
+    const PassPlan big = plan_passes(in);
+    EXPECT_EQ(big.count, 1000 << kPlanMaxPhotonDoublings);
+    // The score is error^2 x time at the chosen sizes: variance x cost + bias^2 x budget.
+    const double n = double(big.count), cost = 100.0 * n + 1000.0 * big.spp * 10.0;
+    const double expect = (1e-6 * std::pow(500.0 / n, 1.0) + 1e-3 / big.spp) * cost + 1e-2 * std::pow(1000.0 / n, 4.0 / 3.0) * 1e9;
+    EXPECT_NEAR(big.score[0], expect, 1e-9 * expect);
+    // A pass longer than the budget is still one pass: (variance + bias^2) x its cost.
+    in.budget = 1.0;
+    const PassPlan tiny = plan_passes(in);
+    EXPECT_EQ(tiny.count, 1000);
+    EXPECT_EQ(tiny.spp, 1);
+}
+
+TEST(PassPlan, PassesStayWithinAnEighthOfTheBudgetAndHeavyTailedMarchesAreNotTrusted) {
+    PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1.0, /*v_quarter*/ 2.0, /*sample*/ 10.0, /*photon*/ 100.0);
+    in.budget = 8.0 * (100.0 * 4000.0 + 1000.0 * 4 * 10.0);   // an eighth: 4000 photons and 4 samples
+    const PassPlan p = plan_passes(in);
+    EXPECT_LE(100.0 * double(p.count) + 1000.0 * p.spp * 10.0, in.budget / kPlanMinPasses);
+    EXPECT_EQ(p.count, 4000);   // the map's noise dominates: as many photons as fit
+    // The march measures 100x less variance but its points weighed up to 50: not trusted.
+    in.candidates.push_back({"march", 1e-5, 1e-2, 2e-2, 0.0, 10.0, 50.0, {}});
+    EXPECT_EQ(plan_passes(in).chosen, 0);
+    in.candidates[1].max_weight = 1.0;
+    EXPECT_EQ(plan_passes(in).chosen, 1);
 }
