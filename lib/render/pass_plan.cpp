@@ -43,9 +43,9 @@ PassPlan plan_passes(const PlanInputs& in) {
             const double bias2 = bias2_n0 * std::pow(double(in.count) / n, 4.0 / 3.0);
             for (int s = s_lo; s <= s_hi; s *= 2) {
                 const double cost = in.photon_cost * n + in.pixels * double(s) * m.sample_cost;
-                // Over the cap only the smallest pass is considered (then it is the only one).
-                const bool smallest = i == 0 && s == s_lo;
-                if (cost > cap && !smallest) continue;
+                // Over the cap only passes no larger than the configured one (N0, S0) count: the
+                // plan never makes a pass longer than the budget that the configuration did not.
+                if (cost > cap && !(i == 0 && s <= in.spp)) continue;
                 const double variance = v_map + m.v_camera / double(s);
                 double score = variance * cost;
                 if (in.budget > 0.0) score = cost <= in.budget ? score + bias2 * in.budget : (variance + bias2) * cost;

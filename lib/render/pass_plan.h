@@ -72,10 +72,12 @@ struct PassPlan {
 // Largest factors over the configured sizes the plan considers (powers of two up to these).
 constexpr int kPlanMaxPhotonDoublings = 6;
 constexpr int kPlanMaxSpp = 256;
-// With a budget, a planned pass costs at most budget / kPlanMinPasses work units: a pass cannot be
-// cut short, and the counted units run up to 3x below the time in grids (render/work_units.cpp), so
-// a pass the plan thinks fits once could take three budgets. When no size fits, the smallest pass.
-constexpr double kPlanMinPasses = 8.0;
+// With a budget, a planned pass costs at most budget / kPlanMinPasses work units, or is no larger
+// than the configured pass (N0 photons, at most S0 samples): a pass cannot be cut short, and the
+// counted units run up to 3x below the time in grids (render/work_units.cpp). (A cap of 1/8 of the
+// budget held the dense cells, whose photon pass alone costs more, at 1 sample per pass: 4-20x
+// worse than the forced gathers at 16; BENCHMARKS.md section 11.6.)
+constexpr double kPlanMinPasses = 2.0;
 // A gather whose march points weighed more than this (relative to an exact majorant's: 1 in
 // homogeneous media) is not trusted: its weights are heavy-tailed (up to e^(tau_majorant - tau)),
 // and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.6:

@@ -119,16 +119,19 @@ TEST(PassPlan, ABudgetBuysPhotonsAgainstTheBias) {
     const double n = double(big.count), cost = 100.0 * n + 1000.0 * big.spp * 10.0;
     const double expect = (1e-6 * std::pow(500.0 / n, 1.0) + 1e-3 / big.spp) * cost + 1e-2 * std::pow(1000.0 / n, 4.0 / 3.0) * 1e9;
     EXPECT_NEAR(big.score[0], expect, 1e-9 * expect);
-    // A pass longer than the budget is still one pass: (variance + bias^2) x its cost.
+    // No pass fits: passes no larger than the configured one (1000 photons, 16 samples), scored as
+    // one pass each, (variance + bias^2) x cost.
     in.budget = 1.0;
     const PassPlan tiny = plan_passes(in);
     EXPECT_EQ(tiny.count, 1000);
-    EXPECT_EQ(tiny.spp, 1);
+    EXPECT_LE(tiny.spp, 16);
+    const double c = 100.0 * 1000.0 + 1000.0 * tiny.spp * 10.0;
+    EXPECT_NEAR(tiny.score[0], (1e-6 * 0.5 + 1e-3 / tiny.spp + 1e-2) * c, 1e-9 * c);
 }
 
-TEST(PassPlan, PassesStayWithinAnEighthOfTheBudgetAndHeavyTailedMarchesAreNotTrusted) {
+TEST(PassPlan, PassesStayWithinTheBudgetsShareAndHeavyTailedMarchesAreNotTrusted) {
     PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1.0, /*v_quarter*/ 2.0, /*sample*/ 10.0, /*photon*/ 100.0);
-    in.budget = 8.0 * (100.0 * 4000.0 + 1000.0 * 4 * 10.0);   // an eighth: 4000 photons and 4 samples
+    in.budget = kPlanMinPasses * (100.0 * 4000.0 + 1000.0 * 4 * 10.0);   // the cap: 4000 photons and 4 samples
     const PassPlan p = plan_passes(in);
     EXPECT_LE(100.0 * double(p.count) + 1000.0 * p.spp * 10.0, in.budget / kPlanMinPasses);
     EXPECT_EQ(p.count, 4000);   // the map's noise dominates: as many photons as fit
