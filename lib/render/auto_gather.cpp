@@ -89,7 +89,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         if (map->size() == 0) log << "; the volume map is empty, nothing to measure";
         for (const auto& m : measured)
             log << "; " << m.name << ": per-sample variance " << m.v_camera << ", map variance at N/2 " << m.v_map_half
-                << ", squared bias " << m.bias2 << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
+                << ", squared bias " << m.bias2 << ", mean " << m.mean << " +- " << m.mean_se
+                << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
                 << ", work " << m.sample_cost << " per sample";
         log << "; work " << in.photon_cost << " per photon)\n";
         if (in.size_photons || in.size_samples)

@@ -98,6 +98,17 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             v += m2 / (n - 1);
         }
         g.v_camera = v / kPixels;
+        double sum = 0.0;
+        for (double x : values[0]) sum += x;
+        g.mean = sum / double(values[0].size());
+        // Pixels differ in mean, so the SE comes from the spread of the pixel means (each of n samples).
+        double spread = 0.0;
+        for (int j = 0; j < kPixels; ++j) {
+            double pm = 0.0;
+            for (int s = 0; s < n; ++s) pm += values[0][size_t(j * n + s)] / n;
+            spread += (pm - g.mean) * (pm - g.mean);
+        }
+        g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
         g.v_map_half = 0.5 * map_variance_of_difference(values[1], values[2]);
         g.v_map_quarter = -1.0;
         // The half maps' balls are 2^(1/3) wider: with a bias ~ r^2 (a smooth density, the corrected

@@ -31,7 +31,11 @@ PassPlan plan_passes(const PlanInputs& in) {
         const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
         const double v_map_half = std::max(0.0, m.v_map_half);   // < 0: the map's noise is below the pilot's resolution
         const double bias2_n0 = std::max(0.0, m.bias2);
-        const bool trusted = !(m.max_weight > kPlanMaxMarchWeight);
+        const GatherMeasurement& first = in.candidates[0];
+        const double gap = std::abs(m.mean - first.mean);
+        const bool agrees = !(gap > kPlanMeanSigmas * std::hypot(m.mean_se, first.mean_se) &&
+                              gap > kPlanMeanTolerance * std::max(std::abs(m.mean), std::abs(first.mean)));
+        const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees;
         double cand_best = kInfinity, cand_cost = kInfinity;
         int64_t cand_n = in.count;
         int cand_s = in.spp;

@@ -39,6 +39,8 @@ struct GatherMeasurement {
     double bias2 = 0.0;           // squared bias of a pixel at N0 (may be < 0: noise), ~ N^-4/3
     double sample_cost = 0.0;     // counted work units per camera sample
     double max_weight = 0.0;      // largest march point weight relative to an exact majorant's (0: no march)
+    double mean = 0.0;            // the pilot's mean luminance over its pixels and samples
+    double mean_se = 0.0;         // its standard error
     CountedOperations per_sample; // the operations behind it
 };
 
@@ -83,6 +85,13 @@ constexpr double kPlanMinPasses = 2.0;
 // and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.6:
 // the forced march lost 40-30000x to the collision gather wherever its largest weight passed 30).
 constexpr double kPlanMaxMarchWeight = 8.0;
+// Every candidate estimates the same image: one whose pilot mean differs from the first candidate's
+// (the collision gather: one bounded estimate per collision) by more than kPlanMeanSigmas standard
+// errors and kPlanMeanTolerance of the larger mean is missing a tail the pilot did not sample, and
+// is not trusted either (the march in the plume at 100 and 1000: pilot mean near 0, weights below
+// 0.06, while at equal time its error was 200x the collision gather's; BENCHMARKS.md section 11.6).
+constexpr double kPlanMeanSigmas = 4.0;
+constexpr double kPlanMeanTolerance = 0.1;
 
 // The exponent beta from V_map at N0/2 and N0/4, within [1/3, 1]; `measured` false when either
 // variance is not positive (then 1).

@@ -187,7 +187,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, cost, queries, rays, lookups;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, means, mean_ses, cost, queries, rays, lookups;
         for (const auto& c : a->candidates) {
             names.push_back(c.name);
             v_camera.push_back(c.v_camera);
@@ -196,6 +196,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             cost.push_back(c.sample_cost);
             bias2.push_back(c.bias2);
             weights.push_back(c.max_weight);
+            means.push_back(c.mean);
+            mean_ses.push_back(c.mean_se);
             queries.push_back(c.per_sample.queries);
             rays.push_back(c.per_sample.rays);
             lookups.push_back(c.per_sample.lookups);
@@ -207,6 +209,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.sample_cost", nlohmann::json(cost));
         record.set("photons.auto_gather.bias2", nlohmann::json(bias2));
         record.set("photons.auto_gather.march_weight_max", nlohmann::json(weights));
+        record.set("photons.auto_gather.mean", nlohmann::json(means));
+        record.set("photons.auto_gather.mean_se", nlohmann::json(mean_ses));
         record.set("photons.auto_gather.queries_per_sample", nlohmann::json(queries));
         record.set("photons.auto_gather.rays_per_sample", nlohmann::json(rays));
         record.set("photons.auto_gather.lookups_per_sample", nlohmann::json(lookups));

@@ -140,4 +140,12 @@ TEST(PassPlan, PassesStayWithinTheBudgetsShareAndHeavyTailedMarchesAreNotTrusted
     EXPECT_EQ(plan_passes(in).chosen, 0);
     in.candidates[1].max_weight = 1.0;
     EXPECT_EQ(plan_passes(in).chosen, 1);
+    // A march whose pilot mean is far from the collision gather's missed a tail: not trusted.
+    in.candidates[0].mean = 1.0;
+    in.candidates[0].mean_se = 0.01;
+    in.candidates[1].mean = 0.2;
+    in.candidates[1].mean_se = 0.001;
+    EXPECT_EQ(plan_passes(in).chosen, 0);
+    in.candidates[1].mean = 0.97;   // within 4 SE: trusted
+    EXPECT_EQ(plan_passes(in).chosen, 1);
 }
