@@ -8,6 +8,13 @@
 
 namespace vpm {
 
+namespace {
+// A gap of 2 SE and a factor 2: rejecting a march that agrees costs little (the collision gather is
+// the robust fallback); 4 SE let the plume's march through (its collision mean's SE is 1/3 of it).
+constexpr double kPlanMeanSigmas = 2.0;
+constexpr double kPlanMeanTolerance = 0.5;
+}  // namespace
+
 double map_variance_exponent(double v_half, double v_quarter, bool& measured) {
     measured = v_half > 0.0 && v_quarter > 0.0 && std::isfinite(v_half) && std::isfinite(v_quarter);
     if (!measured) return 1.0;
