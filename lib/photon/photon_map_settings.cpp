@@ -45,8 +45,9 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
-    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}});
+    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"beam", GatherMode::beam}});
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
+    s.beam_k = int(p.integer("beam_k", s.beam_k, Range::closed(1, 1 << 20)));
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
     s.clustering = p.choice("clustering", s.clustering,
                             {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});

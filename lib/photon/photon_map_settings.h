@@ -40,7 +40,12 @@
 //   |                        |             | clock (photon_map_integrator.h: choose_gather). Opt-in:  |
 //   |                        |             | its per-sample variance misses the photon map's own      |
 //   |                        |             | noise (BENCHMARKS.md section 11)                         |
-//   | gather_queries         | 4           | points per segment for "march"                           |
+//   |                        |             | "beam": one query per segment over a BVH of the photons' |
+//   |                        |             | discs (render/beam_gather.h), single scattering by NEE   |
+//   |                        |             | at gather_queries points per segment                     |
+//   | gather_queries         | 4           | points per segment for "march" (NEE points for "beam")   |
+//   | beam_k                 | 32          | "beam": each photon's radius is its beam_k-th nearest    |
+//   |                        |             | other photon (photon/photon_radii.h)                     |
 //   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
 //   |                        |             | linear extinction): each walk group's photons counted    |
 //   |                        |             | within the k-th photon of the other groups, exact for    |
@@ -70,7 +75,7 @@ enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point, linear };
 enum class Clustering { ignore, leave_group_out };
 enum class PhotonAllocationRule { importance, power };
-enum class GatherMode { collision, march, automatic, pilot };
+enum class GatherMode { collision, march, automatic, pilot, beam };
 enum class KSchedule { fixed, shrink };
 
 struct PhotonMapSettings {
@@ -87,6 +92,7 @@ struct PhotonMapSettings {
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
+    int beam_k = 32;
     double store_probability = 1.0;
     Clustering clustering = Clustering::ignore;
     double march_max_optical_depth = 2.0;

@@ -12,6 +12,8 @@
 #include "core/sampling.h"
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
+#include "render/beam_gather.h"
+#include "render/segment_direct_light.h"
 #include "scene/media/homogeneous_medium.h"
 #include "photon/group_estimate.h"
 #include "photon/linear_estimate.h"
@@ -38,6 +40,7 @@ PhotonMapIntegrator::Gather initial_gather(GatherMode mode) {
     switch (mode) {
         case GatherMode::collision: return PhotonMapIntegrator::Gather::collision;
         case GatherMode::march: return PhotonMapIntegrator::Gather::march;
+        case GatherMode::beam: return PhotonMapIntegrator::Gather::beam;
         case GatherMode::automatic:
         case GatherMode::pilot: break;
     }
@@ -72,6 +75,7 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSett
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
       max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {
     gather_ = initial_gather(settings.gather);
+    if (gather_ == Gather::beam) build_beam(nullptr, nullptr);
 }
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
@@ -85,6 +89,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     std::ostream* log = context.first_of_run ? context.log : nullptr;
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
     if (scene_.has_media() || surface) {
+        retire_beam();           // its BVH points into the last pass's map
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
         owned_ = run_photon_pass(scene_, settings_, context, surface, stats, allocation_);
         surface_map_ = surface ? &owned_.surface : nullptr;
@@ -98,6 +103,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
                          << ": no estimate can use k photons, so camera paths are path traced past every "
                          << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)\n";
         }
+        if (settings_.gather == GatherMode::beam) build_beam(log, &stats);
     } else if (log) {
         *log << "photons: no media and no surface map, so no photon pass\n";
     }
@@ -133,6 +139,17 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
                  << "ball wider than photons.max_radius_mfp = " << settings_.max_radius_mfp
                  << " mean free paths, or fewer than k = " << k_ << " photons in the map); "
                  << stats.volume_estimates->queries << " map queries in all\n";
+    }
+    if (beam_) {
+        stats.beam = beam_->stats();
+        stats.beam->radii_seconds += beam_before_.radii_seconds;
+        stats.beam->bvh_seconds += beam_before_.bvh_seconds;
+        stats.beam->queries += beam_before_.queries;
+        stats.beam->crossed += beam_before_.crossed;
+        stats.beam->transmittance_calls += beam_before_.transmittance_calls;
+        if (log)
+            *log << "beam: " << stats.beam->queries << " segment queries crossed " << stats.beam->crossed << " photon discs ("
+                 << (stats.beam->queries ? double(stats.beam->crossed) / double(stats.beam->queries) : 0.0) << " per query)\n";
     }
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
@@ -176,10 +193,12 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
         const SurfaceHit& hit = v.hit;
         const double t_end = v.on_surface ? hit.t : kInfinity;
         const bool march = marches(ray, t_end);
+        const bool beam = gather_ == Gather::beam;
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             if (march && !(max_depth >= 0 && depth + 1 > max_depth))
                 radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng);
+            if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng);
             break;
         }
         if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
@@ -188,6 +207,10 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             // The medium's in-scattering along this segment comes from the march; the collision
             // sampled above only decides whether the path reaches the surface behind (probability T).
             radiance += throughput * march_in_scattering(ray, t_end, depth, rng);
+            if (event) break;
+        }
+        if (beam) {   // the same rule with the whole segment in one query
+            radiance += throughput * beam_in_scattering(ray, t_end, rng);
             if (event) break;
         }
         if (event) {
@@ -293,6 +316,7 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
     switch (gather_) {
         case Gather::collision: return false;
         case Gather::march: return true;
+        case Gather::beam: return false;
         case Gather::threshold: break;
     }
     // Thin along this segment: every ray gathers at a few points. Thick: the collision gather puts
@@ -405,6 +429,46 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         return in;
     }
     return in + normalised(s, x, -dir, g, max_radius_, sigma_t, local.buffers, local.linear_weights);
+}
+
+void PhotonMapIntegrator::retire_beam() {
+    if (!beam_) return;
+    const BeamGatherStats b = beam_->stats();
+    beam_before_.radii_seconds += b.radii_seconds;
+    beam_before_.bvh_seconds += b.bvh_seconds;
+    beam_before_.queries += b.queries;
+    beam_before_.crossed += b.crossed;
+    beam_before_.transmittance_calls += b.transmittance_calls;
+    beam_.reset();
+}
+
+void PhotonMapIntegrator::build_beam(std::ostream* log, RunStats* stats) {
+    retire_beam();
+    beam_ = std::make_unique<BeamGather>(scene_, *map_, size_t(settings_.beam_k), settings_.estimator.kernel(), max_radius_,
+                                         settings_.max_radius_mfp);
+    const BeamGatherStats b = beam_->stats();
+    if (stats) {
+        stats->phase("build_radii", b.radii_seconds);
+        stats->phase("build_beam_bvh", b.bvh_seconds);
+    }
+    // A map of at most beam_k photons has no disc: its segments gather like "collision" (whose
+    // own starved-map rule then continues the paths).
+    gather_ = beam_->usable() ? Gather::beam : Gather::collision;
+    if (log) {
+        *log << "beam: radii (beam_k = " << b.k << ") " << b.radii_seconds << " s, BVH over " << b.photons << " discs "
+             << b.bvh_seconds << " s; " << b.total_bytes_per_photon << " bytes/photon (map " << b.map_bytes_per_photon
+             << " + BVH " << b.bvh_bytes_per_photon << ")\n";
+        if (!beam_->usable() && scene_.has_media())
+            *log << "warning: photons.beam_k = " << b.k << " is not below the " << map_->size()
+                 << " volume photons stored: no photon has a beam_k-th neighbour, so this pass gathers like \"collision\"\n";
+    }
+}
+
+Rgb PhotonMapIntegrator::beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+    Rgb l = beam_->in_scattering(ray, t_end, rng);
+    if (settings_.direct == DirectLighting::nee)
+        l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, threads_->local.local().rays);
+    return l;
 }
 
 void PhotonMapIntegrator::choose_gather(const PassContext& context) {

@@ -51,12 +51,15 @@
 #include "photon/photon_map.h"
 #include "render/integrator.h"
 #include "photon/photon_map_settings.h"
+#include "render/beam_gather_stats.h"
 #include "render/photon_pass.h"
 #include "render/run_config.h"
 #include "render/run_stats.h"
 #include "scene/scene.h"
 
 namespace vpm {
+
+class BeamGather;
 
 class PhotonMapIntegrator : public Integrator {
 public:
@@ -74,7 +77,8 @@ public:
     std::string name() const override { return "photon_map"; }
     // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
     // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
-    enum class Gather { collision, march, threshold };
+    // beam: one BVH query per segment (render/beam_gather.h); a map without discs falls back to collision.
+    enum class Gather { collision, march, threshold, beam };
     Gather gather() const { return gather_; }
     const std::optional<GatherPilotStats>& gather_pilot() const { return pilot_; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
@@ -98,6 +102,14 @@ private:
     size_t k_;   // this pass's k (photons.schedule)
     bool warned_k_ = false;   // "k exceeds the stored count" is logged once per run
     std::unique_ptr<ThreadState> threads_;
+    std::unique_ptr<BeamGather> beam_;   // gather = "beam": this pass's radii and disc BVH
+    BeamGatherStats beam_before_;        // earlier passes' beam counts and build times
+    // gather = "beam": builds beam_ over map_ (or falls back to collision) and logs it.
+    void build_beam(std::ostream* log, RunStats* stats);
+    // Frees beam_, keeping its counts in beam_before_.
+    void retire_beam();
+    // gather = "beam": the segment's in-scattering, single scattering by NEE when direct = "nee".
+    Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
 
     // The camera path's radiance from `ray` on, after `first_depth` scattering events.
     Rgb trace(const Ray& ray, int first_depth, Rng& rng) const;

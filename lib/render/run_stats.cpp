@@ -177,6 +177,19 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (stats.march_wide_queries) record.set("photons.march_wide_queries", *stats.march_wide_queries);
     if (stats.march_weight_max) record.set("photons.march_weight_max", *stats.march_weight_max);
     if (stats.march_weight_mean) record.set("photons.march_weight_mean", *stats.march_weight_mean);
+    if (const auto& b = stats.beam) {
+        record.set("photons.beam.k", b->k);
+        record.set("photons.beam.photons", b->photons);
+        record.set("photons.beam.bvh_bytes", b->bvh_bytes);
+        record.set("photons.beam.bvh_bytes_per_photon", b->bvh_bytes_per_photon);
+        record.set("photons.beam.map_bytes_per_photon", b->map_bytes_per_photon);
+        record.set("photons.beam.total_bytes_per_photon", b->total_bytes_per_photon);
+        record.set("photons.beam.radii_seconds", b->radii_seconds);
+        record.set("photons.beam.bvh_seconds", b->bvh_seconds);
+        record.set("photons.beam.queries", b->queries);
+        record.set("photons.beam.crossed", b->crossed);
+        record.set("photons.beam.transmittance_calls", b->transmittance_calls);
+    }
     if (const auto& g = stats.gather_pilot) {
         record.set("photons.gather_pilot.chosen", g->chosen);
         record.set("photons.gather_pilot.candidates", nlohmann::json(g->candidates));

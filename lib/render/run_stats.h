@@ -9,6 +9,7 @@
 
 #include "photon/estimators.h"
 #include "photon/photon_tracer.h"
+#include "render/beam_gather_stats.h"
 #include "render/render_loop.h"
 
 namespace vpm {
@@ -103,6 +104,7 @@ struct RunStats {
     std::optional<uint64_t> continued_paths;           // photon map: camera paths continued (bounded radius)
     std::optional<uint64_t> march_wide_queries;        // gather = "march": queries beyond max_radius_mfp
     std::optional<GatherPilotStats> gather_pilot;      // gather = "pilot"
+    std::optional<BeamGatherStats> beam;               // gather = "beam": memory, build, queries
     // March points' weights relative to their value where the majorant is exact (T sigma_t /
     // (mu e^-tau_mu) = 1 in homogeneous media): the largest and the mean, over the camera pass.
     std::optional<double> march_weight_max, march_weight_mean;

@@ -1,0 +1,72 @@
+#pragma once
+// photons.gather = "beam": the beam radiance estimate (Jarosz, Zwicker & Jensen 2008) in the
+// photon-map renderer. Each camera segment through the media is answered by one query: every
+// photon i whose disc (radius r_i, perpendicular to the segment) the segment crosses at foot point
+// t_i contributes
+//
+//     T(0, t_i) * [sigma_s / sigma_t](x_i) * f(w_i, -d) * Phi_i * K(delta_i / r_i) / (n_2 pi r_i^2)
+//
+// Photons are stored at real collisions, so their density is sigma_t times the fluence-weighted
+// phase integral and the segment integral of T sigma_s (f L) needs no division by sigma_t: only
+// the albedo (the mixture of media at x_i). r_i is the distance to the beam_k-th nearest *other*
+// photon (photon/photon_radii.h), bounded by photons.max_radius and by max_radius_mfp mean free
+// paths at x_i; both bounds depend on the photon alone, so the estimate stays a sample-point
+// estimate, unbiased on a uniform density for every k (docs/beam_estimate.md). T(0, t_i) is the
+// product of each medium's transmittance estimate over the intervals between consecutive foot
+// points: exact in homogeneous media, ratio tracking in grids (unbiased, the photons' order by
+// (t, index) fixes the random stream, so a seed gives the same image on any thread count).
+#include <cstdint>
+#include <vector>
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "core/math.h"
+#include "core/rng.h"
+#include "photon/kernels.h"
+#include "photon/photon_disc_bvh.h"
+#include "photon/photon_map.h"
+#include "render/beam_gather_stats.h"
+#include "scene/scene.h"
+
+namespace vpm {
+
+class BeamGather {
+public:
+    // Builds the radii (parallel) and the BVH over `map`, which must outlive this object.
+    // max_radius: kInfinity for none; max_radius_mfp: 0 for none.
+    BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
+               double max_radius_mfp);
+
+    // Whether any photon has a disc: a map of at most k photons has no k-th other photon.
+    bool usable() const { return bvh_.size() > 0; }
+
+    // The in-scattered radiance from the map along `ray` over (0, t_end) (t_end may be kInfinity).
+    // `dir` of the ray is unit length.
+    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const;
+
+    // Counts so far (queries over all threads) plus the build figures.
+    BeamGatherStats stats() const;
+
+private:
+    struct Hit {
+        double t;
+        double d2;
+        double r;
+        uint32_t index;
+    };
+    struct Local {
+        std::vector<Hit> hits;
+        uint64_t queries = 0, crossed = 0, transmittance_calls = 0;
+    };
+    const Scene& scene_;
+    const PhotonMap& map_;
+    Kernel kernel_;
+    PhotonDiscBvh bvh_;
+    BeamGatherStats built_;
+    mutable tbb::enumerable_thread_specific<Local> local_;
+
+    // sigma_s / sigma_t times the phase function at x for photons arriving along w_i, seen along -d.
+    Rgb scattering(const Vec3& x, double cos_theta) const;
+};
+
+}  // namespace vpm
