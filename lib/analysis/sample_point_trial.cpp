@@ -35,7 +35,8 @@ void sample_point_trial(size_t n, double length, const std::vector<size_t>& ks, 
                 const Vec3 d(wrap(p[j].x() - p[i].x()), wrap(p[j].y() - p[i].y()), wrap(p[j].z() - p[i].z()));
                 d2[m++] = d.squaredNorm();
             }
-        std::partial_sort(d2.begin(), d2.begin() + long(kmax), d2.end());
+        std::nth_element(d2.begin(), d2.begin() + long(kmax - 1), d2.end());
+        std::sort(d2.begin(), d2.begin() + long(kmax));
         if (!(d2[kmax - 1] < 0.25))   // the minimal image would be wrong: refuse rather than bias
             throw Error("study: beam scenario: a k = " + std::to_string(kmax) + " radius reached half the unit torus (n = " +
                         std::to_string(n) + "); raise --n");

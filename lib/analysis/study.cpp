@@ -581,7 +581,8 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     };
     // The limit --threads set (tbb::global_control), not the machine's core count.
     res.threads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    for (size_t k : opt.ks)
+    const bool balloon = std::any_of(opt.scenarios.begin(), opt.scenarios.end(), [](StudyScenario sc) { return sc != StudyScenario::beam; });
+    for (size_t k : balloon ? opt.ks : std::vector<size_t>{})
         for (const Estimator& e : Estimator::all())
             if (const std::string w = e.warning(k); !w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
     std::vector<Estimator> kernel_ests;   // the kernels scenario: kernel-major, registry order inside

@@ -308,7 +308,7 @@ TEST(Study, BeamScenarioHasNoKMinusOneFactor) {
     StudyOptions o;
     o.scenarios = {StudyScenario::beam};
     o.ks = {2, 8, 32, 256};
-    o.trials = 200;
+    o.trials = 250;
     o.n = 800;
     o.seed = 22;
     o.kernels = {Kernel::constant(), Kernel::named("epanechnikov"), Kernel::named("gaussian_jensen")};
