@@ -6,12 +6,18 @@
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
 #include "photon/photon_radii.h"
+#include "scene/media/homogeneous_medium.h"
 
 namespace vpm {
 
 BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
                        double max_radius_mfp)
     : scene_(scene), map_(map), kernel_(kernel) {
+    for (const auto& m : scene.media) exact_.push_back(dynamic_cast<const HomogeneousMedium*>(m.get()) != nullptr);
+    if (scene.media.size() == 1) {
+        single_ = scene.media.front()->albedo();
+        g_ = scene.media.front()->g();
+    }
     const Timer radii_timer;
     std::vector<double> radii = photon_radii(map, k);
     std::vector<Vec3> centres(map.size());
@@ -41,10 +47,6 @@ BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const
 }
 
 Rgb BeamGather::scattering(const Vec3& x, double cos_theta) const {
-    if (scene_.media.size() == 1) {
-        const Medium& m = *scene_.media.front();
-        return m.albedo() * hg_eval(cos_theta, m.g());
-    }
     // Overlapping media: photons of all of them share the map, in proportion to each one's sigma_t.
     Rgb sum = Rgb::Zero();
     double sigma_t = 0.0;
@@ -59,6 +61,43 @@ Rgb BeamGather::scattering(const Vec3& x, double cos_theta) const {
     return sum / double(scene_.media.size());
 }
 
+void BeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hits, std::vector<double>& out, Rng& rng,
+                                Local& local) const {
+    const size_t n = hits.size();
+    out.assign(n, 1.0);
+    const double t_last = hits.back().t;
+    for (size_t mi = 0; mi < scene_.media.size(); ++mi) {
+        const Medium& m = *scene_.media[mi];
+        const bool exact = exact_[mi];
+        size_t i = 0;
+        double acc = exact ? 0.0 : 1.0;   // optical depth so far (exact) or the ratio-tracking product
+        m.majorant_pieces(ray, t_last, [&](double ta, double tb, double mu) {
+            if (exact) {   // the majorant is sigma_t itself
+                const double before = std::exp(-acc);
+                for (; i < n && hits[i].t <= ta; ++i) out[i] *= before;
+                for (; i < n && hits[i].t <= tb; ++i) out[i] *= std::exp(-(acc + mu * (hits[i].t - ta)));
+                acc += mu * (tb - ta);
+                return true;
+            }
+            // Ratio tracking: tentative collisions at rate mu, each scaling the product by
+            // 1 - sigma_t / mu. The product over those before t is unbiased for T(0, t) at every t.
+            double t = ta;
+            while (mu > 0.0) {
+                t += -std::log1p(-rng.uniform()) / mu;
+                const double stop = std::min(t, tb);
+                for (; i < n && hits[i].t < stop; ++i) out[i] *= acc;
+                if (t >= tb) break;
+                acc *= 1.0 - m.sigma_t(ray.at(t)) / mu;
+                ++local.tracking_lookups;
+            }
+            for (; i < n && hits[i].t <= tb; ++i) out[i] *= acc;   // mu = 0: nothing to collide with
+            return acc != 0.0;
+        });
+        const double rest = exact ? std::exp(-acc) : acc;
+        for (; i < n; ++i) out[i] *= rest;
+    }
+}
+
 Rgb BeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
     Local& local = local_.local();
     std::vector<Hit>& hits = local.hits;
@@ -69,24 +108,20 @@ Rgb BeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
     ++local.queries;
     local.crossed += hits.size();
     if (hits.empty()) return Rgb::Zero();
-    // In order along the ray: one transmittance estimate per interval, and the random stream
-    // consumed in an order that does not depend on the BVH's traversal.
+    // In order along the ray, ties by index: one tracking pass serves every photon, and the random
+    // stream is consumed in an order that does not depend on the BVH's traversal.
     std::sort(hits.begin(), hits.end(),
               [](const Hit& a, const Hit& b) { return a.t < b.t || (a.t == b.t && a.index < b.index); });
+    transmittances(ray, hits, local.transmittance, rng, local);
+    const bool one_medium = scene_.media.size() == 1;
     Rgb sum = Rgb::Zero();
-    double transmittance = 1.0, t_prev = 0.0;
-    for (const Hit& h : hits) {
-        if (h.t > t_prev) {
-            for (const auto& m : scene_.media) transmittance *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, h.t - t_prev, rng);
-            local.transmittance_calls += scene_.media.size();
-            t_prev = h.t;
-        }
-        if (transmittance == 0.0) break;
+    for (size_t i = 0; i < hits.size(); ++i) {
+        const Hit& h = hits[i];
         const double r2 = h.r * h.r;
-        const double w = kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
+        const double w = local.transmittance[i] * kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
         if (w == 0.0) continue;
-        const Vec3 x = map_.position(h.index);
-        sum += (transmittance * w) * map_.power(h.index) * scattering(x, map_.direction(h.index).dot(-ray.dir));
+        const double cos_theta = map_.direction(h.index).dot(-ray.dir);
+        sum += w * map_.power(h.index) * (one_medium ? single_ * hg_eval(cos_theta, g_) : scattering(map_.position(h.index), cos_theta));
     }
     return sum;
 }
@@ -96,7 +131,7 @@ BeamGatherStats BeamGather::stats() const {
     for (const Local& l : local_) {
         s.queries += l.queries;
         s.crossed += l.crossed;
-        s.transmittance_calls += l.transmittance_calls;
+        s.tracking_lookups += l.tracking_lookups;
     }
     return s;
 }

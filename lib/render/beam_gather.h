@@ -11,10 +11,11 @@
 // the albedo (the mixture of media at x_i). r_i is the distance to the beam_k-th nearest *other*
 // photon (photon/photon_radii.h), bounded by photons.max_radius and by max_radius_mfp mean free
 // paths at x_i; both bounds depend on the photon alone, so the estimate stays a sample-point
-// estimate, unbiased on a uniform density for every k (docs/beam_estimate.md). T(0, t_i) is the
-// product of each medium's transmittance estimate over the intervals between consecutive foot
-// points: exact in homogeneous media, ratio tracking in grids (unbiased, the photons' order by
-// (t, index) fixes the random stream, so a seed gives the same image on any thread count).
+// estimate, unbiased on a uniform density for every k (docs/beam_estimate.md). T(0, t_i) comes
+// from one walk along each medium's majorant pieces per query: the optical depth itself in
+// homogeneous media, ratio tracking in grids, whose running product over the tentative collisions
+// before t is an unbiased estimate of T(0, t) for every t at once (the photons' order by (t, index)
+// fixes the random stream, so a seed gives the same image on any thread count).
 #include <cstdint>
 #include <vector>
 
@@ -56,17 +57,24 @@ private:
     };
     struct Local {
         std::vector<Hit> hits;
-        uint64_t queries = 0, crossed = 0, transmittance_calls = 0;
+        std::vector<double> transmittance;   // T(0, t) of each hit
+        uint64_t queries = 0, crossed = 0, tracking_lookups = 0;
     };
     const Scene& scene_;
     const PhotonMap& map_;
     Kernel kernel_;
     PhotonDiscBvh bvh_;
     BeamGatherStats built_;
+    std::vector<bool> exact_;   // per medium: homogeneous, so its majorant pieces are sigma_t exactly
+    Rgb single_ = Rgb::Zero();  // one medium: its albedo and g
+    double g_ = 0.0;
     mutable tbb::enumerable_thread_specific<Local> local_;
 
-    // sigma_s / sigma_t times the phase function at x for photons arriving along w_i, seen along -d.
+    // Overlapping media: sigma_s / sigma_t times the phase function at x (the mixture of the media).
     Rgb scattering(const Vec3& x, double cos_theta) const;
+    // T(0, t_i) for the hits sorted by t, every medium in one pass along its majorant pieces: the
+    // optical depth in homogeneous media, ratio tracking (one walk for all t_i) in the others.
+    void transmittances(const Ray& ray, const std::vector<Hit>& hits, std::vector<double>& out, Rng& rng, Local& local) const;
 };
 
 }  // namespace vpm

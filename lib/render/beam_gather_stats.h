@@ -16,7 +16,7 @@ struct BeamGatherStats {
     double bvh_seconds = 0.0;
     uint64_t queries = 0;            // camera segments answered by one BVH query
     uint64_t crossed = 0;            // photon discs they crossed
-    uint64_t transmittance_calls = 0;   // per-interval transmittance estimates (per medium)
+    uint64_t tracking_lookups = 0;   // sigma_t lookups of the ratio tracking in non-homogeneous media
 };
 
 }  // namespace vpm

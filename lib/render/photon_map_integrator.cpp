@@ -146,7 +146,7 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
         stats.beam->bvh_seconds += beam_before_.bvh_seconds;
         stats.beam->queries += beam_before_.queries;
         stats.beam->crossed += beam_before_.crossed;
-        stats.beam->transmittance_calls += beam_before_.transmittance_calls;
+        stats.beam->tracking_lookups += beam_before_.tracking_lookups;
         if (log)
             *log << "beam: " << stats.beam->queries << " segment queries crossed " << stats.beam->crossed << " photon discs ("
                  << (stats.beam->queries ? double(stats.beam->crossed) / double(stats.beam->queries) : 0.0) << " per query)\n";
@@ -438,7 +438,7 @@ void PhotonMapIntegrator::retire_beam() {
     beam_before_.bvh_seconds += b.bvh_seconds;
     beam_before_.queries += b.queries;
     beam_before_.crossed += b.crossed;
-    beam_before_.transmittance_calls += b.transmittance_calls;
+    beam_before_.tracking_lookups += b.tracking_lookups;
     beam_.reset();
 }
 
@@ -451,16 +451,17 @@ void PhotonMapIntegrator::build_beam(std::ostream* log, RunStats* stats) {
         stats->phase("build_radii", b.radii_seconds);
         stats->phase("build_beam_bvh", b.bvh_seconds);
     }
-    // A map of at most beam_k photons has no disc: its segments gather like "collision" (whose
-    // own starved-map rule then continues the paths).
-    gather_ = beam_->usable() ? Gather::beam : Gather::collision;
+    // A map of at most beam_k photons has no disc: its segments gather like "march", whose points
+    // take NEE and a continued path where the map is starved (unbiased, and every segment still
+    // gets its single scattering by NEE, as the beam's would).
+    gather_ = beam_->usable() ? Gather::beam : Gather::march;
     if (log) {
         *log << "beam: radii (beam_k = " << b.k << ") " << b.radii_seconds << " s, BVH over " << b.photons << " discs "
              << b.bvh_seconds << " s; " << b.total_bytes_per_photon << " bytes/photon (map " << b.map_bytes_per_photon
              << " + BVH " << b.bvh_bytes_per_photon << ")\n";
         if (!beam_->usable() && scene_.has_media())
             *log << "warning: photons.beam_k = " << b.k << " is not below the " << map_->size()
-                 << " volume photons stored: no photon has a beam_k-th neighbour, so this pass gathers like \"collision\"\n";
+                 << " volume photons stored: no photon has a beam_k-th neighbour, so this pass gathers like \"march\"\n";
     }
 }
 

@@ -77,7 +77,7 @@ public:
     std::string name() const override { return "photon_map"; }
     // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
     // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
-    // beam: one BVH query per segment (render/beam_gather.h); a map without discs falls back to collision.
+    // beam: one BVH query per segment (render/beam_gather.h); a map without discs falls back to march.
     enum class Gather { collision, march, threshold, beam };
     Gather gather() const { return gather_; }
     const std::optional<GatherPilotStats>& gather_pilot() const { return pilot_; }

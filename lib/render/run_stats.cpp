@@ -188,7 +188,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.beam.bvh_seconds", b->bvh_seconds);
         record.set("photons.beam.queries", b->queries);
         record.set("photons.beam.crossed", b->crossed);
-        record.set("photons.beam.transmittance_calls", b->transmittance_calls);
+        record.set("photons.beam.tracking_lookups", b->tracking_lookups);
     }
     if (const auto& g = stats.gather_pilot) {
         record.set("photons.gather_pilot.chosen", g->chosen);
