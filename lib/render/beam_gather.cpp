@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
+#include "photon/ball_extinction.h"
 #include "photon/photon_radii.h"
 #include "scene/media/homogeneous_medium.h"
 
@@ -14,10 +17,6 @@ BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const
                        double max_radius_mfp)
     : scene_(scene), map_(map), kernel_(kernel) {
     for (const auto& m : scene.media) exact_.push_back(dynamic_cast<const HomogeneousMedium*>(m.get()) != nullptr);
-    if (scene.media.size() == 1) {
-        single_ = scene.media.front()->albedo();
-        g_ = scene.media.front()->g();
-    }
     const Timer radii_timer;
     std::vector<double> radii = photon_radii(map, k);
     std::vector<Vec3> centres(map.size());
@@ -33,13 +32,25 @@ BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const
         }
         radii[i] = r;
     }
+    // Per photon 1 / (mean sigma_t over its ball): query-independent like the radius (photon/ball_extinction.h).
+    inv_ball_sigma_t_.assign(map.size(), 0.0f);
+    const BallExtinction ball(scene.media);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, map.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+            if (!std::isfinite(radii[i]) || !(radii[i] > 0.0)) continue;
+            double mean = ball.mean(centres[i], radii[i]);
+            if (!(mean > 0.0))   // a ball too small for the quadrature to meet the medium: the point's
+                for (const auto& m : scene.media) mean += m->sigma_t(centres[i]);
+            if (mean > 0.0) inv_ball_sigma_t_[i] = float(1.0 / mean);
+        }
+    });
     built_.radii_seconds = radii_timer.seconds();
     const Timer bvh_timer;
     bvh_ = PhotonDiscBvh(centres, radii);
     built_.bvh_seconds = bvh_timer.seconds();
     built_.k = k;
     built_.photons = bvh_.size();
-    built_.bvh_bytes = bvh_.memory_bytes();
+    built_.bvh_bytes = bvh_.memory_bytes() + inv_ball_sigma_t_.capacity() * sizeof(float);
     const double n = double(std::max<size_t>(map.size(), 1));
     built_.bvh_bytes_per_photon = double(built_.bvh_bytes) / n;
     built_.map_bytes_per_photon = double(map.memory_bytes()) / n;
@@ -47,18 +58,12 @@ BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const
 }
 
 Rgb BeamGather::scattering(const Vec3& x, double cos_theta) const {
-    // Overlapping media: photons of all of them share the map, in proportion to each one's sigma_t.
     Rgb sum = Rgb::Zero();
-    double sigma_t = 0.0;
     for (const auto& m : scene_.media) {
         const double s = m->sigma_t(x);
-        sum += s * m->albedo() * hg_eval(cos_theta, m->g());
-        sigma_t += s;
+        if (s > 0.0) sum += s * m->albedo() * hg_eval(cos_theta, m->g());
     }
-    if (sigma_t > 0.0) return sum / sigma_t;
-    // A stored position rounded just outside every medium: the media's mean.
-    for (const auto& m : scene_.media) sum += m->albedo() * hg_eval(cos_theta, m->g());
-    return sum / double(scene_.media.size());
+    return sum;
 }
 
 void BeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hits, std::vector<double>& out, Rng& rng,
@@ -113,15 +118,15 @@ Rgb BeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
     std::sort(hits.begin(), hits.end(),
               [](const Hit& a, const Hit& b) { return a.t < b.t || (a.t == b.t && a.index < b.index); });
     transmittances(ray, hits, local.transmittance, rng, local);
-    const bool one_medium = scene_.media.size() == 1;
     Rgb sum = Rgb::Zero();
     for (size_t i = 0; i < hits.size(); ++i) {
         const Hit& h = hits[i];
         const double r2 = h.r * h.r;
-        const double w = local.transmittance[i] * kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
+        const double w = local.transmittance[i] * inv_ball_sigma_t_[h.index] * kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
         if (w == 0.0) continue;
-        const double cos_theta = map_.direction(h.index).dot(-ray.dir);
-        sum += w * map_.power(h.index) * (one_medium ? single_ * hg_eval(cos_theta, g_) : scattering(map_.position(h.index), cos_theta));
+        const Rgb f = scattering(ray.at(h.t), map_.direction(h.index).dot(-ray.dir));
+        if ((f == 0.0).all()) continue;
+        sum += w * map_.power(h.index) * f;
     }
     return sum;
 }

@@ -4,11 +4,14 @@
 // photon i whose disc (radius r_i, perpendicular to the segment) the segment crosses at foot point
 // t_i contributes
 //
-//     T(0, t_i) * [sigma_s / sigma_t](x_i) * f(w_i, -d) * Phi_i * K(delta_i / r_i) / (n_2 pi r_i^2)
+//     T(0, t_i) * [sigma_s f](y_i) / sigma_t_ball(x_i) * Phi_i * K(delta_i / r_i) / (n_2 pi r_i^2)
 //
-// Photons are stored at real collisions, so their density is sigma_t times the fluence-weighted
-// phase integral and the segment integral of T sigma_s (f L) needs no division by sigma_t: only
-// the albedo (the mixture of media at x_i). r_i is the distance to the beam_k-th nearest *other*
+// Photons are stored at real collisions, so their density estimates sigma_t times the phase-
+// weighted fluence; the segment integral of T sigma_s (f L) takes sigma_s f at the foot point y_i
+// over the mean sigma_t of photon i's ball (the point gathers' "ball" extinction, per photon):
+// 1 inside a homogeneous medium, 0 where the disc reaches out of the media, and above 1 for a
+// photon whose ball sticks out, so a sharp boundary is not blurred by a radius. Like the radius it
+// depends on the photon alone. r_i is the distance to the beam_k-th nearest *other*
 // photon (photon/photon_radii.h), bounded by photons.max_radius and by max_radius_mfp mean free
 // paths at x_i; both bounds depend on the photon alone, so the estimate stays a sample-point
 // estimate, unbiased on a uniform density for every k (docs/beam_estimate.md). T(0, t_i) comes
@@ -66,11 +69,10 @@ private:
     PhotonDiscBvh bvh_;
     BeamGatherStats built_;
     std::vector<bool> exact_;   // per medium: homogeneous, so its majorant pieces are sigma_t exactly
-    Rgb single_ = Rgb::Zero();  // one medium: its albedo and g
-    double g_ = 0.0;
+    std::vector<float> inv_ball_sigma_t_;   // per stored photon: 1 / mean sigma_t over its ball (0: no disc)
     mutable tbb::enumerable_thread_specific<Local> local_;
 
-    // Overlapping media: sigma_s / sigma_t times the phase function at x (the mixture of the media).
+    // sigma_s f at the foot point x: the sum over the media of sigma_t,m albedo_m f_m.
     Rgb scattering(const Vec3& x, double cos_theta) const;
     // T(0, t_i) for the hits sorted by t, every medium in one pass along its majorant pieces: the
     // optical depth in homogeneous media, ratio tracking (one walk for all t_i) in the others.
