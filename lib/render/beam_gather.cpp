@@ -33,9 +33,11 @@ BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const
         radii[i] = r;
     }
     // Per photon 1 / (mean sigma_t over its ball): query-independent like the radius (photon/ball_extinction.h).
-    inv_ball_sigma_t_.assign(map.size(), 0.0f);
+    // Only media with a jump need it; where every medium is continuous the plain estimate is kept.
+    for (const auto& m : scene.media) foot_point_ = foot_point_ || !m->continuous();
+    inv_ball_sigma_t_.assign(foot_point_ ? map.size() : 0, 0.0f);
     const BallExtinction ball(scene.media);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, map.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, inv_ball_sigma_t_.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) {
             if (!std::isfinite(radii[i]) || !(radii[i] > 0.0)) continue;
             double mean = ball.mean(centres[i], radii[i]);
@@ -64,6 +66,21 @@ Rgb BeamGather::scattering(const Vec3& x, double cos_theta) const {
         if (s > 0.0) sum += s * m->albedo() * hg_eval(cos_theta, m->g());
     }
     return sum;
+}
+
+Rgb BeamGather::albedo_phase(const Vec3& x, double cos_theta) const {
+    if (scene_.media.size() == 1) return scene_.media.front()->albedo() * hg_eval(cos_theta, scene_.media.front()->g());
+    Rgb sum = Rgb::Zero();
+    double sigma_t = 0.0;
+    for (const auto& m : scene_.media) {
+        const double s = m->sigma_t(x);
+        sum += s * m->albedo() * hg_eval(cos_theta, m->g());
+        sigma_t += s;
+    }
+    if (sigma_t > 0.0) return sum / sigma_t;
+    // A stored position rounded just outside every medium: the media's mean.
+    for (const auto& m : scene_.media) sum += m->albedo() * hg_eval(cos_theta, m->g());
+    return sum / double(scene_.media.size());
 }
 
 void BeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hits, std::vector<double>& out, Rng& rng,
@@ -122,9 +139,11 @@ Rgb BeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
     for (size_t i = 0; i < hits.size(); ++i) {
         const Hit& h = hits[i];
         const double r2 = h.r * h.r;
-        const double w = local.transmittance[i] * inv_ball_sigma_t_[h.index] * kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
+        const double w = local.transmittance[i] * kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
         if (w == 0.0) continue;
-        const Rgb f = scattering(ray.at(h.t), map_.direction(h.index).dot(-ray.dir));
+        const double cos_theta = map_.direction(h.index).dot(-ray.dir);
+        const Rgb f = foot_point_ ? scattering(ray.at(h.t), cos_theta) * double(inv_ball_sigma_t_[h.index])
+                                  : albedo_phase(map_.position(h.index), cos_theta);
         if ((f == 0.0).all()) continue;
         sum += w * map_.power(h.index) * f;
     }
