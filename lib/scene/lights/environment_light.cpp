@@ -127,7 +127,7 @@ private:
 std::unique_ptr<Light> make_environment_map_light(Params& p) {
     const std::string file = p.path("file").string();
     const Rgb scale = p.rgb("scale", Rgb::Ones(), emission_range());
-    const double rotate_y = p.real("rotate_y", 0.0);
+    const double rotate_y = p.real("rotate_y", 0.0, Range::closed(-360.0, 360.0));
     ExrPixels pixels;
     try {
         pixels = read_exr_pixels(file);
