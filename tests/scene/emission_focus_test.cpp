@@ -38,10 +38,15 @@ TEST(EmissionFocus, MixtureKeepsTheSilhouetteMeasures) {
     eb.set_focus(kFocus);
     ASSERT_TRUE(eb.focused());
     const std::vector<Bounds3> levels = eb.focus_levels();
-    // Growing 4x per level from about 5 to 2500 wide: 5 levels, the first the focus itself.
-    ASSERT_EQ(levels.size(), 5u);
+    // Growing kFocusGrowth-fold per level from about 5 to 2500 wide, the first the focus itself,
+    // each inside the next and in the box.
+    ASSERT_GE(levels.size(), 5u);
     EXPECT_EQ(levels[0].lo, kFocus.lo);
     EXPECT_EQ(levels[0].hi, kFocus.hi);
+    for (size_t j = 1; j < levels.size(); ++j) {
+        EXPECT_TRUE(levels[j].contains(levels[j - 1].lo) && levels[j].contains(levels[j - 1].hi)) << j;
+        EXPECT_TRUE(kBox.contains(levels[j].lo) && kBox.contains(levels[j].hi)) << j;
+    }
     EmissionBounds focus;
     focus.set(kFocus);
     Rng rng(7, 3);
@@ -69,7 +74,7 @@ TEST(EmissionFocus, MixtureKeepsTheSilhouetteMeasures) {
         }
         share /= double(levels.size() + 1);
         EXPECT_NEAR(meets.mean(), share, 4.0 * meets.se()) << d.transpose();
-        EXPECT_GT(meets.mean(), 0.16);   // without the focus: a_focus / a_box, about 1e-5
+        EXPECT_GT(meets.mean(), 0.1);   // without the focus: a_focus / a_box, about 1e-5
     }
 }
 

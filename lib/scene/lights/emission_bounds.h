@@ -37,7 +37,10 @@
 namespace vpm {
 
 constexpr double kFocusMaxAreaRatio = 0.25;
-constexpr double kFocusGrowth = 4.0;
+// Measured on the semi-infinite albedo-0.99 medium (8 maps of 2e5 photons): growth 4 gave the image
+// mean a standard error of 0.0016, growth 2 0.0010, no focus 0.0020; smaller jumps in photon power
+// between levels make lighter tails.
+constexpr double kFocusGrowth = 2.0;
 
 // A photon's line: where it starts and 1 / (its density per unit area perpendicular to d), which
 // is A_B(d) without a focus.
