@@ -1,5 +1,6 @@
 #include "photon/ball_extinction.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -130,47 +131,83 @@ BallExtinction::BallExtinction(const std::vector<std::unique_ptr<Medium>>& media
     }
 }
 
-double BallExtinction::integral(const Vec3& x, double r, uint64_t* lookups) const {
-    const double volume = (4.0 / 3.0) * kPi * r * r * r;
-    const Vec3 half = Vec3::Constant(r);
-    Bounds3 cube;
-    cube.lo = x - half;
-    cube.hi = x + half;
-    double total = 0.0;
-    for (const Entry& e : entries_) {
+// The integral of one medium's sigma_t over B(x, r) for each radius in r[0..n) (n <= 2), by the cases
+// of the header. Where the clipped quadrature serves more than one radius, its points cover the
+// bounding cube of the largest and are shared (one pass of lookups for all: photon/group_estimate.h
+// needs two radii per query).
+void BallExtinction::entry_integrals(const Entry& e, const Vec3& x, const double* r, double* out, int n, uint64_t* lookups) const {
+    bool clipped[2] = {false, false};
+    double r_clip = 0.0;
+    for (int j = 0; j < n; ++j) {
+        out[j] = 0.0;
+        const double rj = r[j];
         // Is the box inside the ball? (farthest corner within r)
         const Vec3 far = (e.box.lo - x).cwiseAbs().cwiseMax((e.box.hi - x).cwiseAbs());
-        if (far.squaredNorm() <= r * r) {
-            total += e.mass;
+        if (far.squaredNorm() <= rj * rj) {
+            out[j] = e.mass;
             continue;
         }
         double exact = 0.0;
-        if (e.medium->ball_integral(x, r, exact)) {   // closed form (homogeneous shapes, one grid cell)
-            total += exact;
+        if (e.medium->ball_integral(x, rj, exact)) {   // closed form (homogeneous shapes, one grid cell)
+            out[j] = exact;
             if (lookups) *lookups += 1;
             continue;
         }
         // The ball inside the box, or crossing it where sigma_t falls to 0 continuously and the ball
         // is small against the box (the points outside count 0, with no jump to resolve): the ball rule.
-        const bool inside = e.box.contains(cube.lo) && e.box.contains(cube.hi);
-        if (inside || (e.medium->continuous() && 4.0 * r <= (e.box.hi - e.box.lo).minCoeff())) {
-            total += ball_mean_by_rule(*e.medium, x, r, kBallRule) * volume;
+        const Vec3 half = Vec3::Constant(rj);
+        const bool inside = e.box.contains(x - half) && e.box.contains(x + half);
+        if (inside || (e.medium->continuous() && 4.0 * rj <= (e.box.hi - e.box.lo).minCoeff())) {
+            const double volume = (4.0 / 3.0) * kPi * rj * rj * rj;
+            out[j] = ball_mean_by_rule(*e.medium, x, rj, kBallRule) * volume;
             if (lookups) *lookups += rule_points(kBallRule);
             continue;
         }
-        Bounds3 c;
-        c.lo = e.box.lo.cwiseMax(cube.lo);
-        c.hi = e.box.hi.cwiseMin(cube.hi);
-        const double vc = box_volume(c);
-        if (!(vc > 0.0)) continue;
-        const Vec3 extent = c.hi - c.lo;
-        double sum = 0.0;
-        for (const Vec3& h : clipped_points()) {
-            const Vec3 p = c.lo + h.cwiseProduct(extent);
-            if ((p - x).squaredNorm() <= r * r) sum += e.medium->sigma_t(p);
-        }
-        total += sum * vc / kClippedPoints;
-        if (lookups) *lookups += kClippedPoints;
+        clipped[j] = true;
+        r_clip = std::max(r_clip, rj);
+    }
+    if (!(r_clip > 0.0)) return;
+    const Vec3 half = Vec3::Constant(r_clip);
+    Bounds3 c;
+    c.lo = e.box.lo.cwiseMax(x - half);
+    c.hi = e.box.hi.cwiseMin(x + half);
+    const double vc = box_volume(c);
+    if (!(vc > 0.0)) return;
+    const Vec3 extent = c.hi - c.lo;
+    double sum[2] = {0.0, 0.0};
+    const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
+    const double r2max = std::max(r2a, r2b);
+    for (const Vec3& h : clipped_points()) {
+        const Vec3 p = c.lo + h.cwiseProduct(extent);
+        const double d2 = (p - x).squaredNorm();
+        if (d2 > r2max) continue;
+        const double s = e.medium->sigma_t(p);
+        sum[0] += d2 <= r2a ? s : 0.0;   // no branch: a shell between the radii is unpredictable
+        sum[1] += d2 <= r2b ? s : 0.0;
+    }
+    for (int j = 0; j < n; ++j)
+        if (clipped[j]) out[j] = sum[j] * vc / kClippedPoints;
+    if (lookups) *lookups += kClippedPoints;
+}
+
+double BallExtinction::integral(const Vec3& x, double r, uint64_t* lookups) const {
+    double total = 0.0;
+    for (const Entry& e : entries_) {
+        double v = 0.0;
+        entry_integrals(e, x, &r, &v, 1, lookups);
+        total += v;
+    }
+    return total;
+}
+
+std::array<double, 2> BallExtinction::integrals(const Vec3& x, double ra, double rb, uint64_t* lookups) const {
+    std::array<double, 2> total{0.0, 0.0};
+    const double r[2] = {ra, rb};
+    for (const Entry& e : entries_) {
+        double v[2] = {0.0, 0.0};
+        entry_integrals(e, x, r, v, 2, lookups);
+        total[0] += v[0];
+        total[1] += v[1];
     }
     return total;
 }
