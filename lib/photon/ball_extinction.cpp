@@ -228,10 +228,20 @@ BallMoments BallExtinction::moments(const Vec3& x, double r) const {
         s2 += w * (d * d.transpose());
     };
     for (const Entry& e : entries_) {
+        if (e.box.contains(cube.lo) && e.box.contains(cube.hi) && !e.medium->continuous()) {
+            // A medium with a jump inside its box (a homogeneous sphere's surface): 32 points and
+            // their antipodes (64), so that a ball of constant sigma_t has offset exactly 0.
+            const double w = volume / (2 * kBallPoints);
+            for (const Vec3& p : unit_ball_points()) {
+                add(w * e.medium->sigma_t(x + r * p), r * p);
+                add(w * e.medium->sigma_t(x - r * p), -r * p);
+            }
+            continue;
+        }
         if (e.box.contains(cube.lo) && e.box.contains(cube.hi)) {
-            // The degree-5 rule (15 points, symmetric: constant sigma_t gives offset 0): exact for
-            // the moments up to the second of a sigma_t cubic over the ball. The 64 Halton points and
-            // antipodes before cost 4x the lookups (the plume's render 1.9x "ball"'s; now 1.3x).
+            // A continuous medium (grids, as integral() uses it): the degree-5 rule (15 points,
+            // symmetric), exact for the moments up to the second of a cubic sigma_t over the ball;
+            // the 64 points cost 4x the lookups (the plume's render 1.9x "ball"'s; now about 1.4x).
             const double a = r * std::sqrt(2.0 / 3.0), b = 0.5 * r;
             add(volume * (11.0 / 70.0) * e.medium->sigma_t(x), Vec3::Zero());
             for (int i = 0; i < 3; ++i) {

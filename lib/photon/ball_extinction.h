@@ -64,8 +64,9 @@ public:
     // The integrals over B(x, ra) and B(x, rb), each what integral() gives, except that where both
     // need the clipped quadrature they share its points over the larger ball's cube (one pass).
     std::array<double, 2> integrals(const Vec3& x, double ra, double rb, uint64_t* lookups = nullptr) const;
-    // The moments above by the same three quadratures, the ball's by the degree-5 rule (symmetric,
-    // so that a ball of constant sigma_t has offset exactly 0).
+    // The moments above by the same three quadratures; the ball's by the degree-5 rule in a
+    // continuous medium, else by its 32 points and their antipodes (64; a homogeneous shape's jump
+    // needs more than 15 points). Both symmetric: a ball of constant sigma_t has offset exactly 0.
     BallMoments moments(const Vec3& x, double r) const;
 
 private:
