@@ -68,6 +68,8 @@ public:
     // continuous medium, else by its 32 points and their antipodes (64; a homogeneous shape's jump
     // needs more than 15 points). Both symmetric: a ball of constant sigma_t has offset exactly 0.
     BallMoments moments(const Vec3& x, double r) const;
+    // The moments of B(x, ra) and B(x, rb), sharing the clipped quadrature's points as integrals().
+    std::array<BallMoments, 2> moments(const Vec3& x, double ra, double rb) const;
 
 private:
     struct Entry {
@@ -77,6 +79,7 @@ private:
         Vec3 centroid = Vec3::Zero();   // of sigma_t over the box
         Eigen::Matrix3d second = Eigen::Matrix3d::Zero();   // integral of sigma_t (p - centroid)(p - centroid)^T over the box
     };
+    void moments_n(const Vec3& x, const double* r, int n, BallMoments* out) const;
     void entry_integrals(const Entry& e, const Vec3& x, const double* r, double* out, int n, uint64_t* lookups) const;
     std::vector<Entry> entries_;
 };

@@ -75,19 +75,21 @@ inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool
         if (!(r[h] > 0.0) || !std::isfinite(r[h])) return GroupEstimate{};
     }
     std::array<double, 2> m0{0.0, 0.0};
-    if (!linear) m0 = ball.integrals(x, r[0], r[1], lookups);
+    std::array<BallMoments, 2> mo;
+    if (linear) mo = ball.moments(x, r[0], r[1]);
+    else m0 = ball.integrals(x, r[0], r[1], lookups);
     for (int h = 0; h < 2; ++h) {
         const double r2 = r[h] * r[h];
         Rgb sum = Rgb::Zero();
         if (linear) {
-            const BallMoments mo = ball.moments(x, r[h]);
-            m0[size_t(h)] = mo.m0;
-            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(mo.cov);
+            const BallMoments& mh = mo[size_t(h)];
+            m0[size_t(h)] = mh.m0;
+            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(mh.cov);
             const bool use_g = eig.eigenvalues().minCoeff() > 1e-6 * r2;   // as linear_estimate.h
             const Vec3 g = use_g ? Vec3(eig.eigenvectors() * (eig.eigenvalues().cwiseInverse().asDiagonal() *
-                                                              (eig.eigenvectors().transpose() * mo.offset)))
+                                                              (eig.eigenvectors().transpose() * mh.offset)))
                                  : Vec3::Zero();
-            const Vec3 c = x + mo.offset;
+            const Vec3 c = x + mh.offset;
             for (size_t i = 0; i < found && buf.d2[i] < r2; ++i)
                 if (walk_half(buf.list[i].group) == h) sum += buf.w[i] * (1.0 - (map.position(buf.list[i].index) - c).dot(g));
         } else {

@@ -195,7 +195,8 @@ TEST(DenseBiasEstimators, LeaveHalfOutHasTheCorrectedVarianceForIndependentPhoto
     EXPECT_LT(ratio.se(), 0.06);   // the check has the power to see a 20% change
 }
 
-// Two radii at once: where neither ball needs the clipped quadrature, exactly integral()'s values;
+// Two radii at once (integrals and moments): where neither ball needs the clipped quadrature,
+// exactly the one-radius values;
 // where both do (a corner of the box), the shared points agree with separate passes to the
 // quadrature's own error (0.2% for a ball's volume, ball_extinction.h).
 TEST(DenseBiasEstimators, TwoBallIntegralsAgreeWithOneAtATime) {
@@ -209,6 +210,15 @@ TEST(DenseBiasEstimators, TwoBallIntegralsAgreeWithOneAtATime) {
         if (x.minCoeff() > 0.6 || (x.x() == 0.2 && x.y() == 5.0)) {   // inside, or a cap (closed form): exact
             EXPECT_EQ(two[0], a);
             EXPECT_EQ(two[1], b);
+        }
+        const auto m = ball.moments(x, 0.5, 0.6);   // the linear weights' moments, likewise
+        const BallMoments ma = ball.moments(x, 0.5), mb = ball.moments(x, 0.6);
+        EXPECT_NEAR(m[0].m0, ma.m0, 0.01 * ma.m0) << x.transpose();
+        EXPECT_NEAR(m[1].m0, mb.m0, 0.01 * mb.m0) << x.transpose();
+        EXPECT_NEAR((m[0].offset - ma.offset).norm(), 0.0, 0.01 * 0.5) << x.transpose();
+        EXPECT_NEAR((m[1].offset - mb.offset).norm(), 0.0, 0.01 * 0.6) << x.transpose();
+        if (x.minCoeff() > 0.6) {
+            EXPECT_EQ(m[0].m0, ma.m0);
         }
     }
 }
