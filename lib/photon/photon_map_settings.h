@@ -42,9 +42,9 @@
 //   |                        |             | noise (BENCHMARKS.md section 11)                         |
 //   | gather_queries         | 4           | points per segment for "march"                           |
 //   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
-//   |                        |             | linear extinction): each walk group's photons counted    |
-//   |                        |             | within the k-th photon of the other groups, exact for    |
-//   |                        |             | clustered walks (photon/group_estimate.h)                |
+//   |                        |             | linear extinction): each half of the walk groups counted |
+//   |                        |             | within the ceil(k/2)-th photon of the other half, exact  |
+//   |                        |             | for clustered walks (photon/group_estimate.h)            |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
 //   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
 //   | march_max_optical_depth| 2           | the "auto" threshold                                     |

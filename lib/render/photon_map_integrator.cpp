@@ -208,7 +208,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                 Estimate<Rgb> s;
                 if (!starved)
                     s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius,
-                                               local.buffers, &local.stats);
+                                               local.buffers, &local.stats, gather_count());
                 if (bounded || starved) {
                     const BoundedQuery q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
                     if (q == BoundedQuery::zero) break;
@@ -254,11 +254,17 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     // smoke only if it is tiny; then use the point.
     if (settings_.extinction == ExtinctionNormalisation::point || !(s.radius > 0.0)) return s.value / sigma_t;
     const bool linear = settings_.extinction == ExtinctionNormalisation::linear;
-    if (settings_.clustering == Clustering::leave_group_out && s.kind == EstimateCase::knn &&
-        std::string(settings_.estimator.name()) == "corrected" && settings_.estimator.kernel().is_constant()) {
-        // photon/group_estimate.h: a few more neighbours than k, so each group's k-th other photon is in the list.
-        for (size_t want = k_ + k_ / 2 + 8;; want *= 2) {
-            const size_t found = map_->knn(x, want, max_radius, buffers.list);
+    if (leaves_half_out() && s.kind == EstimateCase::knn) {
+        // photon/group_estimate.h: the list was gathered with gather_count() neighbours; rarely more are needed.
+        size_t found = buffers.list.size();
+        bool complete = found < gather_count() || found == map_->size();
+        for (;;) {
+            const GroupEstimate e = leave_half_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear,
+                                                   &threads_->local.local().lookups);
+            if (e.used) return e.value;
+            if (e.want == 0) break;   // no finite ball for some half: the plain estimate below
+            found = map_->knn(x, e.want, max_radius, buffers.list);
+            complete = found < e.want || found == map_->size();
             if (buffers.w.size() < found) {
                 buffers.w.resize(found);
                 buffers.d2.resize(found);
@@ -267,9 +273,6 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
                 buffers.w[i] = hg_eval(buffers.list[i].direction.dot(w_o), g) * buffers.list[i].power;
                 buffers.d2[i] = buffers.list[i].d2;
             }
-            const bool complete = found < want || found == map_->size();
-            const GroupEstimate e = leave_group_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear);
-            if (!e.need_more) return e.value;
         }
     }
     if (linear) {
@@ -280,6 +283,13 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     const double ball = threads_->ball.mean(x, s.radius, &threads_->local.local().lookups);
     return s.value / (ball > 0.0 ? ball : sigma_t);
 }
+
+bool PhotonMapIntegrator::leaves_half_out() const {
+    return settings_.clustering == Clustering::leave_group_out && std::string(settings_.estimator.name()) == "corrected" &&
+           settings_.estimator.kernel().is_constant() && settings_.extinction != ExtinctionNormalisation::point;
+}
+
+size_t PhotonMapIntegrator::gather_count() const { return leaves_half_out() ? leave_half_out_gather(k_) : k_; }
 
 bool PhotonMapIntegrator::volume_map_starved() const {
     // A query needs k photons: a map of fewer than k (empty, thinned by store_probability, a tiny
@@ -386,7 +396,8 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     const bool starved = volume_map_starved();
     Estimate<Rgb> s;
     if (!starved)
-        s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats);
+        s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats,
+                                   gather_count());
     // The collision gather's bound (photon/bounded_radius.h) here: a ball spanning many mean free
     // paths averages the lit skin of a dense medium with its dark inside (biased low), so such a
     // point takes the light a path would find instead: NEE and one phase-sampled continuation,
