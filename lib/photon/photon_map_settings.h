@@ -25,8 +25,9 @@
 //   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
 //   | gather                 | "auto"      | camera side: "collision": one estimate where the camera  |
 //   |                        |             | ray collides; "march": gather_queries stratified points  |
-//   |                        |             | along every segment in the media (the majorant's free    |
-//   |                        |             | flight), each weighted by its ratio-tracked              |
+//   |                        |             | along every segment in the media (the free flight of the |
+//   |                        |             | medium's exact extinction: transport/march_points.h),    |
+//   |                        |             | each weighing albedo (1 - T) / n times the other media's |
 //   |                        |             | transmittance (every ray gathers, also in thin media);   |
 //   |                        |             | a point whose ball exceeds max_radius_mfp takes NEE and  |
 //   |                        |             | a continued path (counted: photons.march_wide_queries).  |
