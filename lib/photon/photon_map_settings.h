@@ -47,7 +47,9 @@
 //   |                        |             | within the k-th photon of the other groups, exact for    |
 //   |                        |             | clustered walks (photon/group_estimate.h)                |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
-//   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
+//   |                        |             | its power divided by it (thinning; photon_tracer.h);     |
+//   |                        |             | "auto": min(1, 2 / stored per storing walk of the pass's |
+//   |                        |             | first 4096 photons) for the rest (store_thinning.h)      |
 //   | march_max_optical_depth| 2           | the "auto" threshold                                     |
 //   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
 //   |                        |             | counting from render.first_pass) uses                    |
@@ -89,6 +91,7 @@ struct PhotonMapSettings {
     GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
     double store_probability = 1.0;
+    bool store_auto = false;   // store_probability = "auto": from the pass's walk statistics (photon/store_thinning.h)
     Clustering clustering = Clustering::ignore;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
