@@ -364,7 +364,7 @@ std::string MatrixReport::to_markdown(const std::string& command, const std::str
       << "(< 1: faster). default / best = the photon map's defaults (gather \"auto\") over the better forced gather (issue target <= 1.25); "
       << "pilot: photons.gather = \"pilot\" (a pilot per pass picks collision, march or auto by variance x counted cost), "
       << "and what it chose in the last pass. March weight: the forced march's point "
-      << "weights relative to an exact majorant's (1 in homogeneous media), largest and mean. "
+      << "weights relative to the medium's own (albedo P / n: 1 with one medium, the other media's transmittance otherwise), largest and mean. "
       << "Scaled cells are compared with the unscaled cell's reference and must reproduce its figures.\n\n";
     s << "| group | shape | tau | albedo | g | light | scale | path tracer: s, rmse | photon map: s, rmse | pm / path | collision / path | march / path | pilot / path | default / best forced | pilot chose | march weight max / mean |\n";
     s << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";

@@ -17,6 +17,7 @@
 #include "photon/linear_estimate.h"
 #include "config/params.h"
 #include "transport/direct_light.h"
+#include "transport/march_points.h"
 #include "transport/mis.h"
 #include "transport/walk_steps.h"
 
@@ -323,61 +324,33 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
 }
 
 Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const {
-    // Per medium, n stratified points with the free-flight density of its majorant mu,
-    // p(t) = mu(t) exp(-tau_mu(t)) / P with P = 1 - exp(-tau_mu(t_end)): the points go where the
-    // medium is (empty majorant pieces get none), and the weight T sigma_s / (n p) is the constant
-    // albedo P / n where the majorant is exact (homogeneous media) and stays within e^tau_mu of it
-    // elsewhere, which photons.gather = "auto" keeps small by marching thin segments only.
+    // Per medium, n stratified points with the free-flight density of its exact extinction
+    // (transport/march_points.h): each weighs albedo P / n times the other media's transmittance,
+    // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field.
     const int n = settings_.gather_queries;
     // Not thread-local buffers: a march point's continued path may march again (recursion).
-    std::vector<double> tau(static_cast<size_t>(n));
-    std::vector<std::pair<double, double>> points;   // (t, majorant at t)
-    points.reserve(size_t(n));
-    struct Piece {
-        double ta, tb, mu;
-    };
-    std::vector<Piece> pieces;   // the medium's majorant along the segment, walked once
+    OpticalDepthProfile profile;
+    std::vector<double> ts;
     Rgb sum = Rgb::Zero();
     for (const auto& medium : scene_.media) {
-        pieces.clear();
-        double total = 0.0;
-        medium->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
-            pieces.push_back({ta, tb, mu});
-            total += mu * (tb - ta);
-            return true;
-        });
-        if (!(total > 0.0)) continue;
-        const double mass = -std::expm1(-total);   // P
-        for (int j = 0; j < n; ++j) tau[size_t(j)] = -std::log1p(-mass * (j + rng.uniform()) / n);   // increasing
-        points.clear();
-        double reached = 0.0;   // majorant optical depth at the start of the piece
-        for (const Piece& p : pieces) {
-            const double end = reached + p.mu * (p.tb - p.ta);
-            while (points.size() < size_t(n) && tau[points.size()] < end)
-                points.emplace_back(std::min(p.tb, p.ta + (tau[points.size()] - reached) / p.mu), p.mu);
-            reached = end;
-            if (points.size() == size_t(n)) break;
-        }
-        double transmittance = 1.0, t_prev = 0.0;
-        for (size_t j = 0; j < points.size(); ++j) {
-            const auto [t, mu] = points[j];
-            // T(0, t) as a product of independent ratio-tracking estimates over consecutive pieces.
-            for (const auto& m : scene_.media) transmittance *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
-            threads_->local.local().rays += scene_.media.size();
+        if ((medium->albedo() == 0.0).all()) continue;
+        const double mass = place_march_points(*medium, ray, t_end, n, rng, profile, ts);
+        double others = 1.0, t_prev = 0.0;   // the other media's transmittance to the point
+        for (const double t : ts) {
+            // A product of independent ratio-tracking estimates over consecutive pieces.
+            for (const auto& m : scene_.media)
+                if (m != medium) others *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
+            threads_->local.local().rays += scene_.media.size();   // the profile counts as one tracked segment
             t_prev = t;
-            if (transmittance == 0.0) break;
-            const Vec3 x = ray.at(t);
-            const double sigma_t_here = medium->sigma_t(x);
-            if (!(sigma_t_here > 0.0) || (medium->albedo() == 0.0).all()) continue;
-            const double survival = std::exp(-tau[j]);   // exp(-tau_mu(t)) = 1 - u_j
-            const double relative = transmittance * sigma_t_here / (mu * survival);   // 1 where the majorant is exact
+            if (others == 0.0) break;
             {
-                auto& local = threads_->local.local();
-                local.march_weight_max = std::max(local.march_weight_max, relative);
-                local.march_weight_sum += relative;
+                auto& local = threads_->local.local();   // relative to the weight in the medium alone
+                local.march_weight_max = std::max(local.march_weight_max, others);
+                local.march_weight_sum += others;
                 ++local.march_points;
             }
-            const Rgb weight = (relative * mass / n) * medium->albedo();
+            const Vec3 x = ray.at(t);
+            const Rgb weight = (others * mass / n) * medium->albedo();
             sum += weight * incident_at_march_point(x, ray.dir, medium->g(), total_sigma_t(scene_, x), weight, depth, rng);
         }
     }
