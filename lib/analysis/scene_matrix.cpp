@@ -372,7 +372,7 @@ std::string MatrixReport::to_markdown(const std::string& command, const std::str
       << "(< 1: faster). default / best = the photon map's defaults (gather \"auto\") over the better forced gather (issue target <= 1.25); "
       << "pilot: photons.gather = \"pilot\" (a pilot per pass picks collision, march or auto by variance x counted cost), "
       << "and what it chose in the last pass. March weight: the forced march's point "
-      << "weights relative to an exact majorant's (1 in homogeneous media), largest and mean. "
+      << "weights relative to the medium's own (albedo P / n: 1 with one medium, the other media's transmittance otherwise), largest and mean. "
       << "beam: photons.gather = \"beam\" (one BVH query per camera segment, docs/beam_estimate.md); beam / best point = its "
       << "error^2 x seconds over the best of the point-query photon maps (default, collision, march, pilot; issue 22 target <= 2). "
       << "Scaled cells are compared with the unscaled cell's reference and must reproduce its figures.\n\n";

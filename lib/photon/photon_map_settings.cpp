@@ -8,6 +8,30 @@
 
 namespace vpm {
 
+namespace {
+
+// A number in (0, 1] or "auto" (photon/store_thinning.h).
+void read_store_probability(Params& p, PhotonMapSettings& s) {
+    const char* key = "store_probability";
+    const char* allowed = "must be a number in (0, 1] or \"auto\" (the probability from the walks' own statistics)";
+    const toml::node* n = p.node(key);
+    if (!n) {
+        s.store_probability = p.real(key, s.store_probability);   // the default, into the resolved config
+        return;
+    }
+    if (n->is_string()) {
+        if (n->value<std::string>().value_or("") != "auto") p.fail(key, allowed);
+        p.choice(key, "auto", {"auto"});
+        s.store_auto = true;
+        return;
+    }
+    const Range range{0.0, 1.0, true, false};
+    if (!n->is_number() || !range.contains(n->value<double>().value_or(-1.0))) p.fail(key, allowed);
+    s.store_probability = p.real(key, s.store_probability, range);
+}
+
+}  // namespace
+
 PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     PhotonMapSettings s;
     s.walk = WalkSettings::read(render);
@@ -51,7 +75,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
     s.clustering = p.choice("clustering", s.clustering,
                             {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
-    s.store_probability = p.real("store_probability", s.store_probability, {0.0, 1.0, true, false});
+    read_store_probability(p, s);
     s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});
     s.alpha = p.real("alpha", s.alpha, Range::open(0.0, 1.0));
     s.k_floor = int(p.integer("k_floor", s.k_floor, Range::closed(1, 1 << 20)));

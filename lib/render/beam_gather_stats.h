@@ -8,7 +8,8 @@ namespace vpm {
 struct BeamGatherStats {
     uint64_t k = 0;                  // photons.beam_k
     uint64_t photons = 0;            // photons with a finite radius (in the BVH)
-    uint64_t bvh_bytes = 0;          // the BVH (balls + nodes); the radii live in its balls
+    uint64_t bvh_bytes = 0;          // the BVH (balls + nodes; the radii live in its balls) and, with a
+                                     // medium that has a jump, 4 bytes per photon of ball extinction
     double bvh_bytes_per_photon = 0.0;
     double map_bytes_per_photon = 0.0;   // the kd-tree map's, for comparison
     double total_bytes_per_photon = 0.0; // map + BVH: what the beam gather keeps in memory

@@ -120,6 +120,10 @@ private:
     Rgb march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const;
     // The volume estimate s at x (gathered into buffers) divided by sigma_t as photons.extinction says.
     // w_o, g, max_radius: the query's, for the leave-group-out gather (photons.clustering).
+    // photons.clustering = "leave_group_out" applies (corrected, constant kernel, ball or linear), and
+    // the kNN list to gather for it (photon/group_estimate.h); else k.
+    bool leaves_half_out() const;
+    size_t gather_count() const;
     Rgb normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec3& w_o, double g, double max_radius, double sigma_t,
                    GatherBuffers& buffers, std::vector<Rgb>& scratch) const;
     // The phase-weighted incident radiance at march point x (weight: the point's, for roulette).

@@ -24,6 +24,8 @@ void PhotonPassStats::merge(const PhotonPassStats& o) {
     emitted += o.emitted;
     stored += o.stored;
     collisions += o.collisions;
+    storing_walks += o.storing_walks;
+    store_probability = o.store_probability;
     truncated_paths += o.truncated_paths;
     energy.emitted += o.energy.emitted;
     energy.absorbed += o.energy.absorbed;
@@ -137,6 +139,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.emitted", p->emitted);
         record.set("photons.stored", p->stored);
         record.set("photons.collisions", p->collisions);
+        record.set("photons.storing_walks", p->storing_walks);
+        record.set("photons.store_probability_used", p->store_probability);
         record.set("photons.truncated_paths", p->truncated_paths);
         record.set("photons.paths_per_second", p->paths_per_second);
         record.set("photons.energy.emitted", rgb_json(p->energy.emitted));

@@ -39,6 +39,8 @@ struct PhotonPassStats {
     uint64_t emitted = 0;             // photon paths
     uint64_t stored = 0;              // volume photons
     uint64_t collisions = 0;          // real medium collisions, stored or not
+    uint64_t storing_walks = 0;       // photon paths that stored at least one volume photon
+    double store_probability = 1.0;   // volume storage probability (after "auto"'s first batch), of the last pass
     uint64_t truncated_paths = 0;
     double paths_per_second = 0.0;
     EnergyBalance energy;

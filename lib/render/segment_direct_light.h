@@ -1,11 +1,9 @@
 #pragma once
 // Single scattering along a camera segment by next-event estimation at n stratified points per
 // medium, for gathers that take only multiple scattering from the photon map along the whole
-// segment (photons.gather = "beam"). The points follow the free-flight density of the medium's
-// majorant mu, p(t) = mu(t) exp(-tau_mu(t)) / P with P = 1 - exp(-tau_mu(t_end)), like the march's
-// (photon_map_integrator.cpp), and weigh T sigma_t / (mu e^-tau_mu) * P / n * albedo: unbiased
-// for the integral of T sigma_s (f L_direct) over the segment, the albedo P / n exactly in
-// homogeneous media. T is the product of independent transmittance estimates between points.
+// segment (photons.gather = "beam"). The points are the march's (transport/march_points.h: the
+// free flight of the medium's exact extinction), each weighing albedo P / n times the other media's
+// transmittance: unbiased for the integral of T sigma_s (f L_direct) over the segment.
 #include <cstdint>
 
 #include "core/math.h"
