@@ -60,6 +60,15 @@ uint64_t rule_points(BallRule rule) {
     return 1;
 }
 
+// The cube of half side r about x, clipped to `box`: where a clipped ball's quadrature points go.
+Bounds3 cube_in_box(const Bounds3& box, const Vec3& x, double r) {
+    const Vec3 half = Vec3::Constant(r);
+    Bounds3 c;
+    c.lo = box.lo.cwiseMax(x - half);
+    c.hi = box.hi.cwiseMin(x + half);
+    return c;
+}
+
 double box_volume(const Bounds3& b) {
     if (b.empty()) return 0.0;
     const Vec3 e = b.hi - b.lo;
@@ -167,10 +176,7 @@ void BallExtinction::entry_integrals(const Entry& e, const Vec3& x, const double
         r_clip = std::max(r_clip, rj);
     }
     if (!(r_clip > 0.0)) return;
-    const Vec3 half = Vec3::Constant(r_clip);
-    Bounds3 c;
-    c.lo = e.box.lo.cwiseMax(x - half);
-    c.hi = e.box.hi.cwiseMin(x + half);
+    const Bounds3 c = cube_in_box(e.box, x, r_clip);
     const double vc = box_volume(c);
     if (!(vc > 0.0)) return;
     const Vec3 extent = c.hi - c.lo;
@@ -276,10 +282,7 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
             r_clip = std::max(r_clip, rj);
         }
         if (!(r_clip > 0.0)) continue;
-        const Vec3 half = Vec3::Constant(r_clip);
-        Bounds3 c;
-        c.lo = e.box.lo.cwiseMax(x - half);
-        c.hi = e.box.hi.cwiseMin(x + half);
+        const Bounds3 c = cube_in_box(e.box, x, r_clip);
         const double vc = box_volume(c);
         if (!(vc > 0.0)) continue;
         const Vec3 extent = c.hi - c.lo;
