@@ -18,11 +18,14 @@
 //   corrected/32pt rnd plane  by vpm's 32-point ball quadrature, boundary at a random orientation
 //   linear                the local-linear weights of photon/linear_estimate.h
 //   leave-16-groups-out   photon/group_estimate.h (walk index mod 16)
-//   linear+16 groups      both (vpm's defaults since issue 21)
+//   linear+16 groups      both
+//   leave-half-out        each parity half of the walks within the other half's ceil(k/2)-th photon
+//                         (photon/group_estimate.h since the second session of issue 21)
+//   linear+halves         both
 // --shuffle 1 moves every photon to a random lateral place (depth kept): no clustering, same profile.
 //
 //   bench_dense_bias [--albedo 0.99] [--photons 1e5] [--width 20] [--k 32] [--queries 2e5]
-//                    [--seed 1] [--mu 1] [--store 1] [--shuffle 0]
+//                    [--seed 1] [--mu 1] [--store 1] [--shuffle 0] [--margin 1.5]
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -148,7 +151,7 @@ int main(int argc, char** argv) {
     double albedo = 0.99, W = 20, mu = 1.0;
     uint64_t n = 1000000, queries = 200000, seed = 1;
     size_t k = 32;
-    double store_p = 1.0;
+    double store_p = 1.0, margin = 1.5;   // periodic copies within margin mean free paths of the tile's edges
     bool shuffle = false;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string a = argv[i];
@@ -156,6 +159,7 @@ int main(int argc, char** argv) {
         if (a == "--albedo") albedo = v; else if (a == "--width") W = v; else if (a == "--photons") n = uint64_t(v);
         else if (a == "--queries") queries = uint64_t(v); else if (a == "--k") k = size_t(v); else if (a == "--seed") seed = uint64_t(v);
         else if (a == "--mu") mu = v; else if (a == "--store") store_p = v; else if (a == "--shuffle") shuffle = v != 0;
+        else if (a == "--margin") margin = v;
     }
     Cloud c;
     trace(c, n, albedo, W, seed, store_p);
@@ -163,7 +167,6 @@ int main(int argc, char** argv) {
     if (shuffle)   // keep each depth, randomise the lateral place: no clustering, same depth profile
         for (size_t i = 0; i < c.x.size(); ++i) { c.x[i] = srng.uniform() * W; c.y[i] = srng.uniform() * W; c.walk[i] = uint32_t(i); }
     const size_t stored = c.x.size();
-    const double margin = 1.5;   // periodic copies within this many mean free paths of the tile's edges
     for (size_t i = 0; i < stored; ++i)
         for (int ox = -1; ox <= 1; ++ox)
             for (int oy = -1; oy <= 1; ++oy) {
@@ -191,8 +194,8 @@ int main(int argc, char** argv) {
     std::vector<double> d2(M);
     // variants: 0 corrected clipped (ball), 1 corrected point (full ball), 2 classic clipped,
     // 3 leave-one-walk-out clipped, 4 corrected clipped with k+1 (LOWO's no-cluster limit)
-    const int V = 10;
-    const char* names[V] = {"corrected/ball", "corrected/point", "classic/ball", "leave-walk-out/ball", "corrected k+1/ball", "corrected/halton4096", "corrected/32pt rnd plane", "linear", "leave-16-groups-out", "linear+16 groups"};
+    const int V = 12;
+    const char* names[V] = {"corrected/ball", "corrected/point", "classic/ball", "leave-walk-out/ball", "corrected k+1/ball", "corrected/halton4096", "corrected/32pt rnd plane", "linear", "leave-16-groups-out", "linear+16 groups", "leave-half-out", "linear+halves"};
     const auto bp = ball_points();
     std::vector<Acc> acc(V);
     // depth profile of the bias: bins of d_q / r_k
@@ -265,6 +268,21 @@ int main(int argc, char** argv) {
                 sum += pw / clipped_volume(dq, R);
             }
             est[8 + lin] = sum;
+        }
+        for (int lin = 0; lin < 2; ++lin) {   // photon/group_estimate.h: each parity half within the other's m-th photon
+            const size_t m = (k + 1) / 2;
+            size_t cnt[2] = {0, 0}, end[2] = {found, found};
+            for (size_t j = 0; j < found; ++j) { const int h = int(c.walk[idx[j]] % 2); if (++cnt[h] == m && end[h] == found) end[h] = j; }
+            double sum = 0;
+            for (int h = 0; h < 2; ++h) {
+                const size_t j = end[1 - h];
+                if (j >= found) { ++lowo_short; continue; }
+                const double R = std::sqrt(d2[j]);
+                double pw = 0;
+                for (size_t i = 0; i < j; ++i) if (int(c.walk[idx[i]] % 2) == h && d2[i] < d2[j]) pw += c.p[idx[i]] * (lin ? linear_h(c.d[idx[i]], dq, R) : 1.0);
+                sum += pw / clipped_volume(dq, R);
+            }
+            est[10 + lin] = sum;
         }
         for (int v = 0; v < V; ++v) acc[v].add(scale * est[v]);
         const double ct = scale * c_at(dq);

@@ -3,7 +3,7 @@
 
 usage: /usr/bin/python3 tools/plot_matrix.py OUT_DIR/matrix.csv
 writes OUT_DIR/matrix.png: one row per cell, one column per photon-map setting (defaults, collision
-and march forced, the old threshold), colour = log10 of its time to equal error over the path tracer's
+and march forced, the pilot's choice, the beam gather), colour = log10 of its time to equal error over the path tracer's
 (error^2 x seconds ratio; blue < 1: the photon map is faster), the ratio printed in each square.
 """
 import csv
@@ -18,7 +18,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import TwoSlopeNorm  # noqa: E402
 
 COLUMNS = [("photon_map_over_path", "photon map\n(defaults)"), ("pm_collision_over_path", "collision\nforced"),
-           ("pm_march_over_path", "march\nforced"), ("pm_threshold_over_path", "threshold\n(before)")]
+           ("pm_march_over_path", "march\nforced"), ("pm_pilot_over_path", "pilot"),
+           ("pm_beam_over_path", "beam\nforced")]
 
 
 def num(s):

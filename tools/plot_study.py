@@ -5,7 +5,8 @@ figure) and relative MSE vs k for the three scales. The numbers all come from st
 usage: /usr/bin/python3 tools/plot_study.py OUT/study.csv OUT_DIR
 writes OUT_DIR/study_error_<scenario>.png and OUT_DIR/study_mse_<scenario>.png; the kernels
 scenario (estimators labelled "classic/<kernel>") gets one colour per kernel, the k-th photon
-kept (classic: open markers, dashed theory) or discarded (corrected: filled, solid theory).
+kept (classic: open markers, dashed theory) or discarded (corrected: filled, solid theory). The beam
+scenario's rows ("sample_point/<kernel>") are plotted like the others, 2D = the beam, 3D = the point.
 """
 import csv
 import math
@@ -123,7 +124,8 @@ def main():
                     ax.set_ylabel("relative MSE")
                 ax.set_xlabel("k")
                 first = next((r for r in sub if int(r["dim"]) == dim), sub[0])   # n and trials of this panel
-                ax.set_title(f"{sc}, {dim}D (n = {first['n']}, {first['trials']} trials)")
+                what = {2: "beam estimate, 2D disc", 3: "point estimate, 3D"}[dim] if sc == "beam" else f"{dim}D"
+                ax.set_title(f"{sc}, {what} (n = {first['n']}, {first['trials']} trials)")
                 ax.grid(True, which="both", alpha=0.3)
                 ax.legend(fontsize=7)
             fig.tight_layout()

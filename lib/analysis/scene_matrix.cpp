@@ -91,9 +91,8 @@ const std::vector<MatrixMethod>& matrix_methods() {
         {"photon map", {"render.integrator=\"photon_map\""}},
         {"pm collision", {"render.integrator=\"photon_map\"", "photons.gather=\"collision\""}},
         {"pm march", {"render.integrator=\"photon_map\"", "photons.gather=\"march\""}},
-        // The defaults before the map-noise pilot: the per-segment optical-depth threshold at the
-        // configured sizes (1e5 photons, 16 samples per pass). Before / after in one run.
-        {"pm threshold", {"render.integrator=\"photon_map\"", "photons.gather=\"threshold\""}},
+        {"pm pilot", {"render.integrator=\"photon_map\"", "photons.gather=\"pilot\""}},
+        {"pm beam", {"render.integrator=\"photon_map\"", "photons.gather=\"beam\""}},
     };
     return m;
 }
@@ -215,6 +214,12 @@ double MatrixRow::ratio(size_t method) const {
     return path > 0 ? methods.at(method).cost() / path : std::numeric_limits<double>::quiet_NaN();
 }
 
+double MatrixRow::beam_over_best_point() const {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t i = 1; i <= 4; ++i) best = std::min(best, methods.at(i).cost());   // default, collision, march, pilot
+    return best > 0 ? methods.at(5).cost() / best : std::numeric_limits<double>::quiet_NaN();
+}
+
 double MatrixRow::best_forced_ratio() const {
     double best = std::numeric_limits<double>::infinity();
     for (size_t i = 2; i <= 3; ++i) best = std::min(best, methods.at(i).cost());   // collision, march
@@ -302,10 +307,10 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
             r.rel_rmse = e.rel_rmse;
             r.mse = e.rel_rmse * e.rel_rmse - ref.noise;
             r.nonfinite_pixels = e.nonfinite_pixels;
-            if (const auto& a = res.stats.auto_gather)
-                r.chosen = a->chosen + " " + num(double(a->count)) + " x " + std::to_string(a->spp > 0 ? a->spp : 16);
+            if (res.stats.gather_pilot) r.chosen = res.stats.gather_pilot->chosen;
             if (res.stats.march_weight_max) r.march_weight_max = *res.stats.march_weight_max;
             if (res.stats.march_weight_mean) r.march_weight_mean = *res.stats.march_weight_mean;
+            if (const auto& b = res.stats.beam; b && b->queries > 0) r.beam_crossed_per_query = double(b->crossed) / double(b->queries);
             row.methods.push_back(r);
         }
         std::ostringstream line;
@@ -336,15 +341,15 @@ std::string MatrixReport::to_csv() const {
         std::replace(k.begin(), k.end(), ' ', '_');
         s << "," << k << "_over_path";
     }
-    s << ",default_over_best_forced,auto_chose,march_weight_max,march_weight_mean\n";
+    s << ",default_over_best_forced,pilot_chose,march_weight_max,march_weight_mean,beam_over_best_point,beam_crossed_per_query\n";
     for (const auto& r : rows) {
         const auto& c = r.cell;
         s << '"' << c.group << "\"," << c.id() << "," << c.shape << "," << c.tau << "," << c.albedo << "," << c.g << ","
           << c.light << "," << c.scale << "," << r.sigma_t_scale << "," << r.reference << "," << r.reference_noise;
         for (const auto& m : r.methods) s << "," << m.seconds << "," << m.passes << "," << m.rel_rmse << "," << m.mse << "," << m.cost();
         for (size_t i = 1; i < r.methods.size(); ++i) s << "," << r.ratio(i);
-        s << "," << r.best_forced_ratio() << "," << r.methods.at(1).chosen << "," << r.methods.at(3).march_weight_max << ","
-          << r.methods.at(3).march_weight_mean << "\n";
+        s << "," << r.best_forced_ratio() << "," << r.methods.at(4).chosen << "," << r.methods.at(3).march_weight_max << ","
+          << r.methods.at(3).march_weight_mean << "," << r.beam_over_best_point() << "," << r.methods.at(5).beam_crossed_per_query << "\n";
     }
     return s.str();
 }
@@ -365,19 +370,22 @@ std::string MatrixReport::to_markdown(const std::string& command, const std::str
       << g(options.reference_seconds) << " s, cached by scene hash; its own noise is subtracted from the squared error). "
       << "Ratio = (error^2 x seconds) of the method over the path tracer's: its time to equal error relative to the path tracer "
       << "(< 1: faster). default / best = the photon map's defaults (gather \"auto\") over the better forced gather (issue target <= 1.25); "
-      << "threshold: photons.gather = \"threshold\" at the configured sizes, the defaults before the map-noise pilot; "
-      << "auto chose: the defaults' gather, photons per pass after the first x samples per pass. March weight: the forced march's point "
-      << "weights relative to an exact majorant's (1 in homogeneous media), largest and mean. "
+      << "pilot: photons.gather = \"pilot\" (a pilot per pass picks collision, march or auto by variance x counted cost), "
+      << "and what it chose in the last pass. March weight: the forced march's point "
+      << "weights relative to the medium's own (albedo P / n: 1 with one medium, the other media's transmittance otherwise), largest and mean. "
+      << "beam: photons.gather = \"beam\" (one BVH query per camera segment, docs/beam_estimate.md); beam / best point = its "
+      << "error^2 x seconds over the best of the point-query photon maps (default, collision, march, pilot; issue 22 target <= 2). "
       << "Scaled cells are compared with the unscaled cell's reference and must reproduce its figures.\n\n";
-    s << "| group | shape | tau | albedo | g | light | scale | path tracer: s, rmse | photon map: s, rmse | pm / path | collision / path | march / path | threshold (before) / path | default / best forced | auto chose: gather, photons x spp | march weight max / mean |\n";
-    s << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    s << "| group | shape | tau | albedo | g | light | scale | path tracer: s, rmse | photon map: s, rmse | pm / path | collision / path | march / path | pilot / path | default / best forced | pilot chose | march weight max / mean | beam / path | beam / best point |\n";
+    s << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : rows) {
         const auto& c = r.cell;
         s << "| " << c.group << " | " << c.shape << " | " << g(c.tau) << " | " << g(c.albedo) << " | " << g(c.g) << " | " << c.light
           << " | " << g(c.scale) << " | " << g(r.methods[0].seconds, 2) << ", " << g(r.methods[0].rel_rmse) << " | "
           << g(r.methods[1].seconds, 2) << ", " << g(r.methods[1].rel_rmse) << " | **" << g(r.ratio(1)) << "** | "
           << g(r.ratio(2)) << " | " << g(r.ratio(3)) << " | " << g(r.ratio(4)) << " | " << g(r.best_forced_ratio()) << " | "
-          << r.methods[1].chosen << " | " << g(r.methods[3].march_weight_max) << " / " << g(r.methods[3].march_weight_mean) << " |\n";
+          << r.methods[4].chosen << " | " << g(r.methods[3].march_weight_max) << " / " << g(r.methods[3].march_weight_mean) << " | "
+          << g(r.ratio(5)) << " | " << g(r.beam_over_best_point()) << " |\n";
     }
     s << "\nReferences rendered " << references_rendered << ", reused from the cache " << references_reused << ".\n";
     return s.str();

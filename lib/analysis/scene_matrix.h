@@ -4,7 +4,7 @@
 // smooth Gaussian blob or the plume of media/, fitted into [-1, 1]^3, seen from (0, 0, 4), no
 // surfaces) at one optical thickness, albedo, g, light and scale. Per cell, at equal time (every
 // method gets render.time_limit = budget): the path tracer, the photon map with its defaults, and
-// the photon map with each gather forced; each image's error against a long path-traced
+// the photon map with each gather forced (the beam gather last); each image's error against a long path-traced
 // reference, cached by scene hash under OUT/references/ and reused by later runs.
 //
 // Figures per method (error_metrics.h: luminance, relative to the reference's mean):
@@ -72,8 +72,9 @@ struct MatrixMethodResult {
     double mse = 0;         // rel_rmse^2 minus the reference's noise
     double cost() const { return mse * seconds; }   // C
     uint64_t nonfinite_pixels = 0;
-    std::string chosen;     // photons.gather = "auto": the gather, photons and samples per pass its plan chose
+    std::string chosen;     // photons.gather = "pilot": the gather its pilot chose (last pass)
     double march_weight_max = 0, march_weight_mean = 0;   // march points' relative weights (RunStats)
+    double beam_crossed_per_query = 0;   // photons.gather = "beam": photon discs per segment query
 };
 
 struct MatrixRow {
@@ -86,6 +87,7 @@ struct MatrixRow {
     std::vector<MatrixMethodResult> methods;   // matrix_methods() order
     double ratio(size_t method) const;         // C_method / C_path
     double best_forced_ratio() const;          // C_default / min over the forced gathers (collision, march)
+    double beam_over_best_point() const;       // C_beam / min over the point gathers (default, collision, march, pilot)
 };
 
 struct MatrixReport {

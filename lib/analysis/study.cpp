@@ -1,6 +1,8 @@
 #include "core/build_info.h"
 #include "analysis/study.h"
 
+#include "analysis/sample_point_trial.h"
+
 #include <tbb/combinable.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -88,6 +90,8 @@ std::string fmt_fixed(double v, int prec) {
     return buf;
 }
 
+constexpr double kBeamStudyLength = 0.5;   // the beam scenario's segment (unit torus)
+
 uint64_t stream_id(StudyScenario s, int dim, uint64_t i) {
     return (uint64_t(s) << 56) ^ (uint64_t(dim) << 48) ^ i;
 }
@@ -135,6 +139,7 @@ const char* scenario_name(StudyScenario s) {
         case StudyScenario::photon_map: return "photon_map";
         case StudyScenario::photon_pass: return "photon_pass";
         case StudyScenario::kernels: return "kernels";
+        case StudyScenario::beam: return "beam";
     }
     return "unknown";
 }
@@ -142,10 +147,10 @@ const char* scenario_name(StudyScenario s) {
 StudyScenario parse_scenario(const std::string& name) {
     for (StudyScenario s : {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
                             StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
-                            StudyScenario::photon_pass, StudyScenario::kernels})
+                            StudyScenario::photon_pass, StudyScenario::kernels, StudyScenario::beam})
         if (name == scenario_name(s)) return s;
     throw Error("study: unknown scenario '" + name +
-                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels)");
+                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam)");
 }
 
 std::vector<StudyScenario> default_scenarios() {
@@ -345,6 +350,10 @@ void validate_study_options(StudyOptions& opt) {
     if (!(std::abs(opt.gradient_slope) < 1.0)) throw Error("study: gradient slope must be in (-1, 1)");
     if (!(opt.boundary_distance >= 0.0 && opt.boundary_distance <= 1.0))
         throw Error("study: boundary distance must be in [0, 1]");
+    const bool beam = std::find(opt.scenarios.begin(), opt.scenarios.end(), StudyScenario::beam) != opt.scenarios.end();
+    if (beam && opt.n < 3 * kmax)
+        throw Error("study: --n (" + std::to_string(opt.n) + ") must be at least 3 x the largest k (" + std::to_string(3 * kmax) +
+                    ") for the beam scenario, so that every radius stays below half the unit torus");
     check_study_memory(opt);
 }
 
@@ -498,6 +507,20 @@ size_t run_photon_map(const StudyOptions& opt, const SampleGrid& grid, tbb::comb
     return std::min(trials, want);
 }
 
+// beam: one torus cloud per trial gives the point (3D) and beam (2D) estimates of every k and kernel.
+// Both are kept, so the second dimension reuses the first's trials.
+void run_beam(const StudyOptions& opt, const SampleGrid& grid, std::vector<double>& point, std::vector<double>& beam) {
+    const size_t trials = opt.trials;
+    point.assign(trials * grid.stride(), 0.0);
+    beam.assign(trials * grid.stride(), 0.0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, trials), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t t = range.begin(); t != range.end(); ++t) {
+            Rng rng = trial_rng(opt.seed, stream_id(StudyScenario::beam, 0, t));
+            sample_point_trial(opt.n, kBeamStudyLength, opt.ks, opt.kernels, rng, &point[grid.at(t, 0, 0)], &beam[grid.at(t, 0, 0)]);
+        }
+    });
+}
+
 // The theory column of one row, where the estimator's registry entry and the scenario give one.
 void attach_theory(const StudyOptions& opt, StudyScenario sc, StudyRow& row) {
     const Estimator e = row.estimator;
@@ -558,7 +581,8 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     };
     // The limit --threads set (tbb::global_control), not the machine's core count.
     res.threads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    for (size_t k : opt.ks)
+    const bool balloon = std::any_of(opt.scenarios.begin(), opt.scenarios.end(), [](StudyScenario sc) { return sc != StudyScenario::beam; });
+    for (size_t k : balloon ? opt.ks : std::vector<size_t>{})
         for (const Estimator& e : Estimator::all())
             if (const std::string w = e.warning(k); !w.empty()) res.notes.push_back("k = " + std::to_string(k) + ": " + w);
     std::vector<Estimator> kernel_ests;   // the kernels scenario: kernel-major, registry order inside
@@ -567,6 +591,37 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     tbb::combinable<EstimatorStats> stats;
 
     for (StudyScenario sc : opt.scenarios) {
+        if (sc == StudyScenario::beam) {
+            const SampleGrid grid{opt.ks.size(), opt.kernels.size()};
+            std::vector<double> point, beam;
+            Timer t_sc;
+            run_beam(opt, grid, point, beam);
+            for (int dim : opt.dims)
+                for (size_t ki = 0; ki < grid.nk; ++ki)
+                    for (size_t ei = 0; ei < grid.ne; ++ei) {
+                        const Kernel& kernel = opt.kernels[ei];
+                        StudyRow row;
+                        row.method = "sample_point/" + kernel.label();
+                        row.k = opt.ks[ki];
+                        row.scenario = scenario_name(sc);
+                        row.dim = dim;
+                        row.n = opt.n;
+                        reduce(dim == 3 ? point : beam, opt.trials, grid.stride(), grid.at(0, ki, ei), row);
+                        row.has_theory = true;
+                        row.theory_source = "exact_mean";
+                        row.th_error = sample_point_mean(kernel, dim) - 1.0;
+                        row.th_variance = dim == 3 ? sample_point_variance_3d(kernel, row.k)
+                                                   : sample_point_variance_beam(kernel, row.k, double(opt.n), kBeamStudyLength);
+                        row.th_mse = row.th_variance + row.th_error * row.th_error;
+                        row.th_variance_limit = row.th_variance;
+                        res.rows.push_back(row);
+                    }
+            char buf[200];
+            std::snprintf(buf, sizeof buf, "study: %-10s 2D+3D  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
+                          scenario_name(sc), opt.trials, grid.nk, opt.n, t_sc.seconds(), timer.seconds());
+            say(buf);
+            continue;
+        }
         const std::vector<Estimator>& ests = sc == StudyScenario::kernels ? kernel_ests : Estimator::all();
         const SampleGrid grid{opt.ks.size(), ests.size()};
         for (int dim : opt.dims) {
@@ -618,7 +673,7 @@ std::string study_csv(const StudyResult& r) {
     s << "scenario,dim,k,estimator,n,trials,mean_rel_error,se_mean,rel_variance,rel_mse,se_mse,"
          "theory_rel_error,theory_rel_variance,theory_rel_mse,theory_rel_variance_limit,theory_source\n";
     for (const StudyRow& row : r.rows) {
-        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << row.estimator.label() << ','
+        s << row.scenario << ',' << row.dim << ',' << row.k << ',' << study_row_label(row) << ','
           << row.n << ',' << row.trials << ',' << fmt(row.mean_error) << ',' << fmt(row.se_mean) << ','
           << fmt(row.rel_variance) << ',' << fmt(row.rel_mse) << ',' << fmt(row.se_mse) << ',';
         if (row.has_theory)
@@ -649,7 +704,7 @@ std::string study_markdown(const StudyResult& r) {
               << "| k | estimator | rel. error +- SE | theory | rel. variance | theory | rel. MSE +- SE | theory |\n"
               << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
         }
-        s << "| " << row.k << " | " << row.estimator.label() << " | " << fmt(row.mean_error) << " +- "
+        s << "| " << row.k << " | " << study_row_label(row) << " | " << fmt(row.mean_error) << " +- "
           << fmt(row.se_mean) << " | " << (row.has_theory ? fmt(row.th_error) : "") << " | " << fmt(row.rel_variance)
           << " | " << (row.has_theory ? fmt(row.th_variance) : "") << " | " << fmt(row.rel_mse) << " +- "
           << fmt(row.se_mse) << " | " << (row.has_theory ? fmt(row.th_mse) : "") << " |\n";

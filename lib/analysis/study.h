@@ -39,6 +39,14 @@
 //              study_photon_pass_map), in the real PhotonMap. Photons left by one random walk are
 //              correlated, so the Poisson theory is a reference, not an identity: the difference
 //              is the finding.
+//   beam       the sample-point estimate behind photons.gather = "beam" (analysis/sample_point_trial.h):
+//              n points uniform in the unit torus, each with the radius of its k-th nearest other
+//              point; 3D rows: the point estimate at the centre (3D kernel), 2D rows: the beam
+//              estimate along a segment of length 1/2 (2D kernel over each point's disc), every
+//              kernel of StudyOptions::kernels (the row's estimator is "sample_point/<kernel>").
+//              Theory: the mean M_d / n_d exactly (1 for normalised kernels: no k-1 factor), the
+//              variance to first order (docs/beam_estimate.md; theory_source "exact_mean").
+//              Needs n >= 3 k (radii below half the torus).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -50,10 +58,10 @@
 
 namespace vpm {
 
-enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels };
+enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam };
 const char* scenario_name(StudyScenario s);
 StudyScenario parse_scenario(const std::string& name);   // throws vpm::Error listing allowed names
-std::vector<StudyScenario> default_scenarios();           // all of them
+std::vector<StudyScenario> default_scenarios();           // all but beam (O(n^2) per trial: ask for it)
 
 // The kernels scenario's kernels: every registered kernel (default parameters), then the cone at
 // slope 0.5 (Jensen's k = 2, not consistent with the k-th photon kept).
@@ -81,16 +89,20 @@ struct StudyRow {
     int dim = 3;
     size_t k = 0;
     Estimator estimator = Estimator::all().front();
+    std::string method;                   // beam scenario: "sample_point/<kernel>" (then `estimator` is unused)
     size_t n = 0, trials = 0;
     double mean_error = 0, se_mean = 0;   // mean(e) - 1 and its standard error
     double rel_variance = 0;              // sample variance of e
     double rel_mse = 0, se_mse = 0;       // mean((e - 1)^2) and its standard error
     // theory (finite n where it differs from the limit); variance/MSE may be +inf (k = 2)
     bool has_theory = false;
-    std::string theory_source;            // exact | quadrature | none
+    std::string theory_source;            // exact | quadrature | exact_mean (beam) | none
     double th_error = 0, th_variance = 0, th_mse = 0;
     double th_variance_limit = 0;         // n -> infinity (uniform-type scenarios), else = th_variance
 };
+
+// The row's estimator column: the method when set, else the estimator's label.
+inline std::string study_row_label(const StudyRow& row) { return row.method.empty() ? row.estimator.label() : row.method; }
 
 struct StudyResult {
     StudyOptions options;

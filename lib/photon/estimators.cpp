@@ -1,5 +1,6 @@
 #include "photon/estimators.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "core/henyey_greenstein.h"
@@ -182,9 +183,10 @@ namespace {
 // in `dim` dimensions; doubles the gather while rule (c) needs more neighbours than it has.
 template <class Weight>
 Estimate<Rgb> gather_and_estimate(const PhotonMap& map, const Vec3& x, Estimator e, size_t k, double max_radius,
-                                  int dim, GatherBuffers& buf, EstimatorStats* stats, const Weight& weight) {
+                                  int dim, GatherBuffers& buf, EstimatorStats* stats, const Weight& weight,
+                                  size_t gather = 0) {
     e.validate_k(k);
-    size_t want = k;
+    size_t want = std::max(k, gather);
     for (;;) {
         // Rule (b) with the whole map as the neighbourhood: one linear pass, the farthest last
         // (a kd-tree query for k >= n would cost O(n log n) or worse per estimate).
@@ -210,9 +212,10 @@ Estimate<Rgb> gather_and_estimate(const PhotonMap& map, const Vec3& x, Estimator
 
 Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const Vec3& w_o, double g,
                                      Estimator e, size_t k, double max_radius, GatherBuffers& buf,
-                                     EstimatorStats* stats) {
-    return gather_and_estimate(map, x, e, k, max_radius, 3, buf, stats,
-                               [&](const Neighbour& n) -> Rgb { return hg_eval(n.direction.dot(w_o), g) * n.power; });
+                                     EstimatorStats* stats, size_t gather) {
+    return gather_and_estimate(
+        map, x, e, k, max_radius, 3, buf, stats, [&](const Neighbour& n) -> Rgb { return hg_eval(n.direction.dot(w_o), g) * n.power; },
+        gather);
 }
 
 Estimate<Rgb> estimate_surface_irradiance(const PhotonMap& map, const Vec3& x, const Vec3& n, Estimator e,

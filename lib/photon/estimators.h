@@ -329,9 +329,11 @@ struct GatherBuffers {
 // minus the camera ray's direction), d_p the photon's incoming travel direction (hg_eval
 // convention). Convention: photons are stored at every real collision, so S is the
 // collision-weighted in-scattering density and a camera ray gains albedo(x) * S per unit length.
+// gather > k: gather that many neighbours at once (buf holds them all; the estimate uses the k
+// nearest), for a caller that needs more of the list (photon/group_estimate.h).
 Estimate<Rgb> estimate_in_scattering(const PhotonMap& map, const Vec3& x, const Vec3& w_o, double g,
                                      Estimator e, size_t k, double max_radius, GatherBuffers& buf,
-                                     EstimatorStats* stats = nullptr);
+                                     EstimatorStats* stats = nullptr, size_t gather = 0);
 
 // Surface photon map (dim 2): irradiance E(x) = sum Phi_p / (pi r_k^2) with the chosen estimator
 // and the rules above, over the k nearest surface photons in 3D (the standard surface photon map:

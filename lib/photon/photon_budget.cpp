@@ -13,7 +13,8 @@ namespace vpm {
 double projected_stored_photons(const PhotonTraceProgress& p) {
     const double stored = double(p.stored) + double(p.surface_stored);
     if (p.emitted == 0) return stored;
-    return stored * double(p.total) / double(p.emitted);
+    const double later = double(p.stored) * p.later_store_fraction + double(p.surface_stored);
+    return stored + later * double(p.total - p.emitted) / double(p.emitted);
 }
 
 std::function<void(const PhotonTraceProgress&)> make_photon_pass_guard(double limit_bytes, std::ostream* log,

@@ -25,7 +25,12 @@ public:
     // Calls visit(index, t, d2) for every ball whose foot point t on the ray lies in [0, tmax] and
     // whose squared distance d2 from the ray is below r^2. `dir` must be unit length.
     template <class Visit>
-    void for_each_crossed(const Vec3& origin, const Vec3& dir, double tmax, Visit&& visit) const;
+    void for_each_crossed(const Vec3& origin, const Vec3& dir, double tmax, Visit&& visit) const {
+        for_each_crossed_ball(origin, dir, tmax, [&](uint32_t index, double t, double d2, double) { visit(index, t, d2); });
+    }
+    // The same with the ball's radius: visit(index, t, d2, r).
+    template <class Visit>
+    void for_each_crossed_ball(const Vec3& origin, const Vec3& dir, double tmax, Visit&& visit) const;
 
     size_t size() const { return balls_.size(); }
     size_t node_count() const { return nodes_.size(); }
@@ -48,7 +53,7 @@ private:
 };
 
 template <class Visit>
-void PhotonDiscBvh::for_each_crossed(const Vec3& origin, const Vec3& dir, double tmax, Visit&& visit) const {
+void PhotonDiscBvh::for_each_crossed_ball(const Vec3& origin, const Vec3& dir, double tmax, Visit&& visit) const {
     if (nodes_.empty() || !(tmax >= 0.0)) return;
     const Ray ray{origin, dir};
     uint32_t stack[64];
@@ -70,7 +75,7 @@ void PhotonDiscBvh::for_each_crossed(const Vec3& origin, const Vec3& dir, double
             const double t = v.dot(dir);
             if (t < 0.0 || t > tmax) continue;
             const double d2 = std::max(0.0, v.squaredNorm() - t * t);
-            if (d2 < b.radius * b.radius) visit(b.index, t, d2);
+            if (d2 < b.radius * b.radius) visit(b.index, t, d2, b.radius);
         }
     }
 }

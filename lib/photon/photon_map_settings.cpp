@@ -8,6 +8,30 @@
 
 namespace vpm {
 
+namespace {
+
+// A number in (0, 1] or "auto" (photon/store_thinning.h).
+void read_store_probability(Params& p, PhotonMapSettings& s) {
+    const char* key = "store_probability";
+    const char* allowed = "must be a number in (0, 1] or \"auto\" (the probability from the walks' own statistics)";
+    const toml::node* n = p.node(key);
+    if (!n) {
+        s.store_probability = p.real(key, s.store_probability);   // the default, into the resolved config
+        return;
+    }
+    if (n->is_string()) {
+        if (n->value<std::string>().value_or("") != "auto") p.fail(key, allowed);
+        p.choice(key, "auto", {"auto"});
+        s.store_auto = true;
+        return;
+    }
+    const Range range{0.0, 1.0, true, false};
+    if (!n->is_number() || !range.contains(n->value<double>().value_or(-1.0))) p.fail(key, allowed);
+    s.store_probability = p.real(key, s.store_probability, range);
+}
+
+}  // namespace
+
 PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     PhotonMapSettings s;
     s.walk = WalkSettings::read(render);
@@ -45,17 +69,18 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
-    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"threshold", GatherMode::threshold}});
+    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"threshold", GatherMode::threshold}, {"beam", GatherMode::beam}});
     s.time_limit = render.has("time_limit") ? render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) : 0.0;
     if (s.gather == GatherMode::automatic && s.time_limit > 0.0) {
         s.size_photons = !p.has("count");
         s.size_samples = !render.has("spp") && !render.has("passes");
     }
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
+    s.beam_k = int(p.integer("beam_k", s.beam_k, Range::closed(1, 1 << 20)));
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
     s.clustering = p.choice("clustering", s.clustering,
                             {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
-    s.store_probability = p.real("store_probability", s.store_probability, {0.0, 1.0, true, false});
+    read_store_probability(p, s);
     s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});
     s.alpha = p.real("alpha", s.alpha, Range::open(0.0, 1.0));
     s.k_floor = int(p.integer("k_floor", s.k_floor, Range::closed(1, 1 << 20)));

@@ -25,8 +25,9 @@
 //   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
 //   | gather                 | "auto"      | camera side: "collision": one estimate where the camera  |
 //   |                        |             | ray collides; "march": gather_queries stratified points  |
-//   |                        |             | along every segment in the media (the majorant's free    |
-//   |                        |             | flight), each weighted by its ratio-tracked              |
+//   |                        |             | along every segment in the media (the free flight of the |
+//   |                        |             | medium's exact extinction: transport/march_points.h),    |
+//   |                        |             | each weighing albedo (1 - T) / n times the other media's |
 //   |                        |             | transmittance (every ray gathers, also in thin media);   |
 //   |                        |             | a point whose ball exceeds max_radius_mfp takes NEE and  |
 //   |                        |             | a continued path (counted: photons.march_wide_queries).  |
@@ -45,13 +46,20 @@
 //   |                        |             | clock (photon_map_integrator.h: choose_gather). Opt-in:  |
 //   |                        |             | its per-sample variance misses the photon map's own      |
 //   |                        |             | noise (BENCHMARKS.md section 11)                         |
-//   | gather_queries         | 4           | points per segment for "march"                           |
+//   |                        |             | "beam": one query per segment over a BVH of the photons' |
+//   |                        |             | discs (render/beam_gather.h), single scattering by NEE   |
+//   |                        |             | at gather_queries points per segment                     |
+//   | gather_queries         | 4           | points per segment for "march" (NEE points for "beam")   |
+//   | beam_k                 | 32          | "beam": each photon's radius is its beam_k-th nearest    |
+//   |                        |             | other photon (photon/photon_radii.h)                     |
 //   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
-//   |                        |             | linear extinction): each walk group's photons counted    |
-//   |                        |             | within the k-th photon of the other groups, exact for    |
-//   |                        |             | clustered walks (photon/group_estimate.h)                |
+//   |                        |             | linear extinction): each half of the walk groups counted |
+//   |                        |             | within the ceil(k/2)-th photon of the other half, exact  |
+//   |                        |             | for clustered walks (photon/group_estimate.h)            |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
-//   |                        |             | its power divided by it (thinning; photon_tracer.h)      |
+//   |                        |             | its power divided by it (thinning; photon_tracer.h);     |
+//   |                        |             | "auto": min(1, 2 / stored per storing walk of the pass's |
+//   |                        |             | first 4096 photons) for the rest (store_thinning.h)      |
 //   | march_max_optical_depth| 2           | the "threshold" gather's threshold                       |
 //   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
 //   |                        |             | counting from render.first_pass) uses                    |
@@ -75,7 +83,7 @@ enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point, linear };
 enum class Clustering { ignore, leave_group_out };
 enum class PhotonAllocationRule { importance, power };
-enum class GatherMode { collision, march, automatic, pilot, threshold };
+enum class GatherMode { collision, march, automatic, pilot, threshold, beam };
 enum class KSchedule { fixed, shrink };
 
 struct PhotonMapSettings {
@@ -92,7 +100,9 @@ struct PhotonMapSettings {
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
+    int beam_k = 32;
     double store_probability = 1.0;
+    bool store_auto = false;   // store_probability = "auto": from the pass's walk statistics (photon/store_thinning.h)
     Clustering clustering = Clustering::ignore;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;

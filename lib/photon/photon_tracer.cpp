@@ -10,6 +10,7 @@
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
 #include "core/sampling.h"
+#include "photon/store_thinning.h"
 #include "transport/walk_steps.h"
 
 namespace vpm {
@@ -20,6 +21,7 @@ namespace {
 // stream and output slot, and results are concatenated in batch order.
 constexpr uint64_t kBatchSize = 4096;
 constexpr uint64_t kPilotBatches = 16;    // the first chunk: 65536 photons
+constexpr uint64_t kAutoBatches = 1;      // store_probability "auto": its counts come from batch 0 alone
 constexpr uint64_t kChunkBatches = 256;   // then ~1M photons per chunk
 
 // Picks a light with probability proportional to its weight: settings.light_weights when given
@@ -72,11 +74,12 @@ bool roulette(Rgb& power, const Rgb& factor, Rng& rng) {
 struct BatchOutput {
     std::vector<PhotonInput> photons, surface_photons;
     EnergyBalance energy;
-    uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0, light_hits = 0;
+    uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0, light_hits = 0, storing_walks = 0;
     std::vector<LightPhotonStats> per_light;
 };
 
-void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPicker& picker, uint64_t batch,
+// q: the volume storage probability for this batch.
+void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPicker& picker, uint64_t batch, double q,
                  BatchOutput& out) {
     Rng rng(s.seed ^ 0x70686f746f6eULL, batch + s.stream_offset * ((s.count + kBatchSize - 1) / kBatchSize));
     const uint64_t begin = batch * kBatchSize, end = std::min(s.count, begin + kBatchSize);
@@ -88,6 +91,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
         const Light& light = *scene.lights[light_index];
         LightPhotonStats& light_stats = out.per_light[light_index];
         const size_t stored_before = out.photons.size() + out.surface_photons.size();
+        const size_t volume_before = out.photons.size();
         ++light_stats.emitted;
         EmissionSample e = light.sample_emission(rng);
         Rgb power = e.power * (inv_n / light_pdf);
@@ -117,9 +121,9 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 const Vec3 x = ray.at(event.t);
                 ++out.collisions;
                 if (s.store_direct || scattered) {
-                    if (s.store_probability >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power, group});
-                    else if (rng.uniform() < s.store_probability)
-                        out.photons.push_back(PhotonInput{x, ray.dir, power / s.store_probability, group});
+                    if (q >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power, group});
+                    else if (rng.uniform() < q)
+                        out.photons.push_back(PhotonInput{x, ray.dir, power / q, group});
                 }
                 alive = roulette(power, event.medium->albedo(), rng);
                 if (alive) {
@@ -140,6 +144,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             scattered = true;
         }
         light_stats.stored += out.photons.size() + out.surface_photons.size() - stored_before;
+        if (out.photons.size() > volume_before) ++out.storing_walks;
     }
 }
 
@@ -164,14 +169,18 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
     // chunk the caller sees the running totals (pilot projection, budget, progress lines).
     PhotonTraceProgress totals;
     totals.total = s.count;
+    // "auto": batch 0 stores all, its counts set q for the rest (same on any thread count).
+    double q = s.store_auto ? 1.0 : s.store_probability;
     for (uint64_t first = 0; first < batches;) {
-        const uint64_t n = std::min(batches - first, first == 0 ? kPilotBatches : kChunkBatches);
+        // "auto" splits the pilot chunk after batch 0, whose walks set q for every later batch.
+        const uint64_t head = s.store_auto && first == 0 ? kAutoBatches : kPilotBatches;
+        const uint64_t n = std::min(batches - first, first < kPilotBatches ? head - first : kChunkBatches);
         std::vector<BatchOutput> outputs(n);
         tbb::parallel_for(uint64_t(0), n, [&](uint64_t b) {
             // A cancelled task group (the Python module's Ctrl-C) skips its remaining batches at once
             // (one task may hold many); the caller discards the result.
             if (tbb::is_current_task_group_canceling()) return;
-            trace_batch(scene, s, picker, first + b, outputs[b]);
+            trace_batch(scene, s, picker, first + b, q, outputs[b]);
             progress.advance();
         });
         for (auto& o : outputs) {   // fixed order: deterministic sums and photon order
@@ -188,6 +197,7 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
             result.energy.truncated += o.energy.truncated;
             result.collisions += o.collisions;
             result.truncated_paths += o.truncated_paths;
+            result.storing_walks += o.storing_walks;
             if (result.per_light.empty()) result.per_light.assign(scene.lights.size(), LightPhotonStats{});
             for (size_t l = 0; l < o.per_light.size(); ++l) {
                 result.per_light[l].emitted += o.per_light[l].emitted;
@@ -200,11 +210,16 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
         totals.stored = result.photons.size();
         totals.surface_stored = result.surface_photons.size();
         totals.seconds = timer.seconds();
+        if (s.store_auto && first == kAutoBatches) q = auto_store_probability(result.photons.size(), result.storing_walks);
+        if (s.store_auto && totals.emitted > 0) {   // the rest at q, against the mean probability so far
+            const double pilot = double(std::min(s.count, kAutoBatches * kBatchSize));
+            totals.later_store_fraction = q * double(totals.emitted) / (pilot + q * (double(totals.emitted) - pilot));
+        }
         if (s.on_chunk) s.on_chunk(totals);
         if (first == kPilotBatches && first < batches && totals.emitted > 0) {
-            // Reserve what the pilot projects (+10%), so the record vectors are not reallocated
-            // (a reallocation briefly holds both copies).
-            const double scale = 1.1 * double(s.count) / double(totals.emitted);
+            // Reserve what the pilot projects (+10%, thinned by "auto"'s q), so the record vectors
+            // are not reallocated (a reallocation briefly holds both copies).
+            const double scale = 1.1 * double(s.count) / double(totals.emitted) * (s.store_auto ? q : 1.0);
             result.photons.reserve(size_t(double(totals.stored) * scale) + kBatchSize);
             if (s.store_surface) result.surface_photons.reserve(size_t(double(totals.surface_stored) * scale) + kBatchSize);
         }
@@ -212,6 +227,7 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
     progress.done();
     result.paths = s.count;
     result.seconds = timer.seconds();
+    result.store_probability = q;
     return result;
 }
 

@@ -30,7 +30,8 @@
 namespace vpm {
 
 // Running totals handed to PhotonTraceSettings::on_chunk after each chunk of batches (in batch
-// order, on the calling thread). The first chunk is small (16 batches, 65536 photons): a pilot
+// order, on the calling thread). The first chunk is small (16 batches, 65536 photons; with
+// store_probability "auto" batch 0 alone, then the other 15): a pilot
 // from which the caller can project the final counts and stop before the real work.
 struct PhotonTraceProgress {
     uint64_t emitted = 0;          // photon paths traced so far
@@ -38,6 +39,9 @@ struct PhotonTraceProgress {
     uint64_t stored = 0;           // volume photons stored so far
     uint64_t surface_stored = 0;   // surface photons stored so far
     double seconds = 0.0;          // since the pass started
+    // Volume photons still to trace are stored at this fraction of the rate so far
+    // (store_probability = "auto" after its first batch; 1 otherwise).
+    double later_store_fraction = 1.0;
 };
 
 struct PhotonTraceSettings {
@@ -49,6 +53,9 @@ struct PhotonTraceSettings {
     // Each volume collision that would be stored is kept with this probability, its power divided
     // by it (unbiased thinning): fewer, less clustered photons per walk in dense, bright media.
     double store_probability = 1.0;
+    // photons.store_probability = "auto" (photon/store_thinning.h): store_probability is ignored;
+    // batch 0 (4096 photons) stores every collision, the rest with the probability its counts give.
+    bool store_auto = false;
     int max_bounces = 1000;       // collisions + surface bounces per path before truncation
     bool progress = true;
     // Called after each chunk; may throw (vpm::Error) to stop the pass, e.g. when the projected
@@ -89,6 +96,8 @@ struct PhotonTraceResult {
     uint64_t truncated_paths = 0;
     std::vector<LightPhotonStats> per_light;   // one per scene light
     double seconds = 0.0;
+    uint64_t storing_walks = 0;         // photon paths that stored at least one volume photon
+    double store_probability = 1.0;     // the volume storage probability after batch 0
 };
 
 PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& settings);

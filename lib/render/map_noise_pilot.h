@@ -15,7 +15,7 @@
 // samples and streams are fixed by the seed, so the figures are the same on any thread count.
 // Each pilot pixel's samples jitter within that one pixel: spread over a block of the image, their
 // variance would count the image's own variation as noise (the "pilot" gather's error: it made the
-// march's variance look 10x larger in the box at optical thickness 1, BENCHMARKS.md section 11.6).
+// march's variance look 10x larger in the box at optical thickness 1, BENCHMARKS.md section 11.7).
 // Quarter maps (V_map at N0/4, hence the exponent beta) doubled the pilot's cost and changed no
 // plan in the matrix cells tried (the map's share was below the camera's in all of them): not traced.
 #include <functional>

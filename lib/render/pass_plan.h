@@ -78,11 +78,11 @@ constexpr int kPlanMaxSpp = 256;
 // than the configured pass (N0 photons, at most S0 samples): a pass cannot be cut short, and the
 // counted units run up to 3x below the time in grids (render/work_units.cpp). (A cap of 1/8 of the
 // budget held the dense cells, whose photon pass alone costs more, at 1 sample per pass: 4-20x
-// worse than the forced gathers at 16; BENCHMARKS.md section 11.6.)
+// worse than the forced gathers at 16; BENCHMARKS.md section 11.7.)
 constexpr double kPlanMinPasses = 2.0;
 // A gather whose march points weighed more than this (relative to an exact majorant's: 1 in
 // homogeneous media) is not trusted: its weights are heavy-tailed (up to e^(tau_majorant - tau)),
-// and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.6:
+// and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.7:
 // the forced march lost 40-30000x to the collision gather wherever its largest weight passed 30).
 constexpr double kPlanMaxMarchWeight = 8.0;
 // Every candidate estimates the same image: one whose pilot mean differs from the first candidate's

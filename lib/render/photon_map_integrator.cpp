@@ -12,11 +12,14 @@
 #include "core/sampling.h"
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
+#include "render/beam_gather.h"
+#include "render/segment_direct_light.h"
 #include "scene/media/homogeneous_medium.h"
 #include "photon/group_estimate.h"
 #include "photon/linear_estimate.h"
 #include "config/params.h"
 #include "transport/direct_light.h"
+#include "transport/march_points.h"
 #include "transport/mis.h"
 #include "transport/walk_steps.h"
 
@@ -38,6 +41,7 @@ PhotonMapIntegrator::Gather initial_gather(GatherMode mode) {
     switch (mode) {
         case GatherMode::collision: return PhotonMapIntegrator::Gather::collision;
         case GatherMode::march: return PhotonMapIntegrator::Gather::march;
+        case GatherMode::beam: return PhotonMapIntegrator::Gather::beam;
         case GatherMode::automatic:
         case GatherMode::pilot:
         case GatherMode::threshold: break;
@@ -73,6 +77,7 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSett
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
       max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {
     gather_ = initial_gather(settings.gather);
+    if (gather_ == Gather::beam) build_beam(nullptr, nullptr);
 }
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
@@ -87,6 +92,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     std::ostream* log = context.first_of_run ? context.log : nullptr;
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
     if (scene_.has_media() || surface) {
+        retire_beam();           // its BVH points into the last pass's map
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
         PhotonMapSettings pass_settings = settings_;   // pass 0 is the plan's pilot pass: photons.count
         if (plan_ && context.pass != 0) pass_settings.count = plan_->count;
@@ -102,6 +108,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
                          << ": no estimate can use k photons, so camera paths are path traced past every "
                          << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)\n";
         }
+        if (settings_.gather == GatherMode::beam) build_beam(log, &stats);
     } else if (log) {
         *log << "photons: no media and no surface map, so no photon pass\n";
     }
@@ -139,6 +146,17 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
                  << "ball wider than photons.max_radius_mfp = " << settings_.max_radius_mfp
                  << " mean free paths, or fewer than k = " << k_ << " photons in the map); "
                  << stats.volume_estimates->queries << " map queries in all\n";
+    }
+    if (beam_) {
+        stats.beam = beam_->stats();
+        stats.beam->radii_seconds += beam_before_.radii_seconds;
+        stats.beam->bvh_seconds += beam_before_.bvh_seconds;
+        stats.beam->queries += beam_before_.queries;
+        stats.beam->crossed += beam_before_.crossed;
+        stats.beam->tracking_lookups += beam_before_.tracking_lookups;
+        if (log)
+            *log << "beam: " << stats.beam->queries << " segment queries crossed " << stats.beam->crossed << " photon discs ("
+                 << (stats.beam->queries ? double(stats.beam->crossed) / double(stats.beam->queries) : 0.0) << " per query)\n";
     }
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
@@ -182,10 +200,12 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
         const SurfaceHit& hit = v.hit;
         const double t_end = v.on_surface ? hit.t : kInfinity;
         const bool march = marches(ray, t_end);
+        const bool beam = gather_ == Gather::beam;
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             if (march && !(max_depth >= 0 && depth + 1 > max_depth))
                 radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng);
+            if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng);
             break;
         }
         if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
@@ -194,6 +214,10 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             // The medium's in-scattering along this segment comes from the march; the collision
             // sampled above only decides whether the path reaches the surface behind (probability T).
             radiance += throughput * march_in_scattering(ray, t_end, depth, rng);
+            if (event) break;
+        }
+        if (beam) {   // the same rule with the whole segment in one query
+            radiance += throughput * beam_in_scattering(ray, t_end, rng);
             if (event) break;
         }
         if (event) {
@@ -214,7 +238,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                 Estimate<Rgb> s;
                 if (!starved)
                     s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius,
-                                               local.buffers, &local.stats);
+                                               local.buffers, &local.stats, gather_count());
                 if (bounded || starved) {
                     const BoundedQuery q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
                     if (q == BoundedQuery::zero) break;
@@ -260,11 +284,17 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     // smoke only if it is tiny; then use the point.
     if (settings_.extinction == ExtinctionNormalisation::point || !(s.radius > 0.0)) return s.value / sigma_t;
     const bool linear = settings_.extinction == ExtinctionNormalisation::linear;
-    if (settings_.clustering == Clustering::leave_group_out && s.kind == EstimateCase::knn &&
-        std::string(settings_.estimator.name()) == "corrected" && settings_.estimator.kernel().is_constant()) {
-        // photon/group_estimate.h: a few more neighbours than k, so each group's k-th other photon is in the list.
-        for (size_t want = k_ + k_ / 2 + 8;; want *= 2) {
-            const size_t found = map_->knn(x, want, max_radius, buffers.list);
+    if (leaves_half_out() && s.kind == EstimateCase::knn) {
+        // photon/group_estimate.h: the list was gathered with gather_count() neighbours; rarely more are needed.
+        size_t found = buffers.list.size();
+        bool complete = found < gather_count() || found == map_->size();
+        for (;;) {
+            const GroupEstimate e = leave_half_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear,
+                                                   &threads_->local.local().lookups);
+            if (e.used) return e.value;
+            if (e.want == 0) break;   // no finite ball for some half: the plain estimate below
+            found = map_->knn(x, e.want, max_radius, buffers.list);
+            complete = found < e.want || found == map_->size();
             if (buffers.w.size() < found) {
                 buffers.w.resize(found);
                 buffers.d2.resize(found);
@@ -273,9 +303,6 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
                 buffers.w[i] = hg_eval(buffers.list[i].direction.dot(w_o), g) * buffers.list[i].power;
                 buffers.d2[i] = buffers.list[i].d2;
             }
-            const bool complete = found < want || found == map_->size();
-            const GroupEstimate e = leave_group_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear);
-            if (!e.need_more) return e.value;
         }
     }
     if (linear) {
@@ -305,6 +332,13 @@ CountedOperations PhotonMapIntegrator::counted_operations() const {
     return c;
 }
 
+bool PhotonMapIntegrator::leaves_half_out() const {
+    return settings_.clustering == Clustering::leave_group_out && std::string(settings_.estimator.name()) == "corrected" &&
+           settings_.estimator.kernel().is_constant() && settings_.extinction != ExtinctionNormalisation::point;
+}
+
+size_t PhotonMapIntegrator::gather_count() const { return leaves_half_out() ? leave_half_out_gather(k_) : k_; }
+
 bool PhotonMapIntegrator::volume_map_starved() const {
     // A query needs k photons: a map of fewer than k (empty, thinned by store_probability, a tiny
     // count, or k above the stored count) has no kNN ball anywhere, bound or no bound. Without the
@@ -317,6 +351,7 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
     switch (gather_) {
         case Gather::collision: return false;
         case Gather::march: return true;
+        case Gather::beam: return false;
         case Gather::threshold: break;
     }
     // Thin along this segment: every ray gathers at a few points. Thick: the collision gather puts
@@ -337,61 +372,33 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
 }
 
 Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const {
-    // Per medium, n stratified points with the free-flight density of its majorant mu,
-    // p(t) = mu(t) exp(-tau_mu(t)) / P with P = 1 - exp(-tau_mu(t_end)): the points go where the
-    // medium is (empty majorant pieces get none), and the weight T sigma_s / (n p) is the constant
-    // albedo P / n where the majorant is exact (homogeneous media) and stays within e^tau_mu of it
-    // elsewhere, which photons.gather = "auto" keeps small by marching thin segments only.
+    // Per medium, n stratified points with the free-flight density of its exact extinction
+    // (transport/march_points.h): each weighs albedo P / n times the other media's transmittance,
+    // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field.
     const int n = settings_.gather_queries;
     // Not thread-local buffers: a march point's continued path may march again (recursion).
-    std::vector<double> tau(static_cast<size_t>(n));
-    std::vector<std::pair<double, double>> points;   // (t, majorant at t)
-    points.reserve(size_t(n));
-    struct Piece {
-        double ta, tb, mu;
-    };
-    std::vector<Piece> pieces;   // the medium's majorant along the segment, walked once
+    OpticalDepthProfile profile;
+    std::vector<double> ts;
     Rgb sum = Rgb::Zero();
     for (const auto& medium : scene_.media) {
-        pieces.clear();
-        double total = 0.0;
-        medium->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
-            pieces.push_back({ta, tb, mu});
-            total += mu * (tb - ta);
-            return true;
-        });
-        if (!(total > 0.0)) continue;
-        const double mass = -std::expm1(-total);   // P
-        for (int j = 0; j < n; ++j) tau[size_t(j)] = -std::log1p(-mass * (j + rng.uniform()) / n);   // increasing
-        points.clear();
-        double reached = 0.0;   // majorant optical depth at the start of the piece
-        for (const Piece& p : pieces) {
-            const double end = reached + p.mu * (p.tb - p.ta);
-            while (points.size() < size_t(n) && tau[points.size()] < end)
-                points.emplace_back(std::min(p.tb, p.ta + (tau[points.size()] - reached) / p.mu), p.mu);
-            reached = end;
-            if (points.size() == size_t(n)) break;
-        }
-        double transmittance = 1.0, t_prev = 0.0;
-        for (size_t j = 0; j < points.size(); ++j) {
-            const auto [t, mu] = points[j];
-            // T(0, t) as a product of independent ratio-tracking estimates over consecutive pieces.
-            for (const auto& m : scene_.media) transmittance *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
-            threads_->local.local().rays += scene_.media.size();
+        if ((medium->albedo() == 0.0).all()) continue;
+        const double mass = place_march_points(*medium, ray, t_end, n, rng, profile, ts);
+        double others = 1.0, t_prev = 0.0;   // the other media's transmittance to the point
+        for (const double t : ts) {
+            // A product of independent ratio-tracking estimates over consecutive pieces.
+            for (const auto& m : scene_.media)
+                if (m != medium) others *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
+            threads_->local.local().rays += scene_.media.size();   // the profile counts as one tracked segment
             t_prev = t;
-            if (transmittance == 0.0) break;
-            const Vec3 x = ray.at(t);
-            const double sigma_t_here = medium->sigma_t(x);
-            if (!(sigma_t_here > 0.0) || (medium->albedo() == 0.0).all()) continue;
-            const double survival = std::exp(-tau[j]);   // exp(-tau_mu(t)) = 1 - u_j
-            const double relative = transmittance * sigma_t_here / (mu * survival);   // 1 where the majorant is exact
+            if (others == 0.0) break;
             {
-                auto& local = threads_->local.local();
-                local.march_weight_max = std::max(local.march_weight_max, relative);
-                local.march_weight_sum += relative;
+                auto& local = threads_->local.local();   // relative to the weight in the medium alone
+                local.march_weight_max = std::max(local.march_weight_max, others);
+                local.march_weight_sum += others;
                 ++local.march_points;
             }
-            const Rgb weight = (relative * mass / n) * medium->albedo();
+            const Vec3 x = ray.at(t);
+            const Rgb weight = (others * mass / n) * medium->albedo();
             sum += weight * incident_at_march_point(x, ray.dir, medium->g(), total_sigma_t(scene_, x), weight, depth, rng);
         }
     }
@@ -410,7 +417,8 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     const bool starved = volume_map_starved();
     Estimate<Rgb> s;
     if (!starved)
-        s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats);
+        s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats,
+                                   gather_count());
     // The collision gather's bound (photon/bounded_radius.h) here: a ball spanning many mean free
     // paths averages the lit skin of a dense medium with its dark inside (biased low), so such a
     // point takes the light a path would find instead: NEE and one phase-sampled continuation,
@@ -429,6 +437,47 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         return in;
     }
     return in + normalised(s, x, -dir, g, max_radius_, sigma_t, local.buffers, local.linear_weights);
+}
+
+void PhotonMapIntegrator::retire_beam() {
+    if (!beam_) return;
+    const BeamGatherStats b = beam_->stats();
+    beam_before_.radii_seconds += b.radii_seconds;
+    beam_before_.bvh_seconds += b.bvh_seconds;
+    beam_before_.queries += b.queries;
+    beam_before_.crossed += b.crossed;
+    beam_before_.tracking_lookups += b.tracking_lookups;
+    beam_.reset();
+}
+
+void PhotonMapIntegrator::build_beam(std::ostream* log, RunStats* stats) {
+    retire_beam();
+    beam_ = std::make_unique<BeamGather>(scene_, *map_, size_t(settings_.beam_k), settings_.estimator.kernel(), max_radius_,
+                                         settings_.max_radius_mfp);
+    const BeamGatherStats b = beam_->stats();
+    if (stats) {
+        stats->phase("build_radii", b.radii_seconds);
+        stats->phase("build_beam_bvh", b.bvh_seconds);
+    }
+    // A map of at most beam_k photons has no disc: its segments gather like "march", whose points
+    // take NEE and a continued path where the map is starved (unbiased, and every segment still
+    // gets its single scattering by NEE, as the beam's would).
+    gather_ = beam_->usable() ? Gather::beam : Gather::march;
+    if (log) {
+        *log << "beam: radii (beam_k = " << b.k << ") " << b.radii_seconds << " s, BVH over " << b.photons << " discs "
+             << b.bvh_seconds << " s; " << b.total_bytes_per_photon << " bytes/photon (map " << b.map_bytes_per_photon
+             << " + BVH " << b.bvh_bytes_per_photon << ")\n";
+        if (!beam_->usable() && scene_.has_media())
+            *log << "warning: photons.beam_k = " << b.k << " is not below the " << map_->size()
+                 << " volume photons stored: no photon has a beam_k-th neighbour, so this pass gathers like \"march\"\n";
+    }
+}
+
+Rgb PhotonMapIntegrator::beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+    Rgb l = beam_->in_scattering(ray, t_end, rng);
+    if (settings_.direct == DirectLighting::nee)
+        l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, threads_->local.local().rays);
+    return l;
 }
 
 void PhotonMapIntegrator::choose_gather(const PassContext& context) {

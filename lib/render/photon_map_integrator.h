@@ -53,12 +53,15 @@
 #include "render/integrator.h"
 #include "photon/photon_map_settings.h"
 #include "render/pass_plan.h"
+#include "render/beam_gather_stats.h"
 #include "render/photon_pass.h"
 #include "render/run_config.h"
 #include "render/run_stats.h"
 #include "scene/scene.h"
 
 namespace vpm {
+
+class BeamGather;
 
 class PhotonMapIntegrator : public Integrator {
 public:
@@ -78,7 +81,8 @@ public:
     int samples_per_pass(int configured) const override;
     // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
     // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
-    enum class Gather { collision, march, threshold };
+    // beam: one BVH query per segment (render/beam_gather.h); a map without discs falls back to march.
+    enum class Gather { collision, march, threshold, beam };
     Gather gather() const { return gather_; }
     const std::optional<GatherPilotStats>& gather_pilot() const { return pilot_; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
@@ -102,6 +106,14 @@ private:
     size_t k_;   // this pass's k (photons.schedule)
     bool warned_k_ = false;   // "k exceeds the stored count" is logged once per run
     std::unique_ptr<ThreadState> threads_;
+    std::unique_ptr<BeamGather> beam_;   // gather = "beam": this pass's radii and disc BVH
+    BeamGatherStats beam_before_;        // earlier passes' beam counts and build times
+    // gather = "beam": builds beam_ over map_ (or falls back to collision) and logs it.
+    void build_beam(std::ostream* log, RunStats* stats);
+    // Frees beam_, keeping its counts in beam_before_.
+    void retire_beam();
+    // gather = "beam": the segment's in-scattering, single scattering by NEE when direct = "nee".
+    Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
 
     // The camera path's radiance from `ray` on, after `first_depth` scattering events.
     Rgb trace(const Ray& ray, int first_depth, Rng& rng) const;
@@ -112,6 +124,10 @@ private:
     Rgb march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const;
     // The volume estimate s at x (gathered into buffers) divided by sigma_t as photons.extinction says.
     // w_o, g, max_radius: the query's, for the leave-group-out gather (photons.clustering).
+    // photons.clustering = "leave_group_out" applies (corrected, constant kernel, ball or linear), and
+    // the kNN list to gather for it (photon/group_estimate.h); else k.
+    bool leaves_half_out() const;
+    size_t gather_count() const;
     Rgb normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec3& w_o, double g, double max_radius, double sigma_t,
                    GatherBuffers& buffers, std::vector<Rgb>& scratch) const;
     // The phase-weighted incident radiance at march point x (weight: the point's, for roulette).

@@ -24,6 +24,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     ts.progress = context.progress;
     ts.store_surface = surface;
     ts.store_probability = ps.store_probability;
+    ts.store_auto = ps.store_auto;
     // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
     ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), context.log);
     // Photons per light: by a pilot's importance where the camera looks, or by power.
@@ -46,6 +47,11 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     p.emitted = traced.paths;
     p.stored = stored;
     p.collisions = traced.collisions;
+    p.storing_walks = traced.storing_walks;
+    p.store_probability = traced.store_probability;
+    if (log && ps.store_auto)
+        *log << "photons: store_probability = \"auto\": " << traced.store_probability << " after the first 4096 photons ("
+             << traced.storing_walks << " walks stored " << stored << " volume photons in all)\n";
     p.truncated_paths = traced.truncated_paths;
     p.paths_per_second = traced.seconds > 0 ? double(traced.paths) / traced.seconds : 0.0;
     p.energy = traced.energy;

@@ -24,6 +24,8 @@ void PhotonPassStats::merge(const PhotonPassStats& o) {
     emitted += o.emitted;
     stored += o.stored;
     collisions += o.collisions;
+    storing_walks += o.storing_walks;
+    store_probability = o.store_probability;
     truncated_paths += o.truncated_paths;
     energy.emitted += o.energy.emitted;
     energy.absorbed += o.energy.absorbed;
@@ -137,6 +139,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.emitted", p->emitted);
         record.set("photons.stored", p->stored);
         record.set("photons.collisions", p->collisions);
+        record.set("photons.storing_walks", p->storing_walks);
+        record.set("photons.store_probability_used", p->store_probability);
         record.set("photons.truncated_paths", p->truncated_paths);
         record.set("photons.paths_per_second", p->paths_per_second);
         record.set("photons.energy.emitted", rgb_json(p->energy.emitted));
@@ -177,6 +181,19 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (stats.march_wide_queries) record.set("photons.march_wide_queries", *stats.march_wide_queries);
     if (stats.march_weight_max) record.set("photons.march_weight_max", *stats.march_weight_max);
     if (stats.march_weight_mean) record.set("photons.march_weight_mean", *stats.march_weight_mean);
+    if (const auto& b = stats.beam) {
+        record.set("photons.beam.k", b->k);
+        record.set("photons.beam.photons", b->photons);
+        record.set("photons.beam.bvh_bytes", b->bvh_bytes);
+        record.set("photons.beam.bvh_bytes_per_photon", b->bvh_bytes_per_photon);
+        record.set("photons.beam.map_bytes_per_photon", b->map_bytes_per_photon);
+        record.set("photons.beam.total_bytes_per_photon", b->total_bytes_per_photon);
+        record.set("photons.beam.radii_seconds", b->radii_seconds);
+        record.set("photons.beam.bvh_seconds", b->bvh_seconds);
+        record.set("photons.beam.queries", b->queries);
+        record.set("photons.beam.crossed", b->crossed);
+        record.set("photons.beam.tracking_lookups", b->tracking_lookups);
+    }
     if (const auto& g = stats.gather_pilot) {
         record.set("photons.gather_pilot.chosen", g->chosen);
         record.set("photons.gather_pilot.candidates", nlohmann::json(g->candidates));

@@ -10,6 +10,7 @@
 #include "photon/estimators.h"
 #include "photon/photon_tracer.h"
 #include "render/pass_plan.h"
+#include "render/beam_gather_stats.h"
 #include "render/render_loop.h"
 
 namespace vpm {
@@ -39,6 +40,8 @@ struct PhotonPassStats {
     uint64_t emitted = 0;             // photon paths
     uint64_t stored = 0;              // volume photons
     uint64_t collisions = 0;          // real medium collisions, stored or not
+    uint64_t storing_walks = 0;       // photon paths that stored at least one volume photon
+    double store_probability = 1.0;   // volume storage probability (after "auto"'s first batch), of the last pass
     uint64_t truncated_paths = 0;
     double paths_per_second = 0.0;
     EnergyBalance energy;
@@ -117,6 +120,7 @@ struct RunStats {
     std::optional<uint64_t> march_wide_queries;        // gather = "march": queries beyond max_radius_mfp
     std::optional<GatherPilotStats> gather_pilot;      // gather = "pilot"
     std::optional<AutoGatherStats> auto_gather;        // gather = "auto"
+    std::optional<BeamGatherStats> beam;               // gather = "beam": memory, build, queries
     // March points' weights relative to their value where the majorant is exact (T sigma_t /
     // (mu e^-tau_mu) = 1 in homogeneous media): the largest and the mean, over the camera pass.
     std::optional<double> march_weight_max, march_weight_mean;

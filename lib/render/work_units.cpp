@@ -8,7 +8,7 @@ WorkUnits work_units(const Scene& scene, int k) {
     bool grids = false;   // tracking in grids walks a DDA and takes null collisions; homogeneous media are closed forms
     for (const auto& m : scene.media) grids = grids || !dynamic_cast<const HomogeneousMedium*>(m.get());
     WorkUnits w;
-    // Fitted to 10 cells x 2 forced gathers (BENCHMARKS.md section 11.6; 1 thread): homogeneous
+    // Fitted to 10 cells x 2 forced gathers (BENCHMARKS.md section 11.7; 1 thread): homogeneous
     // media within 0.65-1.05x of the render time per sample in 9 of 10, grids within 0.4-0.7x in 8
     // of 10 (a tracked segment's cost in a grid varies with its null collisions, which are not
     // counted: the thin blob's collision gather is 4x cheaper than counted). A query in a grid

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "scene/camera_region.h"
 #include "scene/lights/light_registry.h"
 #include "scene/media/medium_registry.h"
 
@@ -13,6 +14,19 @@ bool finite_or_empty(const Bounds3& b) { return b.empty() || (b.lo.allFinite() &
 
 std::string format_bounds(const Bounds3& b) {
     return "[" + format_rgb(b.lo.array()) + " .. " + format_rgb(b.hi.array()) + "]";
+}
+
+// Lights at infinity aim part of their photons at what the camera sees (scene/camera_region.h);
+// the region is only traced for a scene that has such a light.
+void focus_lights_at_infinity(Scene& scene) {
+    bool any = false;
+    for (const auto& light : scene.lights) any = any || light->at_infinity();
+    if (!any) return;
+    const Bounds3 region = camera_seen_region(scene);
+    for (size_t i = 0; i < scene.lights.size(); ++i)
+        if (scene.lights[i]->at_infinity() && scene.lights[i]->set_emission_focus(region))
+            scene.build_log.push_back("light " + std::to_string(i) + ": half of its photons aimed at the region the camera sees, " +
+                                      format_bounds(region) + " (scene/lights/emission_bounds.h)");
 }
 
 }  // namespace
@@ -91,6 +105,7 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
         scene->build_log.push_back("light: " + light.describe());
     }
     scene->bounds = lit;
+    focus_lights_at_infinity(*scene);
     scene->build_log.push_back("camera: " + scene->camera.describe());
     return scene;
 }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "analysis/study.h"
+#include "core/error.h"
 
 using namespace vpm;
 
@@ -298,4 +299,35 @@ TEST(StudyCli, TinyRunWritesFilesAndBadOptionFails) {
     EXPECT_NE(bad, 0);
     EXPECT_FALSE(fs::exists(dir / "study.csv"));
     fs::remove_all(dir);
+}
+
+// Issue 22: the beam scenario's sample-point estimates (point 3D, beam 2D) on a uniform torus cloud
+// agree with the exact mean (no k-1 factor; Jensen's Gaussian low by M_d) within 4 SE for k = 2..256,
+// and the same trials reject a balloon-style k/(k-1) at small k.
+TEST(Study, BeamScenarioHasNoKMinusOneFactor) {
+    StudyOptions o;
+    o.scenarios = {StudyScenario::beam};
+    o.ks = {2, 8, 32, 256};
+    o.trials = 250;
+    o.n = 800;
+    o.seed = 22;
+    o.kernels = {Kernel::constant(), Kernel::named("epanechnikov"), Kernel::named("gaussian_jensen")};
+    const StudyResult r = run_estimator_study(o);
+    ASSERT_EQ(r.rows.size(), 2u * 4u * 3u);
+    for (const StudyRow& row : r.rows) {
+        ASSERT_TRUE(row.has_theory);
+        EXPECT_EQ(row.scenario, "beam");
+        EXPECT_EQ(row.method.rfind("sample_point/", 0), 0u) << row.method;
+        EXPECT_NEAR(row.mean_error, row.th_error, 4 * row.se_mean) << row.dim << "D k=" << row.k << " " << row.method;
+        // A balloon-style k/(k-1) factor would sit far away where it is large.
+        if (row.k <= 8 && row.method == "sample_point/constant") {
+            EXPECT_GT(std::abs(row.mean_error - 1.0 / double(row.k - 1)), 5 * row.se_mean) << row.dim << "D k=" << row.k;
+        }
+        // The first-order variance is a lower bound up to noise (the pair term is positive).
+        EXPECT_GT(row.rel_variance, 0.5 * row.th_variance) << row.dim << "D k=" << row.k << " " << row.method;
+    }
+    EXPECT_NE(study_csv(r).find("beam,2,32,sample_point/epanechnikov,"), std::string::npos);
+    StudyOptions small = o;
+    small.n = 700;   // < 3 x 256
+    EXPECT_THROW(validate_study_options(small), Error);
 }

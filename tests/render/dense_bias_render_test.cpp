@@ -1,9 +1,9 @@
 // Issue 21 in the renderer: the dense albedo-0.99 sphere (configs/homogeneous.toml at sigma_t_scale
 // 40), where the corrected estimate read +2.7% at 1e6 photons (docs/dense_bias.md). At the cheap
-// size here (1e5 photons, 16 x 16) the defaults read +5.4%; the options of issue 21
-// (photons.extinction = "linear", photons.clustering = "leave_group_out") +1.8% +- 1.0%, within 3.5
-// standard errors of the path tracer, and on the same maps they remove 3.5% (15 standard errors of
-// the paired difference).
+// size here (1e5 photons, 16 x 16) the defaults read +4.0%; the options of issue 21
+// (photons.extinction = "linear", photons.clustering = "leave_group_out") +2.4% +- 1.0% (two halves;
+// the 16-group form read +1.8% on the same maps), within 3.5 standard errors of the path tracer, and
+// on the same maps they remove 1.5% (7.5 standard errors of the paired difference).
 // (The 0.5% target at 1e6 photons is measured in docs/dense_bias.md: a 1e6-photon map takes too
 // long for the suite.)
 #include <gtest/gtest.h>

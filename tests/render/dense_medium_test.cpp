@@ -41,6 +41,7 @@ Comparison compare(const RunConfig& config, const PhotonMapSettings& ps, int rep
         ts.count = uint64_t(ps.count);
         ts.seed = 500 + uint64_t(r);
         ts.progress = false;
+        ts.store_direct = ps.direct == DirectLighting::photon_map;   // as run_photon_pass: NEE renders single scattering
         const PhotonMap map(trace_photons(scene, ts).photons);
         c.pm.add(test::image_mean(config, PhotonMapIntegrator(scene, ps, map), 11 + uint64_t(r), 4));
         c.pt.add(test::image_mean(config, PathTracer(scene, ps.walk), 900 + uint64_t(r), 16));

@@ -50,7 +50,7 @@ TEST(ThinMedium, PhotonMapMatchesPathTracerWithPhotonsAimedAtTheCube) {
 TEST(ThinMedium, MarchAndAutoGathersMatchThePathTracerInADenseMedium) {
     // A dense sphere (sigma_t 1e4, albedo ~0.85): kNN balls span hundreds of mean free paths, which
     // once made the march biased low (mean 0.020 against the path tracer's 0.047, uniform points).
-    // Now march points follow the majorant's free flight and a point whose ball is wider than
+    // Now march points follow the medium's own free flight and a point whose ball is wider than
     // max_radius_mfp mean free paths takes NEE and a continued path: every gather agrees with the
     // path tracer within 3 combined standard errors plus 2%, and such queries are counted.
     auto sample = [](std::vector<std::string> sets, int repeats) {

@@ -318,4 +318,7 @@ TEST_F(EnvironmentMap, BadInputsAreOneClearError) {
     expect_has(message("radiance = 1\nrotate_y = 2\n"), "lights.0.rotate_y: applies to an environment map only");
     expect_has(message("file = 'ok.exr'\nscale = -1\n"), "lights.0.scale");
     EXPECT_EQ(message("file = 'ok.exr'\nscale = [1, 2, 3]\nrotate_y = 45\n"), "no error");
+    // Issue 24: a turn of 1e300 degrees has no meaningful remainder; one turn either way is allowed.
+    for (const char* bad : {"1e300", "361", "-400"}) expect_has(message(std::string("file = 'ok.exr'\nrotate_y = ") + bad + "\n"), "lights.0.rotate_y");
+    EXPECT_EQ(message("file = 'ok.exr'\nrotate_y = -360\n"), "no error");
 }

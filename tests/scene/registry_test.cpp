@@ -155,6 +155,7 @@ public:
     double transmittance(const Ray&, double, Rng&) const override { return 1.0; }
     double sigma_t(const Vec3&) const override { return 1.0; }
     void majorant_pieces(const Ray&, double, const MajorantVisitor&) const override {}
+    void optical_depth_profile(const Ray&, double, OpticalDepthProfile& out) const override { out.reset(1.0); }
     std::string describe() const override { return "unbounded slab"; }
 };
 

@@ -15,6 +15,7 @@ struct Sample {
         ++n;
     }
     double mean() const { return sum / n; }
+    double var() const { return std::max(0.0, sum2 / n - mean() * mean()) * n / (n - 1); }   // of the values
     double se() const { return std::sqrt(std::max(0.0, sum2 / n - mean() * mean()) / (n - 1)); }
 };
 

@@ -197,7 +197,7 @@ int run_matrix(int argc, char** argv) {
     vpm::MatrixOptions o;
     bool quick = false, no_plot = false;
     int threads = 0;
-    double budget = -1, reference = -1;
+    double budget = -1, reference = -1, max_tau = 0;
     app.add_option("--out", out, "Folder for scenes/, references/ (the cache), MATRIX.md, matrix.csv")->capture_default_str();
     app.add_flag("--quick", quick, "4 cells (one scaled), 32x32, 1 s per method, 4 s references: about a minute");
     app.add_option("--budget", budget, "Seconds per method and cell (default 4; --quick 1)")->check(CLI::Range(0.01, 3600.0));
@@ -206,6 +206,8 @@ int run_matrix(int argc, char** argv) {
     app.add_option("--size", o.size, "Image width = height (default 64; --quick 32)")->check(CLI::Range(4, 4096));
     app.add_option("--threads", threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
     app.add_option("--only", only, "Run only cells whose id (e.g. box-tau10-a0.9-g0-point-s1) or group contains TEXT");
+    app.add_option("--max-tau", max_tau, "Run only cells of optical thickness <= T (with --only: both must hold; 0: no limit)")
+        ->check(CLI::Range(0.0, 1e300));
     app.add_option("--media", media, "Folder with blob.vdb and plume.vdb")->capture_default_str()->check(CLI::ExistingDirectory);
     app.add_flag("--no-plot", no_plot, "Do not run tools/plot_matrix.py");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
@@ -216,8 +218,11 @@ int run_matrix(int argc, char** argv) {
     o.media = media;
     o.out = out;
     o.log = &std::cerr;
-    if (!only.empty())
-        o.filter = [only](const vpm::MatrixCell& c) { return c.id().find(only) != std::string::npos || c.group.find(only) != std::string::npos; };
+    if (!only.empty() || max_tau > 0)
+        o.filter = [only, max_tau](const vpm::MatrixCell& c) {
+            const bool named = only.empty() || c.id().find(only) != std::string::npos || c.group.find(only) != std::string::npos;
+            return named && (max_tau <= 0 || c.tau <= max_tau);
+        };
     vpm::prepare_output_folder(out);   // before the work
     const fs::path md = fs::path(out) / "MATRIX.md", csv = fs::path(out) / "matrix.csv";
     vpm::check_output_file(md);

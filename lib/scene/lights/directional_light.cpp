@@ -24,11 +24,17 @@ public:
     }
     EmissionSample sample_emission(Rng& rng) const override {
         const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-        return {Ray{bounds_.sample_origin(dir_, u1, u2, u3), dir_}, power()};
+        const EmissionLine line = bounds_.sample_line(dir_, u1, u2, u3);
+        return {Ray{line.origin, dir_}, irradiance_ * line.area};
     }
     // Only the light crossing the silhouette of what can be lit (emission_bounds.h).
     Rgb power() const override { return irradiance_ * bounds_.projected_area(dir_); }
     void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
+    bool at_infinity() const override { return true; }
+    bool set_emission_focus(const Bounds3& f) override {
+        bounds_.set_focus(f);
+        return bounds_.focused();
+    }
     std::string describe() const override {
         std::ostringstream s;
         s << "directional light along (" << dir_.transpose() << "), irradiance " << format_rgb(irradiance_);

@@ -7,6 +7,7 @@ namespace vpm {
 
 void EmissionBounds::set(const Bounds3& box) {
     box_ = box;
+    levels_.clear();
     face_area_ = Vec3::Zero();
     area_ = 0.0;
     margin_ = 0.0;
@@ -35,6 +36,64 @@ Vec3 EmissionBounds::sample_origin(const Vec3& d, double u_face, double u1, doub
     p[a1] = box_.lo[a1] + u1 * (box_.hi[a1] - box_.lo[a1]);
     p[a2] = box_.lo[a2] + u2 * (box_.hi[a2] - box_.lo[a2]);
     return p - margin_ * d;
+}
+
+void EmissionBounds::set_focus(const Bounds3& focus) {
+    levels_.clear();
+    if (empty() || focus.empty()) return;
+    Bounds3 level;
+    level.lo = focus.lo.cwiseMax(box_.lo);
+    level.hi = focus.hi.cwiseMin(box_.hi);
+    const Vec3 centre = 0.5 * (level.lo + level.hi);
+    Vec3 half = 0.5 * (level.hi - level.lo);
+    while (!level.empty()) {
+        EmissionBounds b;
+        b.set(level);
+        if (!(b.area_ > 0.0) || b.area_ >= kFocusMaxAreaRatio * area_) break;
+        levels_.push_back(std::move(b));
+        half *= kFocusGrowth;
+        level.lo = (centre - half).cwiseMax(box_.lo);
+        level.hi = (centre + half).cwiseMin(box_.hi);
+    }
+}
+
+std::vector<Bounds3> EmissionBounds::focus_levels() const {
+    std::vector<Bounds3> out;
+    for (const EmissionBounds& b : levels_) out.push_back(b.box_);
+    return out;
+}
+
+EmissionLine EmissionBounds::sample_line(const Vec3& d, double u_pick, double u1, double u2) const {
+    const double full_area = projected_area(d);
+    if (levels_.empty()) return {sample_origin(d, u_pick, u1, u2), full_area};
+    const size_t n = levels_.size() + 1;   // the focus levels and the box itself
+    const double share = 1.0 / double(n);
+    const size_t pick = std::min(size_t(u_pick * double(n)), n - 1);
+    const double u_face = u_pick * double(n) - double(pick);
+    EmissionLine line;
+    if (pick + 1 == n || !(levels_[pick].projected_area(d) > 0.0)) {
+        // The box itself (also for a flat level seen edge-on, which no line along d can be aimed at:
+        // then that level's share goes to the box, and its term below is 0 for this d as well).
+        line.origin = sample_origin(d, u_face, u1, u2);
+    } else {
+        // Over level `pick`'s silhouette, then back along -d to just outside the box.
+        const Vec3 q = levels_[pick].sample_origin(d, u_face, u1, u2);
+        double t0, t1;
+        const double back = box_.intersect(Ray{q, -d}, kInfinity, t0, t1) ? t1 : 0.0;
+        line.origin = q - (back + margin_) * d;
+    }
+    const Ray ray{line.origin, d};
+    double density = share / full_area;
+    double edge_on_share = 0.0;
+    for (const EmissionBounds& level : levels_) {
+        const double a = level.projected_area(d);
+        double t0, t1;
+        if (!(a > 0.0)) edge_on_share += share;
+        else if (level.box_.intersect(ray, kInfinity, t0, t1)) density += share / a;
+    }
+    density += edge_on_share / full_area;
+    line.area = 1.0 / density;
+    return line;
 }
 
 }  // namespace vpm

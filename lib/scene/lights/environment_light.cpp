@@ -43,11 +43,17 @@ public:
         const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(),
                      u5 = rng.uniform();
         const Vec3 dir = sample_uniform_sphere(u1, u2);   // travel direction of the photon
-        return {Ray{bounds_.sample_origin(dir, u3, u4, u5), dir}, radiance_ * (4.0 * kPi * bounds_.projected_area(dir))};
+        const EmissionLine line = bounds_.sample_line(dir, u3, u4, u5);
+        return {Ray{line.origin, dir}, radiance_ * (4.0 * kPi * line.area)};
     }
     Rgb power() const override { return radiance_ * (4.0 * kPi * bounds_.mean_projected_area()); }
     Rgb escaped_radiance(const Vec3&) const override { return radiance_; }
     void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
+    bool at_infinity() const override { return true; }
+    bool set_emission_focus(const Bounds3& f) override {
+        bounds_.set_focus(f);
+        return bounds_.focused();
+    }
     std::string describe() const override { return "constant environment, radiance " + format_rgb(radiance_); }
 
 private:
@@ -85,7 +91,8 @@ public:
         double pdf;
         map_.sample(u1, u2, wi, radiance, pdf);
         const Vec3 dir = -wi;
-        return {Ray{bounds_.sample_origin(dir, u3, u4, u5), dir}, radiance * (bounds_.projected_area(dir) / pdf)};
+        const EmissionLine line = bounds_.sample_line(dir, u3, u4, u5);
+        return {Ray{line.origin, dir}, radiance * (line.area / pdf)};
     }
     Rgb power() const override {
         if (bounds_.empty()) return Rgb::Zero();
@@ -94,6 +101,11 @@ public:
     }
     Rgb escaped_radiance(const Vec3& dir) const override { return map_.radiance(dir); }
     void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
+    bool at_infinity() const override { return true; }
+    bool set_emission_focus(const Bounds3& f) override {
+        bounds_.set_focus(f);
+        return bounds_.focused();
+    }
     std::string describe() const override {
         std::ostringstream s;
         s << "environment map '" << file_ << "' (" << map_.width() << " x " << map_.height() << "), scale "
@@ -115,7 +127,7 @@ private:
 std::unique_ptr<Light> make_environment_map_light(Params& p) {
     const std::string file = p.path("file").string();
     const Rgb scale = p.rgb("scale", Rgb::Ones(), emission_range());
-    const double rotate_y = p.real("rotate_y", 0.0);
+    const double rotate_y = p.real("rotate_y", 0.0, Range::closed(-360.0, 360.0));
     ExrPixels pixels;
     try {
         pixels = read_exr_pixels(file);

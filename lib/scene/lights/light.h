@@ -51,6 +51,11 @@ public:
     // Lights at infinity emit photons over the silhouette of the bounds of what can be lit (media and
     // shapes; scene/lights/emission_bounds.h); they need those bounds.
     virtual void set_scene_bounds(const Bounds3& bounds) {}
+    virtual bool at_infinity() const { return false; }
+    // They aim part of their photons at the region the camera sees (scene/camera_region.h) when it
+    // is much smaller than those bounds (returns whether it does); other lights ignore it. Call
+    // after set_scene_bounds.
+    virtual bool set_emission_focus(const Bounds3& focus) { return false; }
     // Area lights (quad, sphere) are opaque black geometry that emits: camera rays, scattered paths,
     // shadow rays to other lights and photons all stop on them (Scene::intersect, Scene::transmittance).
     // Closest hit in (epsilon, tmax), the epsilon keeping rays that leave the light from meeting it.

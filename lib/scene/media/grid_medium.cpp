@@ -185,6 +185,17 @@ void GridMedium::majorant_pieces(const Ray& ray, double tmax, const MajorantVisi
     });
 }
 
+void GridMedium::optical_depth_profile(const Ray& ray, double tmax, OpticalDepthProfile& out) const {
+    out.reset(scale_);
+    if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty()) return;
+    const TrilinearRayField f(grid_, world_to_index_, ray);
+    TrackingStats st;
+    f.walk(0.0, tmax, [&](const DensityGrid::Segment& s) {
+        if (s.uniform) return out.add_constant(s.ta, s.tb, s.majorant);
+        return f.cells(s, st, [&](const tracking::CubicBernstein& cb, double a, double b) { return out.add(a, b, cb); });
+    });
+}
+
 std::string GridMedium::describe() const {
     std::ostringstream s;
     s.precision(6);

@@ -46,6 +46,8 @@ public:
     bool ball_integral(const Vec3& x, double r, double& integral) const override;   // the ball inside one voxel cell
     bool continuous() const override { return true; }   // trilinear, falling to 0 over one voxel outside the data
     void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;
+    // Uniform blocks as constants, other blocks voxel cell by voxel cell (empty sub-blocks skipped).
+    void optical_depth_profile(const Ray& ray, double tmax, OpticalDepthProfile& out) const override;
     std::string describe() const override;
 
     // Same as above, adding the work done to *stats when non-null.

@@ -53,6 +53,12 @@ void HomogeneousMedium::majorant_pieces(const Ray& ray, double tmax, const Major
     if (sigma_t_ > 0.0 && clip(ray, tmax, t0, t1)) visit(t0, t1, sigma_t_);
 }
 
+void HomogeneousMedium::optical_depth_profile(const Ray& ray, double tmax, OpticalDepthProfile& out) const {
+    out.reset(sigma_t_);
+    double t0, t1;
+    if (sigma_t_ > 0.0 && clip(ray, tmax, t0, t1)) out.add_constant(t0, t1, 1.0);
+}
+
 double HomogeneousMedium::sigma_t(const Vec3& p) const {
     const bool inside = shape_ == Shape::box ? bounds_.contains(p) : (p - center_).squaredNorm() <= radius_ * radius_;
     return inside ? sigma_t_ : 0.0;

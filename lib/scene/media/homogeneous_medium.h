@@ -26,6 +26,7 @@ public:
     // Inside the shape; a sphere's lens (any overlap); a box crossed through the faces of one axis (caps).
     bool ball_integral(const Vec3& x, double r, double& integral) const override;
     void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;   // exact here
+    void optical_depth_profile(const Ray& ray, double tmax, OpticalDepthProfile& out) const override;   // one piece
     std::string describe() const override;
 
     // The parameter interval of the ray inside the shape, clipped to [0, tmax].

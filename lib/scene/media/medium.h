@@ -11,6 +11,7 @@
 
 #include "core/math.h"
 #include "core/rng.h"
+#include "scene/media/optical_depth_profile.h"
 
 namespace vpm {
 
@@ -53,6 +54,11 @@ public:
     // per ray segment from geometry alone and stay unbiased.
     using MajorantVisitor = std::function<bool(double ta, double tb, double majorant)>;
     virtual void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const = 0;
+
+    // The exact optical depth along [0, tmax] as closed-form pieces (out is reset first), up to where
+    // it reaches OpticalDepthProfile::kEnoughDepth or tmax. Deterministic; its work grows with the
+    // voxel cells crossed, so callers use it where a majorant's looseness would cost more.
+    virtual void optical_depth_profile(const Ray& ray, double tmax, OpticalDepthProfile& out) const = 0;
 
     // An upper bound on the optical depth along [0, tmax]: the integral of the majorant pieces.
     double majorant_optical_depth(const Ray& ray, double tmax) const {

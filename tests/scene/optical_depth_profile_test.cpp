@@ -1,0 +1,84 @@
+// OpticalDepthProfile from both media: its total and its inverse against midpoint quadrature of
+// sigma_t (the trilinear field is piecewise cubic along a ray, so the quadrature is accurate to
+// ~1e-9 relative here), and the cut at kEnoughDepth in a dense grid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "io/vdb_io.h"
+#include "scene/media/grid_medium.h"
+#include "scene/media/homogeneous_medium.h"
+
+using namespace vpm;
+
+namespace {
+
+double quadrature_depth(const Medium& m, const Ray& ray, double t1, int n = 200000) {
+    const double dt = t1 / n;
+    double tau = 0;
+    for (int i = 0; i < n; ++i) tau += m.sigma_t(ray.at((i + 0.5) * dt));
+    return tau * dt;
+}
+
+Ray ray_through(const Vec3& from, const Vec3& to, double& length) {
+    length = (to - from).norm();
+    return Ray{from, (to - from) / length};
+}
+
+}  // namespace
+
+TEST(OpticalDepthProfile, PlumeTotalAndInverseMatchQuadrature) {
+    const GridMedium m(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb", "density"), 8.0, Rgb::Constant(0.9), 0.0);
+    const Bounds3 b = m.bounds();
+    const Vec3 c = 0.5 * (b.lo + b.hi);
+    double L;
+    const Ray ray = ray_through(Vec3(b.lo.x() - 0.5, 0.4, c.z() - 0.1), Vec3(b.hi.x() + 0.5, 0.6, c.z() + 0.05), L);
+    OpticalDepthProfile p;
+    m.optical_depth_profile(ray, L, p);
+    const double tau = quadrature_depth(m, ray, L);
+    ASSERT_GT(tau, 0.3);   // the ray crosses smoke
+    ASSERT_LT(tau, OpticalDepthProfile::kEnoughDepth);
+    EXPECT_GT(p.size(), 20u);   // voxel cells, not one majorant piece
+    EXPECT_NEAR(p.total(), tau, 1e-6 * tau);
+    for (double f : {0.01, 0.2, 0.5, 0.8, 0.99}) {
+        size_t cursor = 0;
+        const double t = p.invert(f * p.total(), cursor);
+        ASSERT_GT(t, 0.0);
+        ASSERT_LT(t, L);
+        EXPECT_NEAR(quadrature_depth(m, ray, t), f * p.total(), 1e-6 * tau) << "fraction " << f;
+    }
+}
+
+TEST(OpticalDepthProfile, DenseGridStopsOnceTheDepthIsEnough) {
+    // sigma_t_scale 1e4 over the plume: the chord's depth is ~1e4, the profile stops past 40.
+    const GridMedium m(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb", "density"), 1e4, Rgb::Constant(0.9), 0.0);
+    const Bounds3 b = m.bounds();
+    const Vec3 c = 0.5 * (b.lo + b.hi);
+    double L;
+    const Ray ray = ray_through(Vec3(b.lo.x() - 0.5, 0.4, c.z()), Vec3(b.hi.x() + 0.5, 0.6, c.z()), L);
+    OpticalDepthProfile whole, cut;
+    const GridMedium thin(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb", "density"), 1e-3, Rgb::Constant(0.9), 0.0);
+    thin.optical_depth_profile(ray, L, whole);   // far below the cut: every cell of the chord
+    m.optical_depth_profile(ray, L, cut);
+    EXPECT_GE(cut.total(), OpticalDepthProfile::kEnoughDepth);
+    EXPECT_LT(cut.size(), whole.size() / 2);
+    // Up to the cut both agree on where a depth is reached.
+    size_t c1 = 0, c2 = 0;
+    const double t_cut = cut.invert(30.0, c1), t_whole = whole.invert(30.0 * 1e-3 / 1e4, c2);
+    EXPECT_NEAR(t_cut, t_whole, 1e-9 * L);
+}
+
+TEST(OpticalDepthProfile, HomogeneousSphereIsOneExactPiece) {
+    const HomogeneousMedium m = HomogeneousMedium::sphere(Vec3(0, 0, 0), 1.0, 3.0, Rgb::Constant(0.9), 0.0);
+    const Ray ray{Vec3(0, 0.6, -5), Vec3(0, 0, 1)};   // chord 1.6 from t = 4.2 to 5.8
+    OpticalDepthProfile p;
+    m.optical_depth_profile(ray, 10.0, p);
+    ASSERT_EQ(p.size(), 1u);
+    EXPECT_NEAR(p.total(), 3.0 * 1.6, 1e-12);
+    size_t cursor = 0;
+    EXPECT_NEAR(p.invert(1.5, cursor), 4.2 + 0.5, 1e-12);
+    m.optical_depth_profile(ray, 4.0, p);   // ends before the sphere
+    EXPECT_TRUE(p.empty());
+    EXPECT_EQ(p.total(), 0.0);
+}
