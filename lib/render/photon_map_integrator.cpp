@@ -199,7 +199,10 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
         const MediumEvent& event = v.medium;
         const SurfaceHit& hit = v.hit;
         const double t_end = v.on_surface ? hit.t : kInfinity;
-        const bool march = marches(ray, t_end);
+        // A path continued from a march point (first_depth > 0) gathers at its collisions: marching
+        // again would branch at every point, a tree that grows without bound where every ball is
+        // wide (the stress matrix's furnace and pathological cells hung once "auto" chose the march).
+        const bool march = first_depth == 0 && marches(ray, t_end);
         const bool beam = gather_ == Gather::beam;
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
@@ -354,10 +357,10 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
         case Gather::beam: return false;
         case Gather::threshold: break;
     }
-    // Thin along this segment: every ray gathers at a few points. Thick: the collision gather puts
-    // its one query where the light is and bounds its ball in mean free paths, while the march's
-    // weights grow with the majorant's looseness (up to e^tau_mu) and its points, all a few mean free
-    // paths apart, would mostly take continued paths. The walk stops once the threshold is passed,
+    // gather = "threshold" (the default before issue 20's pilot). Thin along this segment: every ray
+    // gathers at a few points. Thick: the collision gather puts its one query where the light is and
+    // bounds its ball in mean free paths, while the march's points, all a few mean free paths apart,
+    // would mostly take continued paths. The walk stops once the threshold is passed,
     // so thick segments, the collision gather's, pay for a few majorant pieces only.
     const double limit = settings_.march_max_optical_depth;
     double depth = 0.0;
