@@ -83,11 +83,15 @@ TEST(ThinMedium, MarchCountsQueriesBeyondTheMeanFreePathBound) {
     EXPECT_EQ(thin.first, 0u);
     const auto dense = wide("homogeneous.toml", {"media.0.sigma_t_scale=1e4"});
     EXPECT_GT(dense.second, 0u);
-    EXPECT_EQ(dense.first, dense.second);
+    // Every march point is wide there; the other queries are the collision gathers of the paths
+    // those points continue (they do not march again: photon_map_integrator.cpp, trace).
+    EXPECT_GT(dense.first, 0u);
+    EXPECT_LE(dense.first, dense.second);
 }
 
-TEST(ThinMedium, AutoGatherMarchesThinSegmentsOnly) {
-    // "auto" marches where the segment's majorant optical depth is at most march_max_optical_depth:
+TEST(ThinMedium, ThresholdGatherMarchesThinSegmentsOnly) {
+    // "threshold" (the automatic rule before issue 20's pilot) marches where the segment's majorant
+    // optical depth is at most march_max_optical_depth:
     // with the threshold at 0 it is the collision gather (same queries, bit for bit), with a huge
     // threshold the march.
     auto run_with = [](const std::string& gather, const std::string& threshold) {
@@ -99,6 +103,6 @@ TEST(ThinMedium, AutoGatherMarchesThinSegmentsOnly) {
                                 o);
         return std::make_pair(r.image.mean(), r.stats.volume_estimates->queries);
     };
-    EXPECT_EQ(run_with("auto", "0"), run_with("collision", "0"));
-    EXPECT_EQ(run_with("auto", "1e300"), run_with("march", "0"));
+    EXPECT_EQ(run_with("threshold", "0"), run_with("collision", "0"));
+    EXPECT_EQ(run_with("threshold", "1e300"), run_with("march", "0"));
 }
