@@ -379,32 +379,19 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int d
     // (transport/march_points.h): each weighs albedo P / n times the other media's transmittance,
     // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field.
     const int n = settings_.gather_queries;
-    // Not thread-local buffers: a march point's continued path may march again (recursion).
-    OpticalDepthProfile profile;
-    std::vector<double> ts;
+    auto& local = threads_->local.local();
     Rgb sum = Rgb::Zero();
-    for (const auto& medium : scene_.media) {
-        if ((medium->albedo() == 0.0).all()) continue;
-        const double mass = place_march_points(*medium, ray, t_end, n, rng, profile, ts);
-        double others = 1.0, t_prev = 0.0;   // the other media's transmittance to the point
-        for (const double t : ts) {
-            // A product of independent ratio-tracking estimates over consecutive pieces.
-            for (const auto& m : scene_.media)
-                if (m != medium) others *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
-            threads_->local.local().rays += scene_.media.size();   // the profile counts as one tracked segment
-            t_prev = t;
-            if (others == 0.0) break;
-            {
-                auto& local = threads_->local.local();   // relative to the weight in the medium alone
-                local.march_weight_max = std::max(local.march_weight_max, others);
-                local.march_weight_sum += others;
-                ++local.march_points;
-            }
-            const Vec3 x = ray.at(t);
-            const Rgb weight = (others * mass / n) * medium->albedo();
-            sum += weight * incident_at_march_point(x, ray.dir, medium->g(), total_sigma_t(scene_, x), weight, depth, rng);
-        }
-    }
+    // The profile counts as one tracked segment per point, like each other medium's.
+    for_each_march_point(scene_, ray, t_end, n, rng, scene_.media.size(), local.rays,
+                         [&](const Medium& medium, double t, double others, double mass) {
+                             // Relative to the weight in the medium alone.
+                             local.march_weight_max = std::max(local.march_weight_max, others);
+                             local.march_weight_sum += others;
+                             ++local.march_points;
+                             const Vec3 x = ray.at(t);
+                             const Rgb weight = (others * mass / n) * medium.albedo();
+                             sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, rng);
+                         });
     return sum;
 }
 

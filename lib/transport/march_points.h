@@ -9,11 +9,14 @@
 // other media's transmittance: this medium's transmittance and extinction cancel exactly, so the
 // weights are bounded by albedo P / n in any density field, where points placed by a majorant's
 // free flight weighed up to e^(tau_majorant - tau) times that (issue 20 item 4).
+#include <cstdint>
 #include <vector>
 
 #include "core/math.h"
 #include "core/rng.h"
 #include "scene/media/medium.h"
+#include "scene/media/optical_depth_profile.h"
+#include "scene/scene.h"
 
 namespace vpm {
 
@@ -21,5 +24,30 @@ namespace vpm {
 // Draws n uniforms from rng when P > 0, none otherwise. `profile` is scratch space.
 double place_march_points(const Medium& medium, const Ray& ray, double tmax, int n, Rng& rng,
                           OpticalDepthProfile& profile, std::vector<double>& ts);
+
+// The march's points on every medium the segment crosses, in the order above: per point, the other
+// media's transmittance from the previous point (a product of independent ratio-tracking
+// estimates), `tracked` += per_point, and, while that product is non-zero,
+// visit(medium, t, others, P) with the point's weight others x P / n (times the albedo). The march
+// gather and the beam gather's single scattering share it.
+template <class Visit>
+void for_each_march_point(const Scene& scene, const Ray& ray, double t_end, int n, Rng& rng, uint64_t per_point,
+                          uint64_t& tracked, Visit&& visit) {
+    OpticalDepthProfile profile;   // per call, not thread-local: a visit may trace a path that marches
+    std::vector<double> ts;
+    for (const auto& medium : scene.media) {
+        if ((medium->albedo() == 0.0).all()) continue;
+        const double mass = place_march_points(*medium, ray, t_end, n, rng, profile, ts);
+        double others = 1.0, t_prev = 0.0;   // the other media's transmittance to the point
+        for (const double t : ts) {
+            for (const auto& m : scene.media)
+                if (m != medium) others *= m->transmittance(Ray{ray.at(t_prev), ray.dir}, t - t_prev, rng);
+            tracked += per_point;
+            t_prev = t;
+            if (others == 0.0) break;
+            visit(*medium, t, others, mass);
+        }
+    }
+}
 
 }  // namespace vpm
