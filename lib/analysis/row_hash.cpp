@@ -1,6 +1,8 @@
 #include "analysis/row_hash.h"
 
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 
 #include "config/params.h"
 
@@ -38,9 +40,26 @@ std::string run_hash(const toml::table& resolved, uint64_t seed, uint64_t stream
                     "\nstream_offset=" + std::to_string(stream_offset) + "\n");
 }
 
+std::string file_content_key(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return path;   // unreadable: the path is all there is (the scene could not load anyway)
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    const std::string b = bytes.str();
+    return "content " + hash_hex(b) + " size " + std::to_string(b.size());
+}
+
 std::string scene_hash(const toml::table& resolved) {
+    toml::table t = resolved;
+    // Files by content, not by where the checkout lives: a resolved path is absolute, so hashing it
+    // made every worktree render its own references of the same scene.
+    for (const char* array : {"media", "lights", "shapes"})
+        if (auto* a = t.get_as<toml::array>(array))
+            for (auto& e : *a)
+                if (auto* entry = e.as_table())
+                    if (auto file = entry->get_as<std::string>("file")) entry->insert_or_assign("file", file_content_key(file->get()));
     return hash_hex(to_toml_string(without(
-        resolved, {"output", "threads", "integrator", "spp", "seed", "max_depth", "rr_depth", "mis", "exposure", "passes",
+        t, {"output", "threads", "integrator", "spp", "seed", "max_depth", "rr_depth", "mis", "exposure", "passes",
                    "time_limit", "first_pass"},
         true)));
 }

@@ -19,11 +19,15 @@ std::string hash_hex(const std::string& bytes);
 // The resolved config as canonical TOML text without render.output and render.threads (they do
 // not change the image).
 std::string run_config_text(const toml::table& resolved);
+// "content HASH size N" of the file at `path` (the path itself when it cannot be read).
+std::string file_content_key(const std::string& path);
 // Hash identifying one run: run_config_text + seed + stream offset.
 std::string run_hash(const toml::table& resolved, uint64_t seed, uint64_t stream_offset);
 // Hash of the scene alone (see above), for the reference cache: without the [render] keys that pick
 // how the image is estimated (integrator, samples, seed, passes, budgets, roulette, MIS) rather than
-// what it converges to, so one path-traced reference serves every method.
+// what it converges to, so one path-traced reference serves every method. A `file` of [[media]],
+// [[lights]] or [[shapes]] counts by its content (file_content_key), so checkouts in different
+// folders share references.
 std::string scene_hash(const toml::table& resolved);
 
 }  // namespace vpm

@@ -7,9 +7,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 
+#include "analysis/row_hash.h"
 #include "analysis/scene_matrix.h"
+#include "render/run_config.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;
@@ -119,4 +122,28 @@ TEST(SceneMatrix, ScaledSceneScalesLengthsAndExtinction) {
     MatrixCell bad = c;
     bad.light = "laser";
     EXPECT_THROW(matrix_scene_toml(bad, 5.0, "/media", 64), std::exception);
+}
+
+// The reference cache's key follows the media file's content, not the checkout's folder: the same
+// cell written in two folders holding copies of blob.vdb hashes alike; other content does not.
+TEST(SceneMatrix, SceneHashFollowsMediaContentNotTheirFolder) {
+    const fs::path root = fs::temp_directory_path() / ("vpm_matrix_hash_" + std::to_string(getpid()));
+    const fs::path src = fs::path(VPM_SOURCE_DIR) / "media" / "blob.vdb";
+    MatrixCell c{"g", "blob", 1, 0.9, 0.0, "point", 1.0};
+    auto hash_in = [&](const std::string& folder) {
+        const fs::path media = root / folder / "media";
+        const fs::path scene = root / folder / "cell.toml";
+        std::ofstream(scene) << matrix_scene_toml(c, 2.0, media, 8);
+        return scene_hash(RunConfig::load(scene.string(), {"render.integrator=\"path\""}).resolved);
+    };
+    for (const char* f : {"a", "b", "c"}) {
+        fs::create_directories(root / f / "media");
+        // c: another grid under the same name
+        fs::copy_file(*f == 'c' ? src.parent_path() / "plume.vdb" : src, root / f / "media" / "blob.vdb",
+                      fs::copy_options::overwrite_existing);
+    }
+    const std::string a = hash_in("a"), b = hash_in("b"), changed = hash_in("c");
+    EXPECT_EQ(a, b);
+    EXPECT_NE(a, changed);
+    fs::remove_all(root);
 }
