@@ -5,6 +5,7 @@
 #include "core/progress.h"
 #include "core/rng.h"
 #include "render/map_noise_pilot.h"
+#include "render/no_map_candidate.h"
 #include "render/photon_map_integrator.h"
 #include "render/work_units.h"
 
@@ -20,7 +21,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     PlanInputs in;
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
     in.count = settings_.count;
-    in.spp = 1;   // replaced below when not sized: the plan then only picks the gather
+    // Not sized: the configured samples per pass (the photon pass is shared by them; unknown: 1).
+    in.spp = settings_.size_samples ? 1 : std::max(1, context.spp);
     in.size_photons = owns_maps_ && settings_.size_photons;
     in.size_samples = settings_.size_samples;
     in.budget = settings_.time_limit * kWorkUnitsPerSecond;
@@ -44,36 +46,58 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     if (counts && counts->emitted > 0)
         in.photon_cost = (w.collision * double(counts->collisions) + w.path * double(counts->emitted) +
                           w.stored * double(counts->stored)) / double(counts->emitted);
-    const std::vector<std::string> names = {"collision", "march"};
-    const Gather gathers[] = {Gather::collision, Gather::march};
+    const std::vector<PilotCandidate> candidates = {{"collision", true}, {"march", true}, {kNoMapCandidate, false}};
+    const Gather gathers[] = {Gather::collision, Gather::march, Gather::collision};
     std::vector<GatherMeasurement> measured;
     const PhotonMap* run_map = map_;
+    const PhotonMap* run_surface = surface_map_;
+    PilotBudget budget;   // render/pilot_budget.h
+    if (in.budget > 0.0) {
+        budget.per_candidate = in.budget * kPilotBudgetFraction / double(candidates.size());
+        budget.max_pass_cost = in.budget / kPlanMinPasses;
+    }
     if (map->size() > 0) {
         MapNoisePilotHooks hooks;
         hooks.use = [&](int c, const PhotonMap* m) {
             gather_ = gathers[c];
-            map_ = m;
+            const bool uses_map = candidates[size_t(c)].uses_map;
+            map_ = uses_map ? m : &empty_map_;
+            surface_map_ = uses_map ? run_surface : nullptr;
         };
         hooks.trace = [&](const Ray& ray, Rng& rng) { return trace(ray, 0, rng); };
         hooks.counts = [&] { return counted_operations(); };
         hooks.work = [&](const CountedOperations& c) { return w.query * c.queries + w.ray * c.rays + w.lookup * c.lookups; };
         with_fresh_counters([&] {
-            measured = measure_gathers(scene_.camera, *map, names, hooks,
-                                       mix64(context.seed ^ 0x6d61706e6f697365ULL), context.run_stream_offset);
+            measured = measure_gathers(scene_.camera, *map, candidates, hooks,
+                                       mix64(context.seed ^ 0x6d61706e6f697365ULL), context.run_stream_offset, budget, in.pixels);
         });
         map_ = run_map;
+        surface_map_ = run_surface;
     } else {
-        for (const auto& n : names) measured.push_back(GatherMeasurement{n, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, {}});
+        // Nothing to measure: the gathers cost the same and "continue" is left out (an empty map
+        // costs nothing and a surface map, if any, keeps its use).
+        for (size_t c = 0; c + 1 < candidates.size(); ++c) {
+            GatherMeasurement g;
+            g.name = candidates[c].name;
+            g.v_map_quarter = -1.0;
+            measured.push_back(g);
+        }
     }
     in.candidates = measured;
     PassPlan plan = plan_passes(in);
     if (!in.size_samples) plan.spp = 0;   // not the plan's: samples_per_pass keeps the configured value
     gather_ = gathers[plan.chosen];
     plan_ = plan;
+    if (!measured[size_t(plan.chosen)].uses_map) {   // render/no_map_candidate.h: from this pass on
+        no_map_ = true;
+        map_ = &empty_map_;
+        surface_map_ = nullptr;
+    }
     AutoGatherStats a;
     a.candidates = measured;
     a.photon_cost = in.photon_cost;
-    a.chosen = names[size_t(plan.chosen)];
+    a.chosen = measured[size_t(plan.chosen)].name;
+    a.photon_pass = !no_map_;
     a.count = in.size_photons ? plan.count : settings_.count;
     a.spp = plan.spp;
     a.beta = plan.beta;
@@ -87,12 +111,22 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
             << kPilotSamples << " samples with the map and its halves";
         if (map->size() == 0) log << "; the volume map is empty, nothing to measure";
-        for (const auto& m : measured)
-            log << "; " << m.name << ": per-sample variance " << m.v_camera << ", map variance at N/2 " << m.v_map_half
+        for (const auto& m : measured) {
+            log << "; " << m.name << ": ";
+            if (m.dropped) {
+                log << "dropped after its probe (a pass of one sample, " << in.pixels * m.sample_cost
+                    << " work units, exceeds half the budget), work " << m.sample_cost << " per sample";
+                continue;
+            }
+            log << m.samples << " samples, per-sample variance " << m.v_camera << ", map variance at N/2 " << m.v_map_half
                 << ", squared bias " << m.bias2 << ", mean " << m.mean << " +- " << m.mean_se
                 << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
-                << ", work " << m.sample_cost << " per sample";
+                << ", work " << m.sample_cost << " per sample, map estimates used " << m.per_sample.map_used << " per sample";
+        }
         log << "; work " << in.photon_cost << " per photon)\n";
+        if (no_map_)
+            log << "photons: no photon pass after this one: the map " << (measured[0].per_sample.map_used > 0.0 ? "did not pay for its pass" : "was never used (every kNN ball wider than photons.max_radius_mfp)")
+                << ", so camera paths continue past every medium collision and surface hit (path traced, unbiased), this pass included\n";
         if (in.size_photons || in.size_samples)
             log << "passes: " << a.count << " photons per pass after the first (" << (in.size_photons ? "sized" : "photons.count")
                 << "), " << (in.size_samples ? std::to_string(plan.spp) : std::string("render.spp")) << " samples per pass ("

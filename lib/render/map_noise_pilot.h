@@ -25,6 +25,7 @@
 #include "photon/photon_map.h"
 #include "core/rng.h"
 #include "render/pass_plan.h"
+#include "render/pilot_budget.h"
 #include "scene/camera.h"
 
 namespace vpm {
@@ -39,11 +40,20 @@ struct MapNoisePilotHooks {
 };
 
 constexpr int kPilotSide = 8;       // pilot pixels: the centres of an 8 x 8 grid of image blocks
-constexpr int kPilotSamples = 8;    // samples per pilot pixel and map
+constexpr int kPilotSamples = 8;    // samples per pilot pixel and map, at most (render/pilot_budget.h)
 
-// `names`: the candidates' names, in the order `use` takes them (v_map_quarter is left -1).
+struct PilotCandidate {
+    std::string name;
+    bool uses_map = true;   // false: traced once per sample (no halves): V_map and bias^2 are 0
+};
+
+// `candidates` in the order `use` takes them (v_map_quarter is left -1). Under a budget
+// (render/pilot_budget.h) each takes the samples its share pays for, and one whose one-sample pass
+// over `image_pixels` exceeds budget.max_pass_cost stops after its probe (dropped) once an earlier
+// candidate fitted.
 std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const PhotonMap& map,
-                                               const std::vector<std::string>& names,
-                                               MapNoisePilotHooks& hooks, uint64_t seed, uint64_t stream);
+                                               const std::vector<PilotCandidate>& candidates,
+                                               MapNoisePilotHooks& hooks, uint64_t seed, uint64_t stream,
+                                               const PilotBudget& budget = {}, double image_pixels = 0.0);
 
 }  // namespace vpm

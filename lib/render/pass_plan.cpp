@@ -42,18 +42,20 @@ PassPlan plan_passes(const PlanInputs& in) {
         const double gap = std::abs(m.mean - first.mean);
         const bool agrees = !(gap > kPlanMeanSigmas * std::hypot(m.mean_se, first.mean_se) &&
                               gap > kPlanMeanTolerance * std::max(std::abs(m.mean), std::abs(first.mean)));
-        const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees;
+        const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees && !m.dropped;
+        // Without the map (render/no_map_candidate.h) no photon pass is made: N does not matter.
+        const double photon_cost = m.uses_map ? in.photon_cost : 0.0;
         double cand_best = kInfinity, cand_cost = kInfinity;
         int64_t cand_n = in.count;
         int cand_s = in.spp;
-        const int doublings = in.size_photons ? kPlanMaxPhotonDoublings : 0;
+        const int doublings = in.size_photons && m.uses_map ? kPlanMaxPhotonDoublings : 0;
         const int s_lo = in.size_samples ? 1 : in.spp, s_hi = in.size_samples ? kPlanMaxSpp : in.spp;
         for (int i = 0; i <= doublings; ++i) {
             const double n = double(in.count) * double(int64_t(1) << i);
             const double v_map = v_map_half * std::pow(0.5 * double(in.count) / n, beta);
             const double bias2 = bias2_n0 * std::pow(double(in.count) / n, 4.0 / 3.0);
             for (int s = s_lo; s <= s_hi; s *= 2) {
-                const double cost = in.photon_cost * n + in.pixels * double(s) * m.sample_cost;
+                const double cost = photon_cost * n + in.pixels * double(s) * m.sample_cost;
                 // Over the cap only passes no larger than the configured one (N0, S0) count: the
                 // plan never makes a pass longer than the budget that the configuration did not.
                 if (cost > cap && !(i == 0 && s <= in.spp)) continue;
@@ -61,7 +63,11 @@ PassPlan plan_passes(const PlanInputs& in) {
                 double score = variance * cost;
                 if (in.budget > 0.0) score = cost <= in.budget ? score + bias2 * in.budget : (variance + bias2) * cost;
                 if (!trusted) score = kInfinity;
-                if (score < cand_best || (score == cand_best && cost < cand_cost)) {
+                // Without the map every S scores alike (V_camera / S times S samples' cost): then the
+                // largest pass within the cap, so that per-pass overheads the counts miss stay small.
+                const bool tie = m.uses_map || !(cand_best < kInfinity) ? score == cand_best
+                                                                    : std::abs(score - cand_best) <= 1e-9 * cand_best;
+                if ((score < cand_best && !tie) || (tie && (m.uses_map ? cost < cand_cost : cost > cand_cost))) {
                     cand_best = score;
                     cand_cost = cost;
                     cand_n = int64_t(n);

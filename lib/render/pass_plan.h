@@ -29,10 +29,11 @@ struct CountedOperations {
     double rays = 0.0;      // tracked segments: free flights, shadow rays, march transmittances
     double lookups = 0.0;   // sigma_t lookups of the ball quadrature
     double march_weight_max = 0.0;   // largest relative march point weight (not a count: a maximum)
+    double map_used = 0.0;  // estimates taken from a photon map (volume or surface), not continued past
 };
 
 struct GatherMeasurement {
-    std::string name;             // "collision", "march"
+    std::string name;             // "collision", "march", "continue" (no map: render/no_map_candidate.h)
     double v_camera = 0.0;        // per-sample variance of a pixel's luminance given the map
     double v_map_half = 0.0;      // variance of a pixel's mean from the map at N0 / 2 (may be < 0: noise)
     double v_map_quarter = 0.0;   // the same at N0 / 4 (not measured: < 0)
@@ -42,11 +43,14 @@ struct GatherMeasurement {
     double mean = 0.0;            // the pilot's mean luminance over its pixels and samples
     double mean_se = 0.0;         // its standard error
     CountedOperations per_sample; // the operations behind it
+    int samples = 0;              // pilot samples per pixel and map (render/pilot_budget.h)
+    bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap
+    bool uses_map = true;         // false: no photon pass is paid for (render/no_map_candidate.h)
 };
 
 struct PlanInputs {
     std::vector<GatherMeasurement> candidates;
-    double photon_cost = 0.0;   // counted work units per emitted photon (trace and build)
+    double photon_cost = 0.0;   // counted work units per emitted photon (trace and build): a candidate that uses the map pays it
     double pixels = 0.0;
     int64_t count = 0;          // N0: photons.count
     int spp = 1;                // S0: samples per pass as configured

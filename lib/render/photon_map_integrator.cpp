@@ -61,6 +61,7 @@ struct PhotonMapIntegrator::ThreadState {
         uint64_t lookups = 0;     // sigma_t lookups of the ball quadrature (pilot cost)
         double march_weight_max = 0.0, march_weight_sum = 0.0;   // relative march point weights
         uint64_t march_points = 0;
+        uint64_t map_used = 0;    // estimates taken from a map, not continued past (pilot: render/no_map_candidate.h)
         std::vector<Rgb> linear_weights;   // photons.extinction = "linear"
     };
     mutable tbb::enumerable_thread_specific<Local> local;
@@ -84,6 +85,8 @@ PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
 void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     k_ = size_t(settings_.k_for_pass(context.pass));
+    // A run starting at a later pass plans on pass 0's map first: a plan without the map then saves this pass's.
+    if (owns_maps_ && settings_.gather == GatherMode::automatic && !plan_ && context.pass != 0) plan_auto(context, stats);
     if (!owns_maps_) {
         if (settings_.gather == GatherMode::pilot) choose_gather(context);
         if (settings_.gather == GatherMode::automatic && !plan_) plan_auto(context, stats);
@@ -91,7 +94,10 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     }
     std::ostream* log = context.first_of_run ? context.log : nullptr;
     const bool surface = scene_.uses_embree() && !settings_.final_gather;
-    if (scene_.has_media() || surface) {
+    if (no_map_) {   // render/no_map_candidate.h: the plan found the map not worth its pass
+        owned_ = PhotonMaps();
+        surface_map_ = nullptr;
+    } else if (scene_.has_media() || surface) {
         retire_beam();           // its BVH points into the last pass's map
         owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
         PhotonMapSettings pass_settings = settings_;   // pass 0 is the plan's pilot pass: photons.count
@@ -258,6 +264,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
                     }
                 }
                 radiance += weight * normalised(s, x, -ray.dir, m.g(), radius, sigma_t, local.buffers, local.linear_weights);
+                ++local.map_used;
             }
             break;
         }
@@ -270,6 +277,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
                                                                 settings_.estimator, k_, max_radius_, local.buffers, &local.surface_stats);
             radiance += throughput * hit.reflectance * (e.value / kPi);
+            ++local.map_used;
             break;
         }
         radiance += throughput * direct_light_on_surface(scene_, hit, rng, settings_.walk.mis);
@@ -331,6 +339,7 @@ CountedOperations PhotonMapIntegrator::counted_operations() const {
         c.rays += double(l.rays);
         c.lookups += double(l.lookups);
         c.march_weight_max = std::max(c.march_weight_max, l.march_weight_max);
+        c.map_used += double(l.map_used);
     }
     return c;
 }
@@ -426,6 +435,7 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         }
         return in;
     }
+    ++local.map_used;
     return in + normalised(s, x, -dir, g, max_radius_, sigma_t, local.buffers, local.linear_weights);
 }
 

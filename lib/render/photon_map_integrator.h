@@ -152,6 +152,9 @@ private:
     // picks the gather, and under render.time_limit the photons and samples per pass.
     std::optional<PassPlan> plan_;
     std::optional<AutoGatherStats> auto_stats_;
+    // The plan chose "continue" (render/no_map_candidate.h): no photon pass, every query continues.
+    bool no_map_ = false;
+    PhotonMap empty_map_;   // the "continue" candidate's map in the pilot
     void plan_auto(const PassContext& context, RunStats& stats);
     // Runs f with fresh per-thread counters and buffers, so that a pilot's work is not the run's.
     void with_fresh_counters(const std::function<void()>& f);

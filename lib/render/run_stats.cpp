@@ -204,7 +204,9 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, means, mean_ses, cost, queries, rays, lookups;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, means, mean_ses, cost, queries, rays, lookups, used;
+        std::vector<int> samples;
+        std::vector<bool> dropped;
         for (const auto& c : a->candidates) {
             names.push_back(c.name);
             v_camera.push_back(c.v_camera);
@@ -218,6 +220,9 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             queries.push_back(c.per_sample.queries);
             rays.push_back(c.per_sample.rays);
             lookups.push_back(c.per_sample.lookups);
+            used.push_back(c.per_sample.map_used);
+            samples.push_back(c.samples);
+            dropped.push_back(c.dropped);
         }
         record.set("photons.auto_gather.candidates", nlohmann::json(names));
         record.set("photons.auto_gather.v_camera", nlohmann::json(v_camera));
@@ -231,6 +236,10 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.queries_per_sample", nlohmann::json(queries));
         record.set("photons.auto_gather.rays_per_sample", nlohmann::json(rays));
         record.set("photons.auto_gather.lookups_per_sample", nlohmann::json(lookups));
+        record.set("photons.auto_gather.map_used_per_sample", nlohmann::json(used));
+        record.set("photons.auto_gather.pilot_samples", nlohmann::json(samples));
+        record.set("photons.auto_gather.dropped", nlohmann::json(dropped));
+        record.set("photons.auto_gather.photon_pass", a->photon_pass);
         record.set("photons.auto_gather.photon_cost", a->photon_cost);
         record.set("photons.auto_gather.count", a->count);
         record.set("photons.auto_gather.spp", a->spp);

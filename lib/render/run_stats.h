@@ -102,6 +102,7 @@ struct AutoGatherStats {
     double beta = 1.0;             // V_map ~ N^-beta
     bool beta_measured = false;
     bool size_photons = false, size_samples = false;
+    bool photon_pass = true;       // false: "continue" chosen, no photon pass after the pilot's (render/no_map_candidate.h)
 };
 
 struct RunStats {

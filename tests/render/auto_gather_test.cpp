@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // configs/thin_cube.toml without spp and count (so that a time limit sizes them), every length times s.
-std::string thin_cube(double s) {
+std::string thin_cube(double s, double sigma_t = 1.0, double albedo = 0.8) {
     auto v = [s](double x, double y, double z) {
         std::ostringstream o;
         o.precision(17);
@@ -36,7 +36,7 @@ std::string thin_cube(double s) {
       << "[photons]\nk = 32\n\n"
       << "[[lights]]\ntype = \"point\"\nposition = " << v(2.5, 2.0, 2.0) << "\nintensity = " << 20.0 * s * s << "\n\n"
       << "[[media]]\ntype = \"homogeneous\"\nshape = \"box\"\nmin = " << v(0, 0, 0) << "\nmax = " << v(1, 1, 1)
-      << "\nsigma_t_scale = " << 1.0 / s << "\nalbedo = 0.8\n";
+      << "\nsigma_t_scale = " << sigma_t / s << "\nalbedo = " << albedo << "\n";
     return t.str();
 }
 
@@ -66,7 +66,7 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
     EXPECT_TRUE(a.stats.auto_gather->size_samples);
     EXPECT_EQ(a.stats.pass_count(), 1u);
     EXPECT_EQ(a.stats.render.samples, 144u * uint64_t(a.stats.auto_gather->spp));
-    ASSERT_EQ(a.stats.auto_gather->candidates.size(), 2u);
+    ASSERT_EQ(a.stats.auto_gather->candidates.size(), 3u);   // collision, march, continue
     for (const auto& c : a.stats.auto_gather->candidates) {
         EXPECT_GT(c.v_camera, 0.0) << c.name;
         EXPECT_GT(c.sample_cost, 0.0) << c.name;
@@ -112,7 +112,12 @@ TEST(AutoGather, SamePlanAndImageOnOneAndTwoThreads) {
         EXPECT_EQ(x.candidates[c].v_map_quarter, y.candidates[c].v_map_quarter);
         EXPECT_EQ(x.candidates[c].sample_cost, y.candidates[c].sample_cost);
     }
-    EXPECT_EQ(a.stats.photons->emitted, uint64_t(x.count));   // pass 1 emits the planned count
+    if (x.photon_pass) {
+        ASSERT_TRUE(a.stats.photons);
+        EXPECT_EQ(a.stats.photons->emitted, uint64_t(x.count));   // pass 1 emits the planned count
+    } else {   // "continue" (the thin cube at this budget): pass 1 traces no photons
+        EXPECT_TRUE(!a.stats.photons || a.stats.photons->emitted == 0);
+    }
     EXPECT_EQ(a.image.rgb, b.image.rgb);
 }
 
@@ -157,4 +162,56 @@ TEST(AutoGather, GatherKeyNamesItsValues) {
         EXPECT_NE(m.find("auto"), std::string::npos) << m;
     }
     EXPECT_NO_THROW(RunConfig::load(f, {"photons.gather=\"threshold\""}));
+}
+
+// A box at optical depth 1000 (albedo 0.9): every kNN ball spans far more than max_radius_mfp mean
+// free paths, so no estimate uses the map (render/no_map_candidate.h). The collision gather's pilot
+// samples are then the continuation's, and "continue" wins by the photon pass it saves: the passes
+// after the pilot's trace no photons, on 1 and 2 threads alike and at scale 1e3.
+TEST(AutoGather, NoPhotonPassWhereNoQueryUsesTheMap) {
+    const std::vector<std::string> sets = {"photons.count=5000", "render.passes=3", "render.spp=3"};
+    auto with = [&](std::vector<std::string> v, const std::string& extra) {
+        v.push_back(extra);
+        return v;
+    };
+    std::ostringstream log;
+    const std::string f = write("dense.toml", thin_cube(1.0, 1000.0, 0.9));
+    const RunResult a = render(f, with(sets, "render.threads=1"), &log);
+    const RunResult b = render(f, with(sets, "render.threads=2"));
+    const RunResult c = render(write("dense1e3.toml", thin_cube(1e3, 1000.0, 0.9)), with(sets, "render.threads=2"));
+    ASSERT_TRUE(a.stats.auto_gather && b.stats.auto_gather && c.stats.auto_gather);
+    const AutoGatherStats& x = *a.stats.auto_gather;
+    ASSERT_EQ(x.candidates.size(), 3u);
+    EXPECT_EQ(x.candidates[0].per_sample.map_used, 0.0);   // the collision gather never used the map
+    EXPECT_GT(x.candidates[0].per_sample.queries, 0.0);    // though it asked
+    EXPECT_EQ(x.chosen, "continue") << log.str();
+    EXPECT_FALSE(x.photon_pass);
+    EXPECT_EQ(a.stats.photons->emitted, 5000u);             // pass 0's only, of 3
+    EXPECT_EQ(a.stats.pass_count(), 3u);
+    EXPECT_NE(log.str().find("no photon pass after this one"), std::string::npos) << log.str();
+    EXPECT_EQ(log.str().find("exceeds the"), std::string::npos) << log.str();   // no "k exceeds the stored count" warning
+    EXPECT_EQ(b.stats.auto_gather->chosen, x.chosen);
+    EXPECT_EQ(c.stats.auto_gather->chosen, x.chosen);
+    for (size_t i = 0; i < x.candidates.size(); ++i) {
+        EXPECT_EQ(b.stats.auto_gather->candidates[i].v_camera, x.candidates[i].v_camera);
+        EXPECT_EQ(b.stats.auto_gather->candidates[i].sample_cost, x.candidates[i].sample_cost);
+    }
+    EXPECT_EQ(a.image.rgb, b.image.rgb);
+}
+
+// The furnace (radiance 0.5 everywhere) with balls bounded to 0.01 mean free paths: no estimate can
+// use the map, the plan drops the photon pass, and the continuation keeps the image unbiased.
+TEST(AutoGather, FurnaceStaysUnbiasedWithoutTheMap) {
+    const std::string f = write("furnace_nomap.toml",
+                                "[render]\nwidth = 8\nheight = 8\nintegrator = \"photon_map\"\nspp = 8\n\n"
+                                "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
+                                "[photons]\nk = 8\ncount = 2000\ndirect = \"photon_map\"\nmax_radius_mfp = 0.01\n\n"
+                                "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
+                                "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.6\nalbedo = 1.0\n");
+    const RunConfig config = RunConfig::load(f);
+    const RunResult one = render(f, {});
+    ASSERT_TRUE(one.stats.auto_gather);
+    EXPECT_EQ(one.stats.auto_gather->chosen, "continue");
+    const test::Sample s = test::repeated_run_brightness(config, 6);
+    EXPECT_NEAR(s.mean(), 0.5, 3.0 * s.se() + 0.005);
 }
