@@ -1,5 +1,6 @@
 // photons.gather = "auto": the map-noise pilot and the pass plan (render/pass_plan.h), run once on
 // the first pass of a run. A member of PhotonMapIntegrator kept apart from its camera paths.
+#include <atomic>
 #include <ostream>
 
 #include "core/progress.h"
@@ -8,6 +9,7 @@
 #include "render/no_map_candidate.h"
 #include "render/photon_map_integrator.h"
 #include "render/work_units.h"
+#include "scene/media/tracking_counter.h"
 
 namespace vpm {
 
@@ -58,15 +60,29 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     }
     if (map->size() > 0) {
         MapNoisePilotHooks hooks;
+        std::atomic<uint64_t> steps{0};   // grid tracking steps of the pilot's samples
         hooks.use = [&](int c, const PhotonMap* m) {
             gather_ = gathers[c];
             const bool uses_map = candidates[size_t(c)].uses_map;
             map_ = uses_map ? m : &empty_map_;
             surface_map_ = uses_map ? run_surface : nullptr;
         };
-        hooks.trace = [&](const Ray& ray, Rng& rng) { return trace(ray, 0, rng); };
-        hooks.counts = [&] { return counted_operations(); };
-        hooks.work = [&](const CountedOperations& c) { return w.query * c.queries + w.ray * c.rays + w.lookup * c.lookups; };
+        hooks.trace = [&](const Ray& ray, Rng& rng) {
+            // One sample runs on one thread: the thread's step count before and after is the sample's.
+            const uint64_t before = thread_tracking_steps();
+            const Rgb l = trace(ray, 0, rng);
+            steps += thread_tracking_steps() - before;   // a sum: the same whatever the threads' order
+            return l;
+        };
+        hooks.counts = [&] {
+            CountedOperations c = counted_operations();
+            c.steps = double(steps.load());
+            return c;
+        };
+        hooks.work = [&](const CountedOperations& c) {
+            const double wide = std::max(0.0, c.queries - c.map_used);   // searches whose estimate was not used
+            return w.query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps;
+        };
         with_fresh_counters([&] {
             measured = measure_gathers(scene_.camera, *map, candidates, hooks,
                                        mix64(context.seed ^ 0x6d61706e6f697365ULL), context.run_stream_offset, budget, in.pixels);

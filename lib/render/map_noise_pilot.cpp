@@ -54,6 +54,7 @@ CountedOperations per_sample(const CountedOperations& before, const CountedOpera
     o.rays = (after.rays - before.rays) / samples;
     o.lookups = (after.lookups - before.lookups) / samples;
     o.map_used = (after.map_used - before.map_used) / samples;
+    o.steps = (after.steps - before.steps) / samples;
     return o;
 }
 

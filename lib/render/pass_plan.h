@@ -30,6 +30,7 @@ struct CountedOperations {
     double lookups = 0.0;   // sigma_t lookups of the ball quadrature
     double march_weight_max = 0.0;   // largest relative march point weight (not a count: a maximum)
     double map_used = 0.0;  // estimates taken from a photon map (volume or surface), not continued past
+    double steps = 0.0;     // grid tracking steps: DDA cells and tentative collisions (scene/media/tracking_counter.h)
 };
 
 struct GatherMeasurement {

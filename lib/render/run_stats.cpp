@@ -204,7 +204,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, means, mean_ses, cost, queries, rays, lookups, used;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, means, mean_ses, cost, queries, rays, lookups, used, steps;
         std::vector<int> samples;
         std::vector<bool> dropped;
         for (const auto& c : a->candidates) {
@@ -221,6 +221,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             rays.push_back(c.per_sample.rays);
             lookups.push_back(c.per_sample.lookups);
             used.push_back(c.per_sample.map_used);
+            steps.push_back(c.per_sample.steps);
             samples.push_back(c.samples);
             dropped.push_back(c.dropped);
         }
@@ -237,6 +238,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.rays_per_sample", nlohmann::json(rays));
         record.set("photons.auto_gather.lookups_per_sample", nlohmann::json(lookups));
         record.set("photons.auto_gather.map_used_per_sample", nlohmann::json(used));
+        record.set("photons.auto_gather.steps_per_sample", nlohmann::json(steps));
         record.set("photons.auto_gather.pilot_samples", nlohmann::json(samples));
         record.set("photons.auto_gather.dropped", nlohmann::json(dropped));
         record.set("photons.auto_gather.photon_pass", a->photon_pass);

@@ -9,9 +9,11 @@
 namespace vpm {
 
 struct WorkUnits {
-    double query = 0.0;       // a kNN query (grows with k)
+    double query = 0.0;       // a kNN query whose estimate is used (grows with k)
+    double query_wide = 0.0;  // one whose ball exceeds max_radius_mfp: the path continues (a bounded search)
     double ray = 0.0;         // a tracked segment: free flight, shadow ray or march transmittance
     double lookup = 0.0;      // a sigma_t lookup of the ball quadrature
+    double step = 0.0;        // a grid tracking step: DDA cell or tentative collision (scene/media/tracking_counter.h)
     double collision = 0.0;   // a real collision of the photon walk
     double path = 0.0;        // an emitted photon path
     double stored = 0.0;      // a stored photon (kd-tree build)

@@ -30,6 +30,8 @@ look_at = [0.0, -1.0, 0.0]
 fov = 20
 [photons]
 count = 100000
+# The map's light is what this checks: "auto" may choose to go without it (render/no_map_candidate.h).
+gather = "collision"
 [[media]]
 type = "homogeneous"
 shape = "sphere"

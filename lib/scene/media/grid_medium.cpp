@@ -1,4 +1,5 @@
 #include "scene/media/grid_medium.h"
+#include "scene/media/tracking_counter.h"
 
 #include <cmath>
 #include <sstream>
@@ -170,12 +171,20 @@ struct TrilinearRayField {
 
 double GridMedium::sample_free_flight(const Ray& ray, double tmax, Rng& rng, TrackingStats* stats) const {
     if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty()) return kInfinity;
-    return tracking::sample_free_flight(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, stats);
+    TrackingStats st;   // counted per thread (scene/media/tracking_counter.h)
+    const double t = tracking::sample_free_flight(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, &st);
+    count_tracking_steps(st);
+    if (stats) stats->add(st);
+    return t;
 }
 
 double GridMedium::transmittance(const Ray& ray, double tmax, Rng& rng, TrackingStats* stats) const {
     if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty()) return 1.0;
-    return tracking::transmittance(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, stats);
+    TrackingStats st;
+    const double T = tracking::transmittance(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, &st);
+    count_tracking_steps(st);
+    if (stats) stats->add(st);
+    return T;
 }
 
 void GridMedium::majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const {
