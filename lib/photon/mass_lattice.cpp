@@ -67,7 +67,8 @@ double MassLattice::ball_integral(const Vec3& x, double r, uint64_t* cells) cons
             const double y0 = j * cell_[1] - rel[1], y1 = y0 + cell_[1];
             const double yn = std::max(0.0, std::max(y0, -y1)), yf = std::max(std::abs(y0), std::abs(y1));
             const double near2 = xn * xn + yn * yn;
-            if (near2 > r2) continue;
+            const double* prefix = &prefix_[column(i, j) * (kCells + 1)];
+            if (near2 > r2 || !(prefix[kCells] > 0.0)) continue;   // outside the ball, or an empty column
             ++visited;
             // Cells the ball touches, and the run of them wholly inside (every corner within r).
             const double hout = std::sqrt(r2 - near2);
@@ -81,7 +82,6 @@ double MassLattice::ball_integral(const Vec3& x, double r, uint64_t* cells) cons
                 in1 = std::min(k1, int(std::floor((rel[2] + hin) / cell_[2])) - 1);
                 if (in0 > in1) in0 = k1 + 1, in1 = k1;
             }
-            const double* prefix = &prefix_[column(i, j) * (kCells + 1)];
             if (in0 <= in1) sum += prefix[in1 + 1] - prefix[in0];
             const double* mass = &mass_[column(i, j) * kCells];
             for (int k = k0; k <= k1; ++k) {
