@@ -27,7 +27,7 @@ namespace vpm {
 class MassLattice {
 public:
     static constexpr int kCells = 16;
-    static constexpr int kCellPoints = 4;
+    static constexpr int kCellPoints = 4;   // 3 reads the blob +0.26% high on average (test), 4: 0.01%
     static constexpr double kMinCellsPerRadius = 4.0;
 
     MassLattice(const Medium& medium, const Bounds3& box);
