@@ -15,8 +15,9 @@
 // quadrature (tests/photon/mass_lattice_test.cpp, bench_ball_extinction): a constant box within
 // 0.5% of the ball's volume from radii of 2 cells (a linear ramp of the centre's distance instead of
 // the plane read +6% to +11%, the plane without the sag +1% to +6%); balls of 4 cells and more in
-// the blob and the plume within 0.16% (without the centroid shift: 3-4% in the blob's tails; the
-// clipped rule it replaces: 2.4%). Used for balls at least kMinCellsPerRadius cells wide.
+// the blob and the plume within 0.16%, of 2 cells and more within 0.83% (without the centroid
+// shift: 3-4% in the blob's tails; the clipped rule it replaces: 2.4%). Used for balls at least
+// kMinCellsPerRadius cells wide (BallExtinction: those crossing the box beyond the ball rule's reach).
 #include <vector>
 
 #include "core/math.h"
@@ -27,8 +28,8 @@ namespace vpm {
 class MassLattice {
 public:
     static constexpr int kCells = 16;
-    static constexpr int kCellPoints = 4;   // 3 reads the blob +0.26% high on average (test), 4: 0.01%
-    static constexpr double kMinCellsPerRadius = 4.0;
+    static constexpr int kCellPoints = 4;   // 3 read the blob +0.26% high on average (test), 4: 0.01%
+    static constexpr double kMinCellsPerRadius = 2.0;
 
     MassLattice(const Medium& medium, const Bounds3& box);
     // True when B(x, r) is wide enough for this rule (r >= kMinCellsPerRadius cells on every axis).

@@ -1,7 +1,8 @@
 // The mass lattice (photon/mass_lattice.h), the ball extinction's rule for wide balls crossing a
 // continuous medium's box: its error against the exact volume of a ball in a constant box, and
 // against a 64^3-point stratified quadrature of the blob and the plume (whose own error is about
-// 1e-3 or less). The bounds are the errors measured here (worst 0.0011 blob, 0.0016 plume, 0.0048
+// 1e-3 or less). The bounds are the errors measured here (worst 0.0083 blob, 0.0022 plume, means
+// +0.0006 and +0.0001; with radii from 4 cells 0.0011 and 0.0016; 0.0048
 // constant box from radii of 2 cells) rounded up: a change of the rule that loses accuracy fails them. The clipped rule
 // it replaces for these balls erred by up to 2.4% (bench_ball_extinction).
 #include <gtest/gtest.h>
@@ -45,7 +46,7 @@ struct Errors {
 };
 
 // Balls where the kNN balls are: centres drawn in proportion to sigma_t (photons and march points
-// lie in the medium), radii from 1/4 of the box (4 cells, where BallExtinction starts to use it) to its size.
+// lie in the medium), radii from 1/8 of the box's longest side (2 cells, where BallExtinction may start to use it) to that side.
 Errors lattice_errors(const Medium& m, int balls, uint64_t seed) {
     const Bounds3 box = m.bounds();
     const Vec3 size = box.hi - box.lo;
@@ -58,7 +59,7 @@ Errors lattice_errors(const Medium& m, int balls, uint64_t seed) {
     while (n < balls) {
         const Vec3 x = box.lo + Vec3(rng.uniform(), rng.uniform(), rng.uniform()).cwiseProduct(size);
         if (rng.uniform() * peak > m.sigma_t(x)) continue;
-        const double r = size.minCoeff() * (0.25 + 0.75 * rng.uniform());
+        const double r = size.maxCoeff() * (0.125 + 0.875 * rng.uniform());
         if (!lattice.wide_enough(r)) continue;
         const double ref = reference(m, x, r, seed + uint64_t(n) + 1);
         const double err = lattice.ball_integral(x, r) / ref - 1.0;
@@ -99,8 +100,8 @@ TEST(MassLattice, WideBallsInTheBlobAndThePlume) {
         const GridMedium m(load_vdb_density(std::string(VPM_SOURCE_DIR "/media/") + name + ".vdb"), 1.0, Rgb::Constant(0.9), 0.0);
         const Errors e = lattice_errors(m, 24, 3);
         std::printf("%s: worst relative error %.4f, mean %+.4f\n", name, e.worst, e.mean);
-        EXPECT_LT(e.worst, 0.004);
-        EXPECT_LT(std::abs(e.mean), 0.001);
+        EXPECT_LT(e.worst, 0.01);
+        EXPECT_LT(std::abs(e.mean), 0.002);
     }
 }
 
