@@ -62,6 +62,7 @@ struct LazyLattice;   // ball_extinction.cpp
 class BallExtinction {
 public:
     explicit BallExtinction(const std::vector<std::unique_ptr<Medium>>& media);
+    // Copies share the mass lattices (built once, by whichever copy first needs one).
     // Mean over B(x, r) of the summed sigma_t of all media (overlapping media add). lookups: when
     // not null, the sigma_t evaluations made are added to it (the auto gather's cost count).
     double mean(const Vec3& x, double r, uint64_t* lookups = nullptr) const;
