@@ -9,6 +9,8 @@
 
 #include <cmath>
 #include <memory>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "core/rng.h"
@@ -124,4 +126,28 @@ TEST(MassLattice, BallExtinctionUsesItForWideCrossingBallsOnly) {
     lookups = 0;
     ball.integral(box.lo + 0.5 * size, size.minCoeff() / 20.0, &lookups);
     EXPECT_EQ(lookups, 15u);
+}
+
+TEST(MassLattice, SameIntegralsWhicheverThreadBuildsIt) {
+    // The lattice is built lazily by the first thread that needs it; two threads racing for it and
+    // one thread alone must give the same integrals bit for bit (images the same on any thread count).
+    std::vector<std::unique_ptr<Medium>> media;
+    media.push_back(std::make_unique<GridMedium>(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb"), 1.0, Rgb::Constant(0.9), 0.0));
+    const Bounds3 box = media[0]->bounds();
+    const Vec3 size = box.hi - box.lo;
+    std::vector<std::pair<Vec3, double>> balls;
+    Rng rng(5, 0);
+    for (int i = 0; i < 64; ++i)
+        balls.emplace_back(box.lo + Vec3(rng.uniform(), rng.uniform(), rng.uniform()).cwiseProduct(size), size.maxCoeff() * (0.2 + 0.8 * rng.uniform()));
+    const BallExtinction alone(media);
+    std::vector<double> expected;
+    for (const auto& [x, r] : balls) expected.push_back(alone.integral(x, r));
+    const BallExtinction shared(media);
+    std::vector<double> got[2];
+    std::thread a([&] { for (const auto& [x, r] : balls) got[0].push_back(shared.integral(x, r)); });
+    std::thread b([&] { for (size_t i = balls.size(); i-- > 0;) got[1].insert(got[1].begin(), shared.integral(balls[i].first, balls[i].second)); });
+    a.join();
+    b.join();
+    EXPECT_EQ(got[0], expected);
+    EXPECT_EQ(got[1], expected);
 }
