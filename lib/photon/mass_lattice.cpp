@@ -12,6 +12,8 @@ namespace {
 // sum over corners (-1)^|e| max(0, T - e.m)^3 / (6 m0 m1 m2), each width floored at 1% of the
 // largest so that the cancellation stays harmless (the floor tilts the plane by at most 1%).
 double part_below(Vec3 m, double T) {
+    if (T <= 0.0) return 0.0;
+    if (T >= m.sum()) return 1.0;
     const double floor = 1e-2 * m.maxCoeff();
     m = m.cwiseMax(floor);
     double sum = 0.0;
@@ -86,6 +88,8 @@ double MassLattice::ball_integral(const Vec3& x, double r, uint64_t* cells) cons
             const double* mass = &mass_[column(i, j) * kCells];
             for (int k = k0; k <= k1; ++k) {
                 if ((k >= in0 && k <= in1) || !(mass[k] > 0.0)) continue;   // empty cells: nothing to cut
+                const double z0 = k * cell_[2] - rel[2], zn = std::max(0.0, std::max(z0, -(z0 + cell_[2])));
+                if (near2 + zn * zn > r2) continue;   // the cell's nearest point is outside: the ball misses it
                 ++visited;
                 // The cut cell: the part of it inside the tangent plane at the sphere's point nearest its
                 // centre, moved inwards by the sphere's mean sag over the cell (the mean squared offset
