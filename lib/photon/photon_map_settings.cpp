@@ -63,6 +63,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
     s.max_bounces = int(p.integer("max_bounces", s.max_bounces, Range::closed(1, 1 << 30)));
     s.memory_budget_fraction = p.real("memory_budget_fraction", s.memory_budget_fraction, {0.0, 1.0, true, false});
     s.final_gather = p.boolean("final_gather", s.final_gather);
+    s.forced_collisions = p.boolean("forced_collisions", s.forced_collisions);
     s.extinction = p.choice("extinction", s.extinction,
                             {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball},
                              {"linear", ExtinctionNormalisation::linear}});

@@ -15,6 +15,8 @@
 //   | max_bounces            | 1000        | collisions + bounces per photon path (truncation)        |
 //   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
+//   | forced_collisions      | false       | true: photons collide in every medium segment, power     |
+//   |                        |             | times 1 - exp(-tau) (photon/forced_collision.h)          |
 //   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x;   |
 //   |                        |             | "linear": the ball's, exact for linear radiance across   |
 //   |                        |             | it (photon/linear_estimate.h)                            |
@@ -95,6 +97,7 @@ struct PhotonMapSettings {
     int max_bounces = 1000;
     double memory_budget_fraction = 0.5;
     bool final_gather = false;
+    bool forced_collisions = false;   // photon/forced_collision.h
     ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
     double max_radius_mfp = 2.0;
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
