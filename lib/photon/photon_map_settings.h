@@ -37,7 +37,7 @@
 //   |                        |             | (per-sample and photon-map variance, counted work) and   |
 //   |                        |             | keeps the least error^2 x work; under render.time_limit  |
 //   |                        |             | it also sizes photons and samples per pass unless count  |
-//   |                        |             | or spp is given (render/pass_plan.h, map_noise_pilot.h). |
+//   |                        |             | or render.passes is given (pass_plan.h, map_noise_pilot.h)|
 //   |                        |             | "threshold": per camera segment, "march" where the media's|
 //   |                        |             | majorant optical depth along it is at most               |
 //   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
@@ -110,7 +110,7 @@ struct PhotonMapSettings {
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
     // gather = "auto" with render.time_limit > 0: the plan sizes the photons per pass unless
-    // photons.count is given, the samples per pass unless render.spp or render.passes is.
+    // photons.count is given, the samples per pass unless render.passes is (render.spp is its start).
     bool size_photons = false, size_samples = false;
     double time_limit = 0.0;   // render.time_limit (the plan's budget)
     double alpha = 2.0 / 3.0;
