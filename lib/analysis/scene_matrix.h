@@ -72,7 +72,7 @@ struct MatrixMethodResult {
     double mse = 0;         // rel_rmse^2 minus the reference's noise
     double cost() const { return mse * seconds; }   // C
     uint64_t nonfinite_pixels = 0;
-    std::string chosen;     // photons.gather = "pilot": the gather its pilot chose (last pass)
+    std::string chosen;     // "pilot": the gather its pilot chose (last pass); "auto": the plan's gather, photons x spp per pass
     double march_weight_max = 0, march_weight_mean = 0;   // march points' relative weights (RunStats)
     double beam_crossed_per_query = 0;   // photons.gather = "beam": photon discs per segment query
 };
