@@ -64,15 +64,20 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
                                                const std::vector<PilotCandidate>& candidates,
                                                MapNoisePilotHooks& hooks, uint64_t seed, uint64_t stream,
                                                const PilotBudget& budget, double image_pixels) {
-    const std::vector<PhotonMap> halves = split_by_walk_group(map, 2);
+    // The halves are built once a candidate's full-map samples used the map: where none did (every
+    // ball wider than max_radius_mfp, the dense boxes) a half map's balls, wider still, are not used
+    // either, V_map and bias^2 are exactly 0, and the split (two kd-trees: most of a 1 s pilot in the
+    // dense boxes at 0.8 M stored photons) is skipped.
+    std::vector<PhotonMap> halves;
     const int width = camera.width(), height = camera.height();
     std::vector<GatherMeasurement> out;
     bool one_fits = false;   // an earlier candidate's one-sample pass fits the cap (render/pilot_budget.h)
     for (size_t c = 0; c < candidates.size(); ++c) {
-        const bool halves_too = candidates[c].uses_map;
-        const std::vector<const PhotonMap*> maps =
-            halves_too ? std::vector<const PhotonMap*>{&map, &halves[0], &halves[1]} : std::vector<const PhotonMap*>{&map};
-        std::vector<std::vector<double>> values(maps.size(), std::vector<double>(size_t(kPixels * kPilotSamples)));
+        const bool may_use_halves = candidates[c].uses_map;
+        // Share the budget as if the halves were traced (render/pilot_budget.h), whether or not they are.
+        const int budget_maps = may_use_halves ? 3 : 1;
+        std::vector<const PhotonMap*> maps = {&map};
+        std::vector<std::vector<double>> values(3, std::vector<double>(size_t(kPixels * kPilotSamples)));
         // Samples s0 .. s1 - 1 of every pilot pixel with map m.
         auto trace = [&](size_t m, int s0, int s1) {
             tbb::parallel_for(0, kPixels, [&](int j) {
@@ -106,11 +111,17 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         }
         one_fits = one_fits || !(image_pixels * probe_cost > budget.max_pass_cost);
         const int n = budget.per_candidate > 0.0
-                          ? pilot_samples(budget.per_candidate, probe_cost, kPixels, int(maps.size()), kPilotSamples)
+                          ? pilot_samples(budget.per_candidate, probe_cost, kPixels, budget_maps, kPilotSamples)
                           : kPilotSamples;
         trace(0, 1, n);
         g.per_sample = per_sample(before, hooks.counts(), double(kPixels * n));
         g.sample_cost = hooks.work(g.per_sample);
+        const bool halves_too = may_use_halves && g.per_sample.map_used > 0.0;
+        if (halves_too) {
+            if (halves.empty()) halves = split_by_walk_group(map, 2);
+            maps.push_back(&halves[0]);
+            maps.push_back(&halves[1]);
+        }
         for (size_t m = 1; m < maps.size(); ++m) {
             hooks.use(int(c), maps[m]);
             trace(m, 0, n);

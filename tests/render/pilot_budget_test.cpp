@@ -18,6 +18,7 @@ struct FakeRun {
     std::atomic<int64_t> rays{0};
     int current = 0;
     std::vector<double> rays_per_sample;   // per candidate
+    bool uses_map = true;                  // whether the traces count map estimates (else the halves are skipped)
     MapNoisePilotHooks hooks() {
         MapNoisePilotHooks h;
         h.use = [this](int c, const PhotonMap*) { current = c; };
@@ -28,6 +29,7 @@ struct FakeRun {
         h.counts = [this] {
             CountedOperations c;
             c.rays = double(rays.load());
+            c.map_used = uses_map ? c.rays : 0.0;
             return c;
         };
         h.work = [](const CountedOperations& c) { return c.rays; };
@@ -63,6 +65,18 @@ TEST(PilotBudget, SamplesFollowTheShareAndDearCandidatesStopAfterTheirProbe) {
     EXPECT_GT(m[2].v_camera, 0.0);
     // Counted work: the cheap candidate's 5 samples x 3 maps, the dear one's probe, the last one's 2 x 1 map.
     EXPECT_EQ(run.rays.load(), int64_t(5 * 3 * kPixels * 1 + kPixels * 1000 + 2 * kPixels * 10));
+
+    // No map estimate used: the halves are neither built nor traced (V_map and bias^2 exactly 0),
+    // while the samples stay those the three-map share pays for.
+    FakeRun unused;
+    unused.rays_per_sample = run.rays_per_sample;
+    unused.uses_map = false;
+    MapNoisePilotHooks n = unused.hooks();
+    const auto skipped = measure_gathers(camera, map, candidates, n, 7, 0, budget, 32.0 * 32.0);
+    EXPECT_EQ(skipped[0].samples, 5);
+    EXPECT_EQ(skipped[0].v_map_half, 0.0);
+    EXPECT_EQ(skipped[0].bias2, 0.0);
+    EXPECT_EQ(unused.rays.load(), int64_t(5 * kPixels * 1 + kPixels * 1000 + 2 * kPixels * 10));
 
     FakeRun unbounded;
     unbounded.rays_per_sample = run.rays_per_sample;
