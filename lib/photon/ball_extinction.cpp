@@ -262,8 +262,8 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
                 continue;
             }
             // A continuous medium crossing its box with r <= 1/4 of the box, as integral() does: the
-            // points outside count 0 and there is no jump to resolve (the 4096 clipped points here cost
-            // the plume's linear render most of its extra time, issue 21).
+            // points outside count 0 and there is no jump to resolve (moments took the 4096 clipped
+            // points there, with an outer product each).
             if (inside || (e.medium->continuous() && 4.0 * rj <= (e.box.hi - e.box.lo).minCoeff())) {
                 // A continuous medium (grids, as integral() uses it): the degree-5 rule (15 points,
                 // symmetric), exact for the moments up to the second of a cubic sigma_t over the ball;
