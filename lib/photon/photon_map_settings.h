@@ -15,9 +15,10 @@
 //   | max_bounces            | 1000        | collisions + bounces per photon path (truncation)        |
 //   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
-//   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x;   |
-//   |                        |             | "linear": the ball's, exact for linear radiance across   |
-//   |                        |             | it (photon/linear_estimate.h)                            |
+//   | extinction             | "linear"    | "linear": the ball's, exact for linear radiance across   |
+//   |                        |             | it (photon/linear_estimate.h; the default since issue    |
+//   |                        |             | 21's third session); "ball": mean sigma_t over the kNN   |
+//   |                        |             | ball; "point": at x                                      |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
 //   |                        |             | fewer than k photons within: the camera path continues   |
 //   |                        |             | (photon/bounded_radius.h); 0: off                        |
@@ -95,7 +96,7 @@ struct PhotonMapSettings {
     int max_bounces = 1000;
     double memory_budget_fraction = 0.5;
     bool final_gather = false;
-    ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
+    ExtinctionNormalisation extinction = ExtinctionNormalisation::linear;
     double max_radius_mfp = 2.0;
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::automatic;
