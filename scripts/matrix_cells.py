@@ -4,7 +4,8 @@ cached references/), seeds interleaved, error against the cell's reference minus
 noise. Three studies (BENCHMARKS.md 11.5 and 11.6):
 
   gathers     error per sample and render time per sample of photon-map gathers, each method
-              NAME=BIN:GATHER with BIN old (--old-vpm) or new (--vpm)
+              NAME=BIN:GATHER with BIN old (--old-vpm) or new (--vpm); GATHER "path" is the path
+              tracer, GATHER+point the gather with photons.extinction = "point"
   store       fixed photons.store_probability values (--q): map size, phase times, C = err^2 x time
   store-auto  photons.store_probability 1 against "auto" at equal time (render.time_limit = --seconds)
 
@@ -65,16 +66,23 @@ for cell in a.cells:
         for seed in range(1, seeds + 1):
             for name, spec in methods:
                 binary, gather = spec.split(':')
-                d, e2, bias = render(cell, bins[binary], [f'photons.gather="{gather}"', f'render.seed={seed}', f'render.spp={a.spp}'], 'run_' + name)
-                p = d['photons']
-                res[name].append((e2, bias, d['phases']['render']['seconds'], p.get('march_weight_max', float('nan')),
-                                  p.get('march_weight_mean', float('nan'))))
+                sets = [f'render.seed={seed}', f'render.spp={a.spp}']
+                # GATHER "path": the path tracer; GATHER+point: the gather with photons.extinction = "point"
+                sets += ['render.integrator="path"'] if gather == 'path' else [f'photons.gather="{gather.split("+")[0]}"']
+                if gather.endswith('+point'):
+                    sets.append('photons.extinction="point"')
+                d, e2, bias = render(cell, bins[binary], sets, 'run_' + name)
+                p, ph = d.get('photons', {}), d['phases']
+                res[name].append((e2, bias, ph['render']['seconds'], p.get('march_weight_max', float('nan')),
+                                  p.get('march_weight_mean', float('nan')),
+                                  sum(ph[k]['seconds'] for k in ('trace', 'build', 'render') if k in ph)))
         line = [cell]
         for name, _ in methods:
             r = res[name]
             e2, sec = mean(r, 0), mean(r, 2)
             us = sec / (32 * 32 * a.spp) * 1e6
             line.append(f'{name}: rmse {math.sqrt(max(e2, 0)):.3f} bias {mean(r, 1):+.3f} {us:.1f}us/spl C {e2 * sec:.3g} '
+                        f'C_total {e2 * mean(r, 5):.3g} '
                         f'w {max(x[3] for x in r):.3g}/{mean(r, 4):.3g}')
         print(' | '.join(line), flush=True)
         continue

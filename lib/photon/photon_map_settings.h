@@ -15,6 +15,8 @@
 //   | max_bounces            | 1000        | collisions + bounces per photon path (truncation)        |
 //   | memory_budget_fraction | 0.5         | warn when the map would take more of physical memory     |
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
+//   | forced_collisions      | false       | true: photons collide in every medium segment, power     |
+//   |                        |             | times 1 - exp(-tau) (photon/forced_collision.h)          |
 //   | extinction             | "linear"    | "linear": the ball's, exact for linear radiance across   |
 //   |                        |             | it (photon/linear_estimate.h; the default since issue    |
 //   |                        |             | 21's third session); "ball": mean sigma_t over the kNN   |
@@ -36,7 +38,7 @@
 //   |                        |             | (per-sample and photon-map variance, counted work) and   |
 //   |                        |             | keeps the least error^2 x work; under render.time_limit  |
 //   |                        |             | it also sizes photons and samples per pass unless count  |
-//   |                        |             | or spp is given (render/pass_plan.h, map_noise_pilot.h). |
+//   |                        |             | or render.passes is given (pass_plan.h, map_noise_pilot.h)|
 //   |                        |             | "threshold": per camera segment, "march" where the media's|
 //   |                        |             | majorant optical depth along it is at most               |
 //   |                        |             | march_max_optical_depth, else "collision" (chosen from   |
@@ -96,6 +98,7 @@ struct PhotonMapSettings {
     int max_bounces = 1000;
     double memory_budget_fraction = 0.5;
     bool final_gather = false;
+    bool forced_collisions = false;   // photon/forced_collision.h
     ExtinctionNormalisation extinction = ExtinctionNormalisation::linear;
     double max_radius_mfp = 2.0;
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
@@ -108,7 +111,7 @@ struct PhotonMapSettings {
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
     // gather = "auto" with render.time_limit > 0: the plan sizes the photons per pass unless
-    // photons.count is given, the samples per pass unless render.spp or render.passes is.
+    // photons.count is given, the samples per pass unless render.passes is (render.spp is its start).
     bool size_photons = false, size_samples = false;
     double time_limit = 0.0;   // render.time_limit (the plan's budget)
     double alpha = 2.0 / 3.0;

@@ -10,6 +10,7 @@
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
 #include "core/sampling.h"
+#include "photon/forced_collision.h"
 #include "photon/store_thinning.h"
 #include "transport/walk_steps.h"
 
@@ -85,6 +86,8 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
     const uint64_t begin = batch * kBatchSize, end = std::min(s.count, begin + kBatchSize);
     const double inv_n = 1.0 / double(s.count);
     out.per_light.assign(scene.lights.size(), LightPhotonStats{});
+    const bool forced_ok = s.forced_collisions && forced_collisions_possible(scene);
+    OpticalDepthProfile profile;
     for (uint64_t i = begin; i < end; ++i) {
         double light_pdf = 1.0;
         const size_t light_index = picker.pick(rng.uniform(), light_pdf);
@@ -97,6 +100,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
         Rgb power = e.power * (inv_n / light_pdf);
         out.energy.emitted += power;
         Ray ray = e.ray;
+        const double window = kForcedWindow * power.maxCoeff();   // forced steps: the weight window's floor
         bool scattered = false;
         int bounces = 0;
         const uint8_t group = uint8_t(i % kWalkGroups);   // every photon of this walk (photon.h)
@@ -106,7 +110,9 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 ++out.truncated_paths;
                 break;
             }
-            const PathVertex v = next_vertex(scene, ray, rng);
+            ForcedStep forced;
+            const bool is_forced = forced_ok && forced_step(scene, ray, rng, profile, forced);
+            const PathVertex v = is_forced ? forced.vertex : next_vertex(scene, ray, rng);
             const MediumEvent& event = v.medium;
             const SurfaceHit& hit = v.hit;
             if (v.escaped()) {
@@ -115,6 +121,21 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             }
             if (bounces == 0) ++light_stats.landed;
             ++bounces;
+            if (event && is_forced) {
+                // The share exp(-tau) passes the medium: out of the scene, or into a black surface.
+                const Rgb passed = power * forced.transmittance;
+                (v.on_surface ? out.energy.absorbed : out.energy.escaped) += passed;
+                power -= passed;
+                if (power.maxCoeff() < window) {   // the weight window: roulette up to its floor
+                    const double keep = power.maxCoeff() / window;
+                    if (!(keep > 0.0) || rng.uniform() >= keep) {
+                        out.energy.absorbed += power;
+                        break;
+                    }
+                    out.energy.absorbed += power - power / keep;   // negative: the survivor carries the rest
+                    power /= keep;
+                }
+            }
             const Rgb power_in = power;
             bool alive;
             if (event) {

@@ -57,6 +57,8 @@ struct PhotonTraceSettings {
     // batch 0 (4096 photons) stores every collision, the rest with the probability its counts give.
     bool store_auto = false;
     int max_bounces = 1000;       // collisions + surface bounces per path before truncation
+    // Every segment in the medium collides, its power times 1 - exp(-tau) (photon/forced_collision.h).
+    bool forced_collisions = false;
     bool progress = true;
     // Called after each chunk; may throw (vpm::Error) to stop the pass, e.g. when the projected
     // map cannot fit in memory (photon/photon_budget.h). Null: no callback.

@@ -51,6 +51,7 @@ PhotonMapIntegrator::Gather initial_gather(GatherMode mode) {
 
 struct PhotonMapIntegrator::ThreadState {
     explicit ThreadState(const Scene& scene) : ball(scene.media) {}
+    explicit ThreadState(const BallExtinction& shared) : ball(shared) {}   // the same box masses and mass lattices
     BallExtinction ball;   // mean sigma_t over kNN balls (photons.extinction = "ball")
     struct Local {
         GatherBuffers buffers;
@@ -319,7 +320,7 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
 
 void PhotonMapIntegrator::with_fresh_counters(const std::function<void()>& f) {
     std::unique_ptr<ThreadState> run = std::move(threads_);
-    threads_ = std::make_unique<ThreadState>(scene_);
+    threads_ = std::make_unique<ThreadState>(run->ball);
     f();
     threads_ = std::move(run);
 }

@@ -25,6 +25,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     ts.store_surface = surface;
     ts.store_probability = ps.store_probability;
     ts.store_auto = ps.store_auto;
+    ts.forced_collisions = ps.forced_collisions;
     // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
     ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), context.log);
     // Photons per light: by a pilot's importance where the camera looks, or by power.

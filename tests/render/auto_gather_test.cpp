@@ -72,7 +72,11 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
         EXPECT_GT(c.sample_cost, 0.0) << c.name;
         EXPECT_EQ(c.v_map_quarter, -1.0) << c.name;   // quarters only when the count is sized
     }
-    const RunResult given = render(f, {"render.time_limit=1e-9", "render.spp=3", "photons.count=20000"});
+    // render.spp alone is the plan's starting point under a limit; render.passes pins the pass.
+    const RunResult spp_given = render(f, {"render.time_limit=1e-9", "render.spp=3", "photons.count=20000"});
+    ASSERT_TRUE(spp_given.stats.auto_gather);
+    EXPECT_TRUE(spp_given.stats.auto_gather->size_samples);
+    const RunResult given = render(f, {"render.time_limit=1e-9", "render.spp=3", "render.passes=1", "photons.count=20000"});
     ASSERT_TRUE(given.stats.auto_gather);
     EXPECT_FALSE(given.stats.auto_gather->size_samples);
     EXPECT_EQ(given.stats.render.samples, 144u * 3u);
