@@ -15,7 +15,7 @@
 // light reaching the medium via walls is found at the next medium collision. The estimator's
 // bias is then the only bias in the image.
 //
-// photons.extinction = "ball" divides by the mean sigma_t over the kNN ball (closed
+// photons.extinction = "ball" (the default) divides by the mean sigma_t over the kNN ball (closed
 // forms where a medium has one, else a 15-point degree-5 rule: photon/ball_extinction.h) instead of sigma_t(x). S averages sigma_t L over that ball, so
 // the ratio is consistent like the point version and identical inside a homogeneous medium, but it
 // does not blow up where a ball reaches from a thin plume edge (sigma_t(x) ~ 0) into dense smoke, and
@@ -23,8 +23,8 @@
 // is still the collision estimator; "point" is DESIGN.md's formula. Measured on the default scene
 // (256x256, 1e6 photons, corrected, relative RMSE against a 1024-spp path-traced reference):
 // k = 8: 0.161 point / 0.124 ball, k = 32: 0.216 / 0.091; bias +0.013 / +0.004 at k = 32.
-// The default, "linear" (issue 21), divides the same way and weighs each photon so that a radiance
-// linear across the ball is exact (photon/linear_estimate.h).
+// "linear" (issue 21) divides the same way and weighs each photon so that a radiance linear across
+// the ball is exact (photon/linear_estimate.h).
 //
 // With a surface photon map (photons.final_gather = false, the default, in a scene with shapes)
 // the camera path ends at its first surface hit instead:
