@@ -95,12 +95,13 @@ TEST(Passes, SppMustBeAMultipleOfPasses) {
 TEST(Passes, TimeLimitRunsMorePassesForBothIntegrators) {
     // A 4x4, 1-spp pass takes well under a millisecond; a 1 s budget holds many of them, and the
     // minimum (render.passes) always runs. The count itself depends on the machine: only its
-    // lower bounds are asserted.
+    // lower bounds are asserted. render.passes = 1 pins the photon map's pass at 1 sample (under a
+    // limit its auto plan otherwise sizes the samples per pass from render.spp on).
     for (const char* integrator : {"path", "photon_map"}) {
         RunOptions o;
         o.progress = false;
         const RunResult r = run(RunConfig::load(VPM_SOURCE_DIR "/configs/homogeneous.toml",
-                                                {"render.width=4", "render.height=4", "render.spp=1", "photons.count=200",
+                                                {"render.width=4", "render.height=4", "render.spp=1", "render.passes=1", "photons.count=200",
                                                  std::string("render.integrator=") + integrator, "render.time_limit=1"}),
                                 o);
         EXPECT_GT(r.stats.pass_count(), 1u) << integrator;
