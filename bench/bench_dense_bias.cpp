@@ -23,6 +23,8 @@
 //                         (photon/group_estimate.h since the second session of issue 21)
 //   linear+halves         both
 // --shuffle 1 moves every photon to a random lateral place (depth kept): no clustering, same profile.
+// SMOOTHING: the linear estimates' expectation if their only error were the curvature of the depth
+// profile across each query's realised ball (this map's fine histogram in place of the truth).
 //
 //   bench_dense_bias [--albedo 0.99] [--photons 1e5] [--width 20] [--k 32] [--queries 2e5]
 //                    [--seed 1] [--mu 1] [--store 1] [--shuffle 0] [--margin 1.5]
@@ -198,6 +200,25 @@ int main(int argc, char** argv) {
     const char* names[V] = {"corrected/ball", "corrected/point", "classic/ball", "leave-walk-out/ball", "corrected k+1/ball", "corrected/halton4096", "corrected/32pt rnd plane", "linear", "leave-16-groups-out", "linear+16 groups", "leave-half-out", "linear+halves"};
     const auto bp = ball_points();
     std::vector<Acc> acc(V);
+    // The deterministic smoothing of this map's own depth profile by each query's realised ball(s):
+    // the estimate's expectation if its only error were the profile's curvature across the ball
+    // (the fine histogram C stands for the truth; linear in C, so unbiased for the smoothed truth).
+    //   pred linear        integral of h C over B(r_k) n medium / |B(r_k) n medium|
+    //   pred linear+halves the same at each half's radius, each half weighing 1/2
+    Acc pred_lin, pred_lin_halves, at_query;
+    auto smoothed = [&](double dq, double r) {
+        const double lo = std::max(0.0, dq - r), hi = dq + r;
+        double cd = dq, vd = 1.0;   // linear_h's moments, once per ball
+        if (dq < r) clipped_moments(dq, r, cd, vd);
+        double num = 0;
+        for (size_t b = size_t(lo / bw); b < chist.size() && b * bw < hi; ++b) {
+            const double z0 = std::max(lo, b * bw), z1 = std::min(hi, (b + 1) * bw);
+            if (!(z1 > z0)) continue;
+            const double z = 0.5 * (z0 + z1), a = kPi_ * std::max(0.0, r * r - (z - dq) * (z - dq));
+            num += chist[b] * (dq < r ? 1.0 - (z - cd) * (cd - dq) / vd : 1.0) * a * (z1 - z0);
+        }
+        return num / clipped_volume(dq, r);
+    };
     // depth profile of the bias: bins of d_q / r_k
     const int B = 8;
     std::vector<Acc> bin_est(B), bin_true(B);
@@ -269,6 +290,7 @@ int main(int argc, char** argv) {
             }
             est[8 + lin] = sum;
         }
+        double half_pred = 0;
         for (int lin = 0; lin < 2; ++lin) {   // photon/group_estimate.h: each parity half within the other's m-th photon
             const size_t m = (k + 1) / 2;
             size_t cnt[2] = {0, 0}, end[2] = {found, found};
@@ -278,6 +300,7 @@ int main(int argc, char** argv) {
                 const size_t j = end[1 - h];
                 if (j >= found) { ++lowo_short; continue; }
                 const double R = std::sqrt(d2[j]);
+                if (lin) half_pred += 0.5 * smoothed(dq, R);
                 double pw = 0;
                 for (size_t i = 0; i < j; ++i) if (int(c.walk[idx[i]] % 2) == h && d2[i] < d2[j]) pw += c.p[idx[i]] * (lin ? linear_h(c.d[idx[i]], dq, R) : 1.0);
                 sum += pw / clipped_volume(dq, R);
@@ -285,6 +308,9 @@ int main(int argc, char** argv) {
             est[10 + lin] = sum;
         }
         for (int v = 0; v < V; ++v) acc[v].add(scale * est[v]);
+        pred_lin.add(scale * smoothed(dq, rk));
+        pred_lin_halves.add(scale * half_pred);
+        at_query.add(scale * c_at(dq));
         const double ct = scale * c_at(dq);
         c_total += ct;
         (dq < rk ? clip_excess : inner_excess) += scale * est[0] - ct;
@@ -296,6 +322,8 @@ int main(int argc, char** argv) {
     std::printf("PAIRED (estimate / this map's histogram):");
     for (int v = 0; v < V; ++v) std::printf(" %s %.4f +- %.4f;", names[v], acc[v].mean() * truth / hist / truth, acc[v].se() / hist);
     std::printf("\n");
+    std::printf("SMOOTHING (this map's depth profile averaged over each query's realised balls, / histogram): linear %.4f +- %.4f; linear+halves %.4f +- %.4f; profile at the query depths %.4f +- %.4f\n",
+                pred_lin.mean() / hist, pred_lin.se() / hist, pred_lin_halves.mean() / hist, pred_lin_halves.se() / hist, at_query.mean() / hist, at_query.se() / hist);
     std::printf("truth (closed form, multiple scattering) %.6f   histogram of this map %.6f (%.4f)\n", truth, hist, hist / truth);
     for (int v = 0; v < V; ++v)
         std::printf("  %-22s %.6f +- %.6f   / truth %.4f +- %.4f\n", names[v], acc[v].mean(), acc[v].se(), acc[v].mean() / truth, acc[v].se() / truth);

@@ -84,14 +84,20 @@ inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool
         if (linear) {
             const BallMoments& mh = mo[size_t(h)];
             m0[size_t(h)] = mh.m0;
-            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(mh.cov);
-            const bool use_g = eig.eigenvalues().minCoeff() > 1e-6 * r2;   // as linear_estimate.h
-            const Vec3 g = use_g ? Vec3(eig.eigenvectors() * (eig.eigenvalues().cwiseInverse().asDiagonal() *
-                                                              (eig.eigenvectors().transpose() * mh.offset)))
-                                 : Vec3::Zero();
+            Vec3 g = Vec3::Zero();   // S^-1 (c - x); exactly 0 (every h_i = 1) when the centroid is x
+            if (!mh.offset.isZero(0.0)) {
+                const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(mh.cov);
+                if (eig.eigenvalues().minCoeff() > 1e-6 * r2)   // as linear_estimate.h
+                    g = eig.eigenvectors() * (eig.eigenvalues().cwiseInverse().asDiagonal() * (eig.eigenvectors().transpose() * mh.offset));
+            }
             const Vec3 c = x + mh.offset;
-            for (size_t i = 0; i < found && buf.d2[i] < r2; ++i)
-                if (walk_half(buf.list[i].group) == h) sum += buf.w[i] * (1.0 - (map.position(buf.list[i].index) - c).dot(g));
+            if (g.isZero(0.0)) {
+                for (size_t i = 0; i < found && buf.d2[i] < r2; ++i)
+                    if (walk_half(buf.list[i].group) == h) sum += buf.w[i];
+            } else {
+                for (size_t i = 0; i < found && buf.d2[i] < r2; ++i)
+                    if (walk_half(buf.list[i].group) == h) sum += buf.w[i] * (1.0 - (map.position(buf.list[i].index) - c).dot(g));
+            }
         } else {
             for (size_t i = 0; i < found && buf.d2[i] < r2; ++i)
                 if (walk_half(buf.list[i].group) == h) sum += buf.w[i];

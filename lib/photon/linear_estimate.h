@@ -36,6 +36,9 @@ inline Rgb linear_estimate(const Estimate<Rgb>& s, const Estimator& e, const Gat
     const bool used = s.kind == EstimateCase::knn || s.kind == EstimateCase::extended ||
                       s.kind == EstimateCase::all_photons || s.kind == EstimateCase::fixed_radius;
     if (!used || !(volume > 0.0) || s.k_used == 0) return s.value / mean;
+    // The centroid at x exactly (a ball inside a homogeneous medium, closed-form moments): every
+    // h_i is 1, and the weighted sum below would be s.value bit for bit.
+    if (m.offset.isZero(0.0)) return s.value / mean;
     // S^-1 (c - x), if S is comfortably positive definite (relative to r^2).
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(m.cov);
     if (!(eig.eigenvalues().minCoeff() > 1e-6 * s.radius * s.radius)) return s.value / mean;

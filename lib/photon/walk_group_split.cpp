@@ -15,8 +15,13 @@ std::vector<PhotonMap> split_by_walk_group(const PhotonMap& map, int parts) {
         p.position = map.position(i);
         p.direction = map.direction(i);
         p.power = map.power(i) * double(parts);
-        p.group = walk_group(map.record(i).reserved);
-        inputs[size_t(p.group % parts)].push_back(p);
+        const uint8_t g = walk_group(map.record(i).reserved);
+        // Within its part a photon's group becomes g / parts, so that every part still holds both
+        // parities (photons.clustering = "leave_group_out" splits by parity: with g kept, a part of
+        // one parity left its other half empty and every query gathered the whole map, 300 s of
+        // pilot in the thin cube; issue 21).
+        p.group = uint8_t(g / parts);
+        inputs[size_t(g % parts)].push_back(p);
     }
     std::vector<PhotonMap> out;
     out.reserve(size_t(parts));

@@ -1,5 +1,6 @@
 // photons.gather = "auto": the map-noise pilot and the pass plan (render/pass_plan.h), run once on
 // the first pass of a run. A member of PhotonMapIntegrator kept apart from its camera paths.
+#include <algorithm>
 #include <atomic>
 #include <ostream>
 
@@ -23,8 +24,9 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     PlanInputs in;
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
     in.count = settings_.count;
-    // Not sized: the configured samples per pass (the photon pass is shared by them; unknown: 1).
-    in.spp = settings_.size_samples ? 1 : std::max(1, context.spp);
+    // The configured pass: the plan's sizes start from it, and a pass over budget / kPlanMinPasses
+    // may still be as large as it (when unsized the plan only picks the gather at these samples).
+    in.spp = std::max(1, context.configured_spp);
     in.size_photons = owns_maps_ && settings_.size_photons;
     in.size_samples = settings_.size_samples;
     in.budget = settings_.time_limit * kWorkUnitsPerSecond;

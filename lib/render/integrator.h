@@ -29,7 +29,7 @@ struct PassContext {
     uint64_t stream_offset = 0;    // independent repeats and passes with the same seed
     uint64_t run_stream_offset = 0;   // the run's own offset (the same for all its passes)
     int pass = 0;                  // the pass's index, counting from render.first_pass
-    int spp = 0;                   // samples per pass as configured (render.spp / render.passes); 0: unknown
+    int configured_spp = 16;       // render.spp / render.passes: the pass's samples unless sized
     bool first_of_run = true;      // this run's first pass (logs say what was built once)
     bool progress = true;          // progress bars on stderr
     std::ostream* log = nullptr;   // one line per phase; null: silent

@@ -61,7 +61,12 @@ PassPlan plan_passes(const PlanInputs& in) {
                 if (cost > cap && !(i == 0 && s <= in.spp)) continue;
                 const double variance = v_map + m.v_camera / double(s);
                 double score = variance * cost;
-                if (in.budget > 0.0) score = cost <= in.budget ? score + bias2 * in.budget : (variance + bias2) * cost;
+                // Whole passes: P = floor(T / C) of them fit (one at least), so a pass that fills most of
+                // the budget is one pass, whose variance does not average down (a 1-sample pass whose
+                // photons took the budget won over 16 samples when P was taken as T / C).
+                if (in.budget > 0.0)
+                    score = cost <= in.budget ? (variance / std::floor(in.budget / cost) + bias2) * in.budget
+                                              : (variance + bias2) * cost;
                 if (!trusted) score = kInfinity;
                 // Without the map every S scores alike (V_camera / S times S samples' cost): then the
                 // largest pass within the cap, so that per-pass overheads the counts miss stay small.

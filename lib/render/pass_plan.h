@@ -11,8 +11,8 @@
 // at N0 / 2 photons (the pilot's independent half maps) and extrapolated as N^-beta: beta = 1 where
 // a pixel's footprint holds many kNN balls, 1/3 where one ball spans the pixel's cross-section (the
 // balls then only average along the ray); measured from N0 / 4 where given, else 1.
-// With a budget T (render.time_limit, in work units) P = T / C passes fit, and the bias, which does
-// not average out, enters: error^2 x time = (V_map(N) + V_camera / S) C + bias(N)^2 T for C <= T,
+// With a budget T (render.time_limit, in work units) P = floor(T / C) whole passes fit, and the bias,
+// which does not average out, enters: error^2 x time = ((V_map(N) + V_camera / S) / P + bias(N)^2) T for C <= T,
 // (V_map + V_camera / S + bias^2) C for a pass longer than the budget (one pass is still made);
 // bias(N)^2 = bias(N0)^2 (N0 / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N never
 // goes below the configured count N0. Every input is a count, a variance or a config value: the

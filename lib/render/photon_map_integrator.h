@@ -23,6 +23,8 @@
 // is still the collision estimator; "point" is DESIGN.md's formula. Measured on the default scene
 // (256x256, 1e6 photons, corrected, relative RMSE against a 1024-spp path-traced reference):
 // k = 8: 0.161 point / 0.124 ball, k = 32: 0.216 / 0.091; bias +0.013 / +0.004 at k = 32.
+// "linear" (issue 21) divides the same way and weighs each photon so that a radiance linear across
+// the ball is exact (photon/linear_estimate.h).
 //
 // With a surface photon map (photons.final_gather = false, the default, in a scene with shapes)
 // the camera path ends at its first surface hit instead:

@@ -76,7 +76,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         context.stream_offset = stream;
         context.run_stream_offset = options.stream_offset;
         context.pass = index;
-        context.spp = rs.spp_per_pass();
+        context.configured_spp = rs.spp_per_pass();
         context.first_of_run = done == 0;
         context.progress = options.progress;
         context.log = options.log;

@@ -53,14 +53,16 @@ TEST(BallIntegral, HomogeneousSphereLensInsideAndAround) {
     EXPECT_EQ(v, 0.0);
 }
 
-TEST(BallIntegral, HomogeneousBoxCapsThroughOneAxisOnly) {
+TEST(BallIntegral, HomogeneousBoxCapsEdgesAndCorners) {
     const HomogeneousMedium b = HomogeneousMedium::box(Vec3(0, 0, 0), Vec3(1, 2, 3), 2.0, Rgb::Constant(0.9), 0.0);
     expect_exact(b, Vec3(0.5, 1.0, 1.5), 0.3, "inside");
     expect_exact(b, Vec3(0.1, 1.0, 1.5), 0.3, "one face");
     expect_exact(b, Vec3(-0.2, 1.0, 1.5), 0.3, "centre outside, one face");
     expect_exact(b, Vec3(0.5, 1.0, 1.5), 0.7, "both faces of x");
     double v = -1;
-    EXPECT_FALSE(b.ball_integral(Vec3(0.1, 0.1, 1.5), 0.3, v)) << "an edge: caps of two axes overlap";
+    expect_exact(b, Vec3(0.1, 0.1, 1.5), 0.3, "an edge: caps of two axes overlap (issue 21: inclusion-exclusion)");
+    expect_exact(b, Vec3(0.1, 1.9, 2.8), 0.35, "a corner");
+    EXPECT_FALSE(b.ball_integral(Vec3(-0.1, 0.1, 1.5), 0.3, v)) << "an edge with the centre outside: not closed";
 }
 
 TEST(BallIntegral, GridBallInsideOneTrilinearCellIsItsCentreValue) {

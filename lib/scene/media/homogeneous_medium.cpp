@@ -1,5 +1,7 @@
 #include "scene/media/homogeneous_medium.h"
 
+#include "scene/media/ball_clip_moments.h"
+
 #include <algorithm>
 #include <sstream>
 
@@ -78,7 +80,8 @@ bool HomogeneousMedium::ball_integral(const Vec3& x, double r, double& integral)
         return true;
     }
     // Box: the ball minus the caps beyond the faces it crosses, when they are the two faces of one
-    // axis at most (caps of different axes may overlap near edges and corners: not closed here).
+    // axis; caps of different axes may overlap near edges and corners, where the inclusion-exclusion
+    // of ball_clip_moments.h takes over (x inside the box; else the caller integrates).
     int crossing_axis = -1;
     double caps = 0.0;
     for (int a = 0; a < 3; ++a) {
@@ -88,7 +91,12 @@ bool HomogeneousMedium::ball_integral(const Vec3& x, double r, double& integral)
             return true;
         }
         if (below >= r && above >= r) continue;
-        if (crossing_axis >= 0) return false;
+        if (crossing_axis >= 0) {   // an edge or a corner in reach: inclusion-exclusion of the caps
+            ClipMoments m;
+            if (!ball_box_moments(r, bounds_.lo - x, bounds_.hi - x, m)) return false;
+            integral = sigma_t_ * m.m0;
+            return true;
+        }
         crossing_axis = a;
         for (const double dist : {below, above}) {
             if (dist >= r) continue;
@@ -97,6 +105,16 @@ bool HomogeneousMedium::ball_integral(const Vec3& x, double r, double& integral)
         }
     }
     integral = sigma_t_ * std::max(0.0, ball - caps);
+    return true;
+}
+
+bool HomogeneousMedium::ball_moments(const Vec3& x, double r, double& m0, Vec3& m1, Eigen::Matrix3d& m2) const {
+    ClipMoments m;
+    if (shape_ == Shape::sphere) m = ball_ball_moments(r, center_ - x, radius_);
+    else if (!ball_box_moments(r, bounds_.lo - x, bounds_.hi - x, m)) return false;
+    m0 = sigma_t_ * m.m0;
+    m1 = sigma_t_ * m.m1;
+    m2 = sigma_t_ * m.m2;
     return true;
 }
 

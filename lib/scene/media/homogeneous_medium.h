@@ -23,8 +23,11 @@ public:
     double sample_free_flight(const Ray& ray, double tmax, Rng& rng) const override;
     double transmittance(const Ray& ray, double tmax, Rng& rng) const override;
     double sigma_t(const Vec3& p) const override;
-    // Inside the shape; a sphere's lens (any overlap); a box crossed through the faces of one axis (caps).
+    // Inside the shape; a sphere's lens (any overlap); a box crossed through the faces of one axis
+    // (caps), or of more around x (scene/media/ball_clip_moments.h).
     bool ball_integral(const Vec3& x, double r, double& integral) const override;
+    // A sphere's lens (any overlap); a box around x (any faces, edges and corners in reach).
+    bool ball_moments(const Vec3& x, double r, double& m0, Vec3& m1, Eigen::Matrix3d& m2) const override;
     void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;   // exact here
     void optical_depth_profile(const Ray& ray, double tmax, OpticalDepthProfile& out) const override;   // one piece
     std::string describe() const override;

@@ -44,6 +44,18 @@ public:
         (void)integral;
         return false;
     }
+    // The sigma_t-weighted moments of B(x, r) about x in closed form, when this medium has one
+    // (homogeneous: a sphere's lens, a box around x; scene/media/ball_clip_moments.h): m0 = the
+    // integral of sigma_t, m1 of sigma_t (p - x), m2 of sigma_t (p - x)(p - x)^T. A ball inside a
+    // homogeneous medium gives m1 exactly 0 (photons.extinction = "linear" then skips its weights).
+    virtual bool ball_moments(const Vec3& x, double r, double& m0, Vec3& m1, Eigen::Matrix3d& m2) const {
+        (void)x;
+        (void)r;
+        (void)m0;
+        (void)m1;
+        (void)m2;
+        return false;
+    }
     // sigma_t has no jump anywhere (it falls to 0 continuously at the bounds, like a trilinear
     // grid), so a quadrature of a ball crossing the bounds needs no clipping.
     virtual bool continuous() const { return false; }
