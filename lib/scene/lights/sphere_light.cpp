@@ -5,11 +5,17 @@
 // the sphere subtends from the point (uniform in solid angle, pdf 1 / (2 pi (1 - cos theta_max))),
 // which is exact in direction and wastes no sample on the far side. pbrt falls back to area
 // sampling for points inside; here nothing inside is lit, so no fallback is needed.
+// Photons: a sphere light far from what it can light (its target: media, shapes, other area
+// lights, more than twice their bounding radius plus its own away) emits half its photons from the
+// cosine law and half uniformly in the cone from the surface point towards the target, each with
+// power L cos A / p_mix (one-sample MIS, as the large quad's): L pi A in expectation. Cosine emission
+// alone sent 99.5% of the photons of a 0.3-radius light 9 units from a unit box into empty space.
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "core/sampling.h"
+#include "scene/lights/emission_cone.h"
 #include "scene/lights/light_registry.h"
 #include "config/params.h"
 
@@ -73,8 +79,30 @@ public:
     EmissionSample sample_emission(Rng& rng) const override {
         const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform();
         const Vec3 n = sample_uniform_sphere(u1, u2);
-        const Vec3 dir = Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
-        return {Ray{center_ + radius_ * n, dir}, power()};
+        const Vec3 p = center_ + radius_ * n;
+        if (!aimed_) {
+            const Vec3 dir = Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
+            return {Ray{p, dir}, power()};
+        }
+        // One-sample mixture of the cosine direction and a direction uniform in the cone from p
+        // around what the light can light; power L cos A / p_mix, so L pi A in expectation.
+        const EmissionCone cone = EmissionCone::towards(p, target_);
+        const Vec3 dir = rng.uniform() < kAimedShare ? cone.sample(u3, u4)
+                                                     : Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
+        const double cos = dir.dot(n);
+        if (!(cos > 0.0)) return {Ray{p, dir}, Rgb::Zero()};   // into the sphere: no light there
+        const double pdf = (1.0 - kAimedShare) * cos / kPi + (cone.contains(dir) ? kAimedShare / cone.solid_angle() : 0.0);
+        return {Ray{p, dir}, radiance_ * (cos * area() / pdf)};
+    }
+    // Aim when what the light can light lies outside the sphere around the light (the cones from its
+    // surface points are then narrower than a hemisphere); inside or overlapping, emit as before.
+    void set_scene_bounds(const Bounds3& target) override {
+        target_ = target;
+        aimed_ = false;
+        if (target.empty()) return;
+        const Vec3 centre = 0.5 * (target.lo + target.hi);
+        const double reach = 0.5 * (target.hi - target.lo).norm() + radius_;
+        aimed_ = (centre - center_).norm() > 2.0 * reach;
     }
     Rgb power() const override { return radiance_ * (kPi * area()); }
     Bounds3 bounds() const override {
@@ -91,6 +119,9 @@ public:
 
 private:
     double area() const { return 4.0 * kPi * radius_ * radius_; }
+    Bounds3 target_;       // what this light can light (set_scene_bounds)
+    bool aimed_ = false;   // photons from the mixture with a cone towards target_ (sample_emission)
+    static constexpr double kAimedShare = 0.5;
     // The cone the sphere subtends from x: distance to the centre and 1 - cos theta_max (computed
     // as sin^2 / (1 + cos) against cancellation). False when x is inside or on the sphere.
     bool cone(const Vec3& x, double& dist, double& one_minus_cos_max) const {
