@@ -200,36 +200,39 @@ TEST(AreaLights, SphereConfigErrors) {
     }
 }
 
-TEST(AreaLights, SpherePhotonsAimAtWhatTheLightCanLight) {
+TEST(AreaLights, SphereAndFarQuadPhotonsAimAtWhatTheLightCanLight) {
     // A sphere light far from a small box (issue 20: 99.5% of a sphere light's photons reached
     // nothing and its map was 1.4% high from smoothing): half of its photons leave in the cone towards
     // the box, each carrying L cos A / p_mix. The mean power stays pi A L, and the power sent into
     // directions that meet the box's bounding sphere is the cosine emission's (4 combined SE).
-    auto aimed = light_from(kSphere), classic = light_from(kSphere);
-    const Bounds3 box{Vec3(6, 5, 4), Vec3(7, 6, 5)};
-    aimed->set_scene_bounds(box);
-    const Vec3 c = 0.5 * (box.lo + box.hi);
-    const double r = 0.5 * (box.hi - box.lo).norm();
-    auto towards_box = [&](const Ray& ray) {
-        const Vec3 oc = ray.origin - c;
-        const double b = oc.dot(ray.dir);
-        return b < 0.0 && (oc - b * ray.dir).squaredNorm() < r * r;
-    };
-    Rng rng(21, 3);
-    test::Sample power, hit_aimed, hit_classic, share;
-    for (int i = 0; i < 400000; ++i) {
-        const EmissionSample a = aimed->sample_emission(rng);
-        const EmissionSample s = classic->sample_emission(rng);
-        power.add(a.power[0]);
-        hit_aimed.add(towards_box(a.ray) ? a.power[0] : 0.0);
-        hit_classic.add(towards_box(s.ray) ? s.power[0] : 0.0);
-        share.add(towards_box(a.ray) ? 1.0 : 0.0);
-        EmitterHit h;
-        ASSERT_FALSE(aimed->intersect(a.ray, kInfinity, h) && a.power[0] > 0.0) << "a photon meeting its own light";
+    // The same for a small quad far above a box (the quad emits downwards).
+    for (const auto& [text, box] : {std::pair<const char*, Bounds3>{kSphere, Bounds3{Vec3(6, 5, 4), Vec3(7, 6, 5)}},
+                                    std::pair<const char*, Bounds3>{kQuad, Bounds3{Vec3(-0.5, -8, -0.5), Vec3(0.5, -7, 0.5)}}}) {
+        auto aimed = light_from(text), classic = light_from(text);
+        aimed->set_scene_bounds(box);
+        const Vec3 c = 0.5 * (box.lo + box.hi);
+        const double r = 0.5 * (box.hi - box.lo).norm();
+        auto towards_box = [&](const Ray& ray) {
+            const Vec3 oc = ray.origin - c;
+            const double b = oc.dot(ray.dir);
+            return b < 0.0 && (oc - b * ray.dir).squaredNorm() < r * r;
+        };
+        Rng rng(21, 3);
+        test::Sample power, hit_aimed, hit_classic, share;
+        for (int i = 0; i < 400000; ++i) {
+            const EmissionSample a = aimed->sample_emission(rng);
+            const EmissionSample s = classic->sample_emission(rng);
+            power.add(a.power[0]);
+            hit_aimed.add(towards_box(a.ray) ? a.power[0] : 0.0);
+            hit_classic.add(towards_box(s.ray) ? s.power[0] : 0.0);
+            share.add(towards_box(a.ray) ? 1.0 : 0.0);
+            EmitterHit h;
+            ASSERT_FALSE(aimed->intersect(a.ray, kInfinity, h) && a.power[0] > 0.0) << "a photon meeting its own light";
     }
     EXPECT_NEAR(power.mean(), aimed->power()[0], 4.0 * power.se());
     EXPECT_NEAR(hit_aimed.mean(), hit_classic.mean(), 4.0 * std::hypot(hit_aimed.se(), hit_classic.se()));
     EXPECT_GT(hit_classic.mean(), 0.0);
     EXPECT_LT(hit_aimed.se(), 0.25 * hit_classic.se());   // the point of aiming
-    EXPECT_GT(share.mean(), 0.2);
+    EXPECT_GT(share.mean(), 0.2) << text;
+    }
 }

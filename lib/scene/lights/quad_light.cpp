@@ -12,6 +12,9 @@
 // on the plane; a miss of the quad is a photon of zero power) and a direction uniform in the cone
 // around the target's bounding sphere (emission_cone.h). Each photon carries L cos / p_mix(x, w),
 // p_mix the mixture's density, so the emitted power stays L pi A in expectation (one-sample MIS).
+// A quad far from its target (further than twice their radii together) mixes the cosine law with
+// a direction uniform in the cone from the emitting point towards the target, as sphere lights do
+// (a 0.5 x 0.5 quad 9 units from a unit box sent nearly all its photons past it).
 // "Large" is decided by geometry alone: the quad's half extent exceeds the target centre's height
 // over its plane plus the target's radius; other quads emit exactly as before. A large quad's
 // next-event estimation is a mixture too: half its samples uniform by area, half a direction
@@ -113,8 +116,18 @@ public:
         const double height = (target_centre_ - corner_).dot(n);   // of the target's centre over this side
         if (!aimed(height)) {
             const Vec3 p = corner_ + u1 * edge_u_ + u2 * edge_v_;
-            const Vec3 dir = Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
-            return {Ray{p, dir}, radiance_ * (kPi * area_ * scale)};
+            if (!far(height)) {
+                const Vec3 dir = Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
+                return {Ray{p, dir}, radiance_ * (kPi * area_ * scale)};
+            }
+            // Far from its target: the cosine law or a direction uniform in the cone towards it.
+            const EmissionCone cone = EmissionCone::towards(p, target_);
+            const Vec3 dir = rng.uniform() < kAimedShare ? cone.sample(u3, u4)
+                                                         : Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
+            const double cos = dir.dot(n);
+            if (!(cos > 0.0)) return {Ray{p, dir}, Rgb::Zero()};
+            const double pdf = (1.0 - kAimedShare) * cos / kPi + (cone.contains(dir) ? kAimedShare / cone.solid_angle() : 0.0);
+            return {Ray{p, dir}, radiance_ * (cos * area_ * scale / pdf)};
         }
         Vec3 p, dir;
         if (rng.uniform() < kAimedShare) {   // a point seen from the target's centre, a direction into its cone
@@ -176,6 +189,12 @@ private:
         return large_ ? (1.0 - kAimedShare) * area_pdf + kAimedShare / (2.0 * kPi) : area_pdf;
     }
 
+    // Whether this side, not large, is far from the target (its centre in front, further than twice
+    // the target's and the quad's radii together): photons from the cosine law or a cone towards it.
+    bool far(double height) const {
+        return !target_.empty() && height > 0.0 &&
+               (target_centre_ - (corner_ + 0.5 * (edge_u_ + edge_v_))).norm() > 2.0 * (target_radius_ + 0.5 * (edge_u_ + edge_v_).norm() + 0.5 * (edge_u_ - edge_v_).norm());
+    }
     // Whether this side emits from the mixture: the target's centre in front of it and the quad
     // larger than the target's distance from its plane plus the target's radius.
     bool aimed(double height) const {
