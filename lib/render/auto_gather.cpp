@@ -101,6 +101,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             measured.push_back(g);
         }
     }
+    exclude_no_map_where_the_map_is_used(measured);
     in.candidates = measured;
     PassPlan plan = plan_passes(in);
     if (!in.size_samples) plan.spp = 0;   // not the plan's: samples_per_pass keeps the configured value

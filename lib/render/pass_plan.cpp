@@ -42,7 +42,7 @@ PassPlan plan_passes(const PlanInputs& in) {
         const double gap = std::abs(m.mean - first.mean);
         const bool agrees = !(gap > kPlanMeanSigmas * std::hypot(m.mean_se, first.mean_se) &&
                               gap > kPlanMeanTolerance * std::max(std::abs(m.mean), std::abs(first.mean)));
-        const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees && !m.dropped;
+        const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees && !m.dropped && !m.excluded;
         // Without the map (render/no_map_candidate.h) no photon pass is made: N does not matter.
         const double photon_cost = m.uses_map ? in.photon_cost : 0.0;
         double cand_best = kInfinity, cand_cost = kInfinity;

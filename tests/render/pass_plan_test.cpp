@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "render/no_map_candidate.h"
 #include "render/pass_plan.h"
 
 using namespace vpm;
@@ -164,4 +165,25 @@ TEST(PassPlan, APassThatFillsTheBudgetTakesAllTheSamplesItHolds) {
     const PassPlan p = plan_passes(in);
     EXPECT_EQ(p.count, 1000);
     EXPECT_EQ(p.spp, 16);
+}
+
+TEST(PassPlan, ContinueIsAChoiceOnlyWhereTheMapIsNextToUnused) {
+    // render/no_map_candidate.h: "continue" (no map) scores best here, but it is excluded once the
+    // map candidates used the map in more than kNoMapMaxUsedShare of their queries.
+    PlanInputs in = inputs(/*v_camera*/ 1e-2, /*v_half*/ 1e-4, /*v_quarter*/ 2e-4, /*sample*/ 10.0, /*photon*/ 100.0);
+    in.candidates[0].per_sample.queries = 1.0;
+    GatherMeasurement none = in.candidates[0];
+    none.name = kNoMapCandidate;
+    none.uses_map = false;
+    none.v_camera = 1e-3;
+    none.v_map_half = 0.0;
+    in.candidates.push_back(none);
+    for (const double used : {0.0, 0.02, 0.5}) {
+        std::vector<GatherMeasurement> c = in.candidates;
+        c[0].per_sample.map_used = used;
+        exclude_no_map_where_the_map_is_used(c);
+        PlanInputs run = in;
+        run.candidates = c;
+        EXPECT_EQ(plan_passes(run).chosen, used <= kNoMapMaxUsedShare ? 1 : 0) << used;
+    }
 }
