@@ -80,6 +80,9 @@ struct PassPlan {
 // Largest factors over the configured sizes the plan considers (powers of two up to these).
 constexpr int kPlanMaxPhotonDoublings = 6;
 constexpr int kPlanMaxSpp = 256;
+// Camera samples a pass without a map holds at least (render/no_map_candidate.h), the path tracer's
+// group size (render/run.cpp): a pass's fixed cost is not in the counted work.
+constexpr double kNoMapPassSamples = 65536.0;
 // With a budget, a planned pass costs at most budget / kPlanMinPasses work units, or is no larger
 // than the configured pass (N0 photons, at most S0 samples): a pass cannot be cut short, and the
 // counted units run up to 3x below the time in grids (render/work_units.cpp). (A cap of 1/8 of the
