@@ -48,4 +48,34 @@ struct EmissionCone {
     bool contains(const Vec3& w) const { return full_sphere || w.dot(frame.n) >= cos_max; }
 };
 
+// Photons of a Lambertian area light that is far from its target (what it can light): a one-sample
+// mixture of the cosine law and a direction uniform in the cone from the emitting point p towards
+// the target, so that most photons go where they can land and the emitted power keeps its
+// expectation L pi A. `choice` in [0, 1) picks the strategy, (u1, u2) sample it; the photon carries
+// L A cos / p_mix (`weight`, per unit of radiance times area), 0 for a direction behind the surface.
+struct AimedDirection {
+    Vec3 dir;
+    double weight = 0.0;
+};
+
+inline AimedDirection aim_cosine_or_cone(const Vec3& p, const Vec3& n, const Bounds3& target, double share,
+                                         double choice, double u1, double u2) {
+    const EmissionCone cone = EmissionCone::towards(p, target);
+    AimedDirection a;
+    a.dir = choice < share ? cone.sample(u1, u2) : Frame(n).to_world(sample_cosine_hemisphere(u1, u2)).normalized();
+    const double cos = a.dir.dot(n);
+    if (!(cos > 0.0)) return a;
+    const double pdf = (1.0 - share) * cos / kPi + (cone.contains(a.dir) ? share / cone.solid_angle() : 0.0);
+    a.weight = cos / pdf;
+    return a;
+}
+
+// Whether a light of bounding radius `radius` around `centre` is far from `target`: further than
+// twice their radii together (its emission cones are then much narrower than a hemisphere).
+inline bool far_from_target(const Vec3& centre, double radius, const Bounds3& target) {
+    if (target.empty()) return false;
+    const Vec3 c = 0.5 * (target.lo + target.hi);
+    return (c - centre).norm() > 2.0 * (0.5 * (target.hi - target.lo).norm() + radius);
+}
+
 }  // namespace vpm

@@ -120,14 +120,8 @@ public:
                 const Vec3 dir = Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
                 return {Ray{p, dir}, radiance_ * (kPi * area_ * scale)};
             }
-            // Far from its target: the cosine law or a direction uniform in the cone towards it.
-            const EmissionCone cone = EmissionCone::towards(p, target_);
-            const Vec3 dir = rng.uniform() < kAimedShare ? cone.sample(u3, u4)
-                                                         : Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
-            const double cos = dir.dot(n);
-            if (!(cos > 0.0)) return {Ray{p, dir}, Rgb::Zero()};
-            const double pdf = (1.0 - kAimedShare) * cos / kPi + (cone.contains(dir) ? kAimedShare / cone.solid_angle() : 0.0);
-            return {Ray{p, dir}, radiance_ * (cos * area_ * scale / pdf)};
+            const AimedDirection a = aim_cosine_or_cone(p, n, target_, kAimedShare, rng.uniform(), u3, u4);
+            return {Ray{p, a.dir}, radiance_ * (a.weight * area_ * scale)};
         }
         Vec3 p, dir;
         if (rng.uniform() < kAimedShare) {   // a point seen from the target's centre, a direction into its cone
@@ -189,11 +183,12 @@ private:
         return large_ ? (1.0 - kAimedShare) * area_pdf + kAimedShare / (2.0 * kPi) : area_pdf;
     }
 
-    // Whether this side, not large, is far from the target (its centre in front, further than twice
-    // the target's and the quad's radii together): photons from the cosine law or a cone towards it.
+    // Whether this side, not large, is far from the target (its centre in front of it): photons
+    // from the cosine law or a cone towards it. The quad's radius is taken as the sum of its half
+    // diagonals (at least its circumradius).
     bool far(double height) const {
-        return !target_.empty() && height > 0.0 &&
-               (target_centre_ - (corner_ + 0.5 * (edge_u_ + edge_v_))).norm() > 2.0 * (target_radius_ + 0.5 * (edge_u_ + edge_v_).norm() + 0.5 * (edge_u_ - edge_v_).norm());
+        return height > 0.0 && far_from_target(corner_ + 0.5 * (edge_u_ + edge_v_),
+                                                0.5 * (edge_u_ + edge_v_).norm() + 0.5 * (edge_u_ - edge_v_).norm(), target_);
     }
     // Whether this side emits from the mixture: the target's centre in front of it and the quad
     // larger than the target's distance from its plane plus the target's radius.

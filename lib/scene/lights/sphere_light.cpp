@@ -84,25 +84,13 @@ public:
             const Vec3 dir = Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
             return {Ray{p, dir}, power()};
         }
-        // One-sample mixture of the cosine direction and a direction uniform in the cone from p
-        // around what the light can light; power L cos A / p_mix, so L pi A in expectation.
-        const EmissionCone cone = EmissionCone::towards(p, target_);
-        const Vec3 dir = rng.uniform() < kAimedShare ? cone.sample(u3, u4)
-                                                     : Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
-        const double cos = dir.dot(n);
-        if (!(cos > 0.0)) return {Ray{p, dir}, Rgb::Zero()};   // into the sphere: no light there
-        const double pdf = (1.0 - kAimedShare) * cos / kPi + (cone.contains(dir) ? kAimedShare / cone.solid_angle() : 0.0);
-        return {Ray{p, dir}, radiance_ * (cos * area() / pdf)};
+        const AimedDirection a = aim_cosine_or_cone(p, n, target_, kAimedShare, rng.uniform(), u3, u4);
+        return {Ray{p, a.dir}, radiance_ * (a.weight * area())};
     }
-    // Aim when what the light can light lies outside the sphere around the light (the cones from its
-    // surface points are then narrower than a hemisphere); inside or overlapping, emit as before.
+    // Aim when what the light can light is far from it; near or overlapping, emit as before.
     void set_scene_bounds(const Bounds3& target) override {
         target_ = target;
-        aimed_ = false;
-        if (target.empty()) return;
-        const Vec3 centre = 0.5 * (target.lo + target.hi);
-        const double reach = 0.5 * (target.hi - target.lo).norm() + radius_;
-        aimed_ = (centre - center_).norm() > 2.0 * reach;
+        aimed_ = far_from_target(center_, radius_, target);
     }
     Rgb power() const override { return radiance_ * (kPi * area()); }
     Bounds3 bounds() const override {
