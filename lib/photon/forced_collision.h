@@ -29,15 +29,16 @@ constexpr double kForcedMaxDepth = 1.0;
 constexpr double kForcedWindow = 1.0 / 64.0;
 
 struct ForcedStep {
-    PathVertex vertex;            // the collision (vertex.medium set) or, where tau = 0, the analog outcome
+    PathVertex vertex;            // the collision (vertex.medium set), or where tau = 0 the pass
     double transmittance = 1.0;   // forced: exp(-tau) of the whole segment, the share that passes it; 0: analog
+    bool forced = true;           // false: a reflecting surface ended the segment, the analog step was taken
 };
 
 // Whether forced steps can apply in this scene at all (one medium).
 bool forced_collisions_possible(const Scene& scene);
 
-// One forced step along ray. False: it does not apply to this segment (a reflecting surface ends
-// it) and the caller takes the analog step with the same rng.
-bool forced_step(const Scene& scene, const Ray& ray, Rng& rng, OpticalDepthProfile& scratch, ForcedStep& out);
+// One step along ray: forced where it applies, else (a reflecting surface ends the segment) the
+// analog step, as next_vertex takes it with the same rng and the same surface hit.
+ForcedStep forced_step(const Scene& scene, const Ray& ray, Rng& rng, OpticalDepthProfile& scratch);
 
 }  // namespace vpm

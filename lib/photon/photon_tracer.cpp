@@ -110,9 +110,9 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 ++out.truncated_paths;
                 break;
             }
-            ForcedStep forced;
-            const bool is_forced = forced_ok && forced_step(scene, ray, rng, profile, forced);
-            const PathVertex v = is_forced ? forced.vertex : next_vertex(scene, ray, rng);
+            const ForcedStep forced = forced_ok ? forced_step(scene, ray, rng, profile)
+                                                : ForcedStep{next_vertex(scene, ray, rng), 1.0, false};
+            const PathVertex& v = forced.vertex;
             const MediumEvent& event = v.medium;
             const SurfaceHit& hit = v.hit;
             if (v.escaped()) {
@@ -121,7 +121,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             }
             if (bounces == 0) ++light_stats.landed;
             ++bounces;
-            if (event && is_forced) {
+            if (event && forced.forced) {
                 // The share exp(-tau) passes the medium: out of the scene, or into a black surface.
                 const Rgb passed = power * forced.transmittance;
                 (v.on_surface ? out.energy.absorbed : out.energy.escaped) += passed;
