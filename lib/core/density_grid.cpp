@@ -186,11 +186,34 @@ void DensityGrid::finalize() {
                         }
             }
     sub_majorant_.shrink_to_fit();
+    // The walk's majorants: max over the voxels 8B .. 8B+8 that interpolation reads inside the
+    // closed block region (no ring: walk_segments' lookups clamp into that region).
+    walk_majorant_.assign(blocks_.size(), 0.0f);
+    for (int bx = 0; bx < nblocks_.x(); ++bx)
+        for (int by = 0; by < nblocks_.y(); ++by)
+            for (int bz = 0; bz < nblocks_.z(); ++bz) {
+                const size_t i = block_index(bx, by, bz);
+                if (!(majorant_[i] > 0.0f)) continue;
+                float m = 0.0f;
+                if (sub_[i] >= 0) {
+                    const float* sm = sub_majorants(sub_[i]);
+                    m = *std::max_element(sm, sm + 64);
+                } else {   // the block and its neighbours are constants (see above)
+                    for (int dx = 0; dx <= 1; ++dx)
+                        for (int dy = 0; dy <= 1; ++dy)
+                            for (int dz = 0; dz <= 1; ++dz) {
+                                const int nx = bx + dx, ny = by + dy, nz = bz + dz;
+                                if (nx >= nblocks_.x() || ny >= nblocks_.y() || nz >= nblocks_.z()) continue;
+                                m = std::max(m, blocks_[block_index(nx, ny, nz)].value);
+                            }
+                }
+                walk_majorant_[i] = std::max(m, 0.0f);
+            }
     active_bounds_ = Bounds3{};
     for (int bx = 0; bx < nblocks_.x(); ++bx)
         for (int by = 0; by < nblocks_.y(); ++by)
             for (int bz = 0; bz < nblocks_.z(); ++bz)
-                if (majorant_[block_index(bx, by, bz)] > 0.0f) {
+                if (walk_majorant_[block_index(bx, by, bz)] > 0.0f) {
                     const Vec3 lo = ((block_lo_ + Vec3i(bx, by, bz)) * kDim).cast<double>();
                     active_bounds_.extend(lo);
                     active_bounds_.extend(lo + Vec3::Constant(kDim));

@@ -36,7 +36,40 @@ GridMedium::GridMedium(DensityGrid grid, double sigma_t_scale, const Rgb& albedo
                               (c & 4) ? ib.hi.z() : ib.lo.z());
             world_bounds_.extend(index_to_world_ * corner);
         }
+        const Bounds3& ab = grid_.active_bounds();
+        if (!ab.empty()) {
+            for (int c = 0; c < 8; ++c) {
+                const Vec3 corner((c & 1) ? ab.hi.x() : ab.lo.x(), (c & 2) ? ab.hi.y() : ab.lo.y(),
+                                  (c & 4) ? ab.hi.z() : ab.lo.z());
+                active_world_bounds_.extend(index_to_world_ * corner);
+            }
+            // Padding far above the rounding of the corners' transform.
+            const Vec3 pad = 1e-6 * (active_world_bounds_.hi - active_world_bounds_.lo).cwiseAbs();
+            active_world_bounds_.lo -= pad;
+            active_world_bounds_.hi += pad;
+        }
     }
+}
+
+bool GridMedium::misses_active(const Ray& ray, double tmax) const {
+    // A slab test in world space against the padded box, rejecting only by a margin relative to
+    // the parameters (so rounding that differs from the index-space clip never rejects a ray that
+    // clip would keep). NaN anywhere keeps the ray: the exact path decides.
+    if (active_world_bounds_.empty()) return true;   // no active block: density 0 everywhere
+    double ta = 0.0, tb = tmax;
+    for (int a = 0; a < 3; ++a) {
+        const double o = ray.origin[a], lo = active_world_bounds_.lo[a], hi = active_world_bounds_.hi[a];
+        if (ray.dir[a] == 0.0) {
+            if (o < lo || o > hi) return true;
+            continue;
+        }
+        const double inv = 1.0 / ray.dir[a];
+        double tn = (lo - o) * inv, tf = (hi - o) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        if (tn > ta) ta = tn;
+        if (tf < tb) tb = tf;
+    }
+    return ta > tb + 1e-7 * (std::abs(ta) + std::abs(tb));
 }
 
 bool GridMedium::ball_integral(const Vec3& x, double r, double& integral) const {
@@ -170,7 +203,7 @@ struct TrilinearRayField {
 }  // namespace
 
 double GridMedium::sample_free_flight(const Ray& ray, double tmax, Rng& rng, TrackingStats* stats) const {
-    if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty()) return kInfinity;
+    if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty() || misses_active(ray, tmax)) return kInfinity;
     TrackingStats st;   // counted per thread (scene/media/tracking_counter.h)
     const double t = tracking::sample_free_flight(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, &st);
     count_tracking_steps(st);
@@ -179,7 +212,7 @@ double GridMedium::sample_free_flight(const Ray& ray, double tmax, Rng& rng, Tra
 }
 
 double GridMedium::transmittance(const Ray& ray, double tmax, Rng& rng, TrackingStats* stats) const {
-    if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty()) return 1.0;
+    if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty() || misses_active(ray, tmax)) return 1.0;
     TrackingStats st;
     const double T = tracking::transmittance(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, &st);
     count_tracking_steps(st);

@@ -64,6 +64,10 @@ private:
     double scale_;
     Eigen::Affine3d index_to_world_, world_to_index_;
     Bounds3 world_bounds_;
+    // The world box around the grid's active bounds, padded: rays that miss it (by a margin, see
+    // misses_active()) skip the index-space set-up (most photon rays miss a small plume).
+    Bounds3 active_world_bounds_;
+    bool misses_active(const Ray& ray, double tmax) const;
     bool axis_aligned_ = false;   // world_to_index_ maps the world axes onto the index axes (no rotation, no shear)
     std::string file_;
 };

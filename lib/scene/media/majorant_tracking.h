@@ -46,6 +46,7 @@
 
 #include "core/math.h"
 #include "core/rng.h"
+#include "core/unit_exponential.h"
 
 namespace vpm {
 
@@ -102,7 +103,7 @@ double sample_free_flight(const Field& f, double scale, double t0, double t1, Rn
         if constexpr (Field::kHasExact) {
             if (use_exact(f, s, mu)) {
                 ++st.exact;
-                if (E < 0.0) E = -std::log1p(-rng.uniform());
+                if (E < 0.0) E = unit_exponential(rng);
                 const double t = f.exact_sample(s, scale, E, st);
                 if (t < kInfinity) {
                     result = t;
@@ -112,7 +113,7 @@ double sample_free_flight(const Field& f, double scale, double t0, double t1, Rn
             }
         }
         for (double t = s.ta;;) {
-            if (Em < 0.0) Em = -std::log1p(-rng.uniform());
+            if (Em < 0.0) Em = unit_exponential(rng);
             const double tau = mu * (s.tb - t);
             if (!(Em < tau)) {   // no tentative collision left in this segment
                 Em -= tau;
@@ -166,7 +167,7 @@ double transmittance(const Field& f, double scale, double t0, double t1, Rng& rn
             }
         }
         for (double t = s.ta;;) {   // Em carried across segments as in sample_free_flight
-            if (Em < 0.0) Em = -std::log1p(-rng.uniform());
+            if (Em < 0.0) Em = unit_exponential(rng);
             const double tau = mu * (s.tb - t);
             if (!(Em < tau)) {
                 Em -= tau;
