@@ -149,6 +149,9 @@ public:
     // of t; stops when it returns false. Returns the number of DDA steps taken.
     template <class Visit>
     int walk_segments(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const;
+    // The same with inv_d = 1 / d per axis given (callers that need it too compute it once).
+    template <class Visit>
+    int walk_segments(const Vec3& o, const Vec3& d, const Vec3& inv_d, double t0, double t1, Visit&& visit) const;
 
     // p clamped into the segment's closed block region. The walk put the parameter t in that
     // region; clamping only undoes rounding of o + t d, and keeps lookups under the segment's
@@ -305,8 +308,12 @@ inline bool clip_line(const Bounds3& box, const Vec3& o, const Vec3& d, const Ve
 
 template <class Visit>
 int DensityGrid::walk_segments(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) const {
+    return walk_segments(o, d, d.cwiseInverse(), t0, t1, visit);
+}
+
+template <class Visit>
+int DensityGrid::walk_segments(const Vec3& o, const Vec3& d, const Vec3& inv_d, double t0, double t1, Visit&& visit) const {
     if (blocks_.empty() || active_bounds_.empty()) return 0;
-    const Vec3 inv_d = d.cwiseInverse();
     double ta, tb;
     if (!grid_detail::clip_line(active_bounds_, o, d, inv_d, t0, t1, ta, tb)) return 0;
     int steps = 0;

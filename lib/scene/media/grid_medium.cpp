@@ -108,17 +108,57 @@ struct TrilinearRayField {
     Vec3 o, d;
     double cells_per_t;   // |d|_1: voxel-cell faces crossed per unit of t
 
+    Vec3 id;              // 1 / d per axis
+
     TrilinearRayField(const DensityGrid& g, const Eigen::Affine3d& world_to_index, const Ray& ray)
-        : grid(g), o(world_to_index * ray.origin), d(world_to_index.linear() * ray.dir), cells_per_t(d.lpNorm<1>()) {}
-    // Only the closed form's cell walk needs it, which most rays never take.
-    Vec3 inv_d() const { return d.cwiseInverse(); }
+        : grid(g), o(world_to_index * ray.origin), d(world_to_index.linear() * ray.dir), cells_per_t(d.lpNorm<1>()),
+          id(d.cwiseInverse()) {}
+    Vec3 inv_d() const { return id; }
 
     template <class V>
     int walk(double t0, double t1, V&& visit) const {
-        return grid.walk_segments(o, d, t0, t1, visit);
+        return grid.walk_segments(o, d, id, t0, t1, visit);
     }
     double density(const Segment& s, double t) const { return grid.density_in(o + t * d, s); }
     double local_majorant(const Segment& s, double t) const { return grid.local_majorant(o + t * d, s); }
+
+    // The sub-block holding o + t d (clamped into the block): its majorant, its closed region
+    // [lo, lo + size]^3 and the t where the ray leaves it (>= t; the segment's end at most).
+    // Blocks without sub-blocks: the block itself up to the segment's end.
+    struct Span {
+        double majorant, t_end;
+        int lo[3], size;
+    };
+    Span local_span(const Segment& s, double t) const {
+        Span sp;
+        if (!s.sub) {
+            sp.majorant = s.majorant;
+            sp.t_end = s.tb;
+            for (int a = 0; a < 3; ++a) sp.lo[a] = s.lo[a];
+            sp.size = DensityGrid::kDim;
+            return sp;
+        }
+        const Vec3 q = DensityGrid::clamp_to(o + t * d, s);
+        int i[3];
+        double t_end = s.tb;
+        for (int a = 0; a < 3; ++a) {
+            i[a] = std::min(static_cast<int>((q[a] - s.lo[a]) * 0.5), 3);
+            sp.lo[a] = s.lo[a] + 2 * i[a];
+            if (d[a] > 0.0) t_end = std::min(t_end, (sp.lo[a] + 2 - o[a]) * id[a]);
+            else if (d[a] < 0.0) t_end = std::min(t_end, (sp.lo[a] - o[a]) * id[a]);
+        }
+        sp.majorant = s.sub[(i[0] * 4 + i[1]) * 4 + i[2]];
+        sp.t_end = std::max(t_end, t);
+        sp.size = 2;
+        return sp;
+    }
+    // The density at o + t d clamped into the span's closed region (where its majorant holds).
+    double density_local(const Segment&, const Span& sp, double t) const {
+        const Vec3 p = o + t * d;
+        Vec3 q;
+        for (int a = 0; a < 3; ++a) q[a] = std::min(std::max(p[a], double(sp.lo[a])), double(sp.lo[a] + sp.size));
+        return grid.density(q);
+    }
 
     // The closed form costs kCellCost per cell crossed (at most 1 + |d|_1 (tb - ta)); a uniform
     // block costs nothing.

@@ -15,6 +15,12 @@
 //   double local_majorant(const Segment& s, double t) const;
 //       a bound on density(s, t) at this t, <= s.majorant and cheaper than density() (e.g. a finer
 //       level of majorants); may simply return s.majorant
+//   struct Span { double majorant, t_end; ... };
+//   Span local_span(const Segment& s, double t) const;
+//       a finer cell around t: a bound on the density over the ray's piece [t, t_end] in it
+//       (t <= t_end <= s.tb; may be {s.majorant, s.tb}); delta tracking runs at that rate there
+//   double density_local(const Segment& s, const Span& sp, double t) const;
+//       density at t, for t in [t, sp.t_end] of local_span (<= sp.majorant exactly)
 //   static constexpr bool kHasExact;
 //   and, when kHasExact (a closed-form optical depth is available on some segments):
 //   double exact_cost(const Segment& s) const;
@@ -34,7 +40,9 @@
 // - otherwise delta tracking (free flights) or ratio tracking (transmittance) against the
 //   segment's majorant, whose tentative collisions are first thinned by the local majorant:
 //   a density lookup happens only at the points of the finer majorant process (mu_loc / mu of
-//   them), so lookups follow the finer majorant while the walk steps only over segments.
+//   them), so lookups follow the finer majorant while the walk steps only over segments. Free
+//   flights go further: after a tentative collision, the rest of that finer cell (local_span)
+//   runs at the cell's own rate, so tentative collisions follow the finer majorant too.
 // Both are exact, and mixing them along a ray is too: the free flight carries one exponential
 // optical-depth budget E through the closed-form segments (memoryless: after a segment of depth
 // tau without a collision, E - tau is again a unit exponential), and the transmittance is a
@@ -112,24 +120,51 @@ double sample_free_flight(const Field& f, double scale, double t0, double t1, Rn
                 return true;
             }
         }
-        for (double t = s.ta;;) {
+        // The majorant in force: mu up to s.tb, or after a tentative collision in a finer cell
+        // (Field::local_span) that cell's majorant up to where the ray leaves it. Choosing the
+        // majorant ahead from what the walk has seen so far keeps the process exact (the clock is
+        // memoryless), and the finer rate saves the tentative collisions the coarse one would thin.
+        double t = s.ta, rate = mu, t_span = s.tb;
+        typename Field::Span span{};
+        bool local = false;
+        for (;;) {
             if (Em < 0.0) Em = unit_exponential(rng);
-            const double tau = mu * (s.tb - t);
-            if (!(Em < tau)) {   // no tentative collision left in this segment
+            const double tau = rate * (t_span - t);
+            if (!(Em < tau)) {   // no tentative collision left in this span
                 Em -= tau;
-                return true;
+                if (!local) return true;
+                t = t_span;   // back to the segment's majorant
+                rate = mu;
+                t_span = s.tb;
+                local = false;
+                continue;
             }
-            const double tn = t + Em / mu;
+            const double tn = t + Em / rate;
             t = tn > t ? tn : std::nextafter(t, kInfinity);   // always advance (rounding at huge t)
             Em = -1.0;
-            if (!(t < s.tb)) return true;
+            if (!(t < t_span)) {   // rounding: the point fell at the span's end
+                if (!local) return true;
+                t = t_span;
+                rate = mu;
+                t_span = s.tb;
+                local = false;
+                continue;
+            }
             ++st.tentative;
-            // Real with probability sigma_t / mu. sigma_t <= scale * local majorant, so a point
-            // with u * mu above that is a null collision whatever the density: no lookup.
-            const double u = rng.uniform() * mu;
-            if (!(u < scale * f.local_majorant(s, t))) continue;
+            // Real with probability sigma_t / rate. At the segment's rate, sigma_t <= scale * the
+            // local majorant, so a point with u above that is a null collision whatever the
+            // density: no lookup. Either way the rest of that finer cell runs at its own rate.
+            const double u = rng.uniform() * rate;
+            if (!local) {
+                span = f.local_span(s, t);
+                const double mu_loc = scale * span.majorant;
+                local = true;
+                rate = mu_loc;
+                t_span = span.t_end;
+                if (!(u < mu_loc)) continue;
+            }
             ++st.lookups;
-            if (u < scale * f.density(s, t)) {   // else a null collision
+            if (u < scale * f.density_local(s, span, t)) {   // else a null collision
                 result = t;
                 return false;
             }
