@@ -1,6 +1,6 @@
 // Issue 21 in the renderer: the dense albedo-0.99 sphere (configs/homogeneous.toml at sigma_t_scale
-// 40), where the corrected estimate with "ball" read +1.4% at 1e6 photons and the defaults
-// (photons.extinction = "linear" since the fourth session) +0.15% +- 0.13% (10 maps, docs/dense_bias.md).
+// 40), where the corrected estimate with "ball" read +1.47% at 1e6 photons and the defaults
+// (photons.extinction = "linear" since the fourth session) +0.21% +- 0.11% (14 maps, docs/dense_bias.md).
 // At the cheap size here (1e5 photons, 16 x 16, 3 maps) the old estimate ("ball", "ignore", set
 // explicitly) reads +3.9% and the defaults +2.3% +- 1.0% (the remainder shrinks with the photon
 // count: the curvature and clustering terms of docs/dense_bias.md): the defaults must be within 3.5
