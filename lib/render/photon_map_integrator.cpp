@@ -13,6 +13,7 @@
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
 #include "render/beam_gather.h"
+#include "render/seen_through.h"
 #include "render/segment_direct_light.h"
 #include "render/single_scattering.h"
 #include "scene/media/homogeneous_medium.h"
@@ -65,6 +66,7 @@ struct PhotonMapIntegrator::ThreadState {
         uint64_t march_points = 0;
         uint64_t map_used = 0;    // estimates taken from a map, not continued past (pilot: render/no_map_candidate.h)
         std::vector<Rgb> linear_weights;   // photons.extinction = "linear"
+        OpticalDepthProfile profile;       // render/seen_through.h (no path is traced while it is in use)
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
@@ -226,15 +228,12 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
         const bool march = first_depth == 0 && marches(ray, t_end);
         const bool beam = gather_ == Gather::beam;
         if ((march || beam) && (!v.on_surface || hit.emitter)) {
-            // The segment's in-scattering is gathered apart, so the sky or area light behind it
-            // need not be found by the free flight's trial (variance T (1 - T) L^2: under a sky 28x
-            // the collision gather's per-sample variance): it is weighed by the transmittance
-            // estimate instead, unbiased for T. The light is black: the path ends here either way.
-            const Rgb e = v.on_surface ? emitted_radiance(scene_, ray, hit, emission) : escaped_radiance(scene_, ray.dir, emission);
-            if ((e != 0.0).any()) {
-                radiance += throughput * e * scene_.transmittance(ray, t_end, rng, v.on_surface ? hit.emitter : nullptr);
-                ++threads_->local.local().rays;
-            }
+            // The segment's in-scattering is gathered apart, so the sky or area light behind it is
+            // weighed by the exact transmittance, not found by the free flight's trial
+            // (render/seen_through.h). The light is black: the path ends here either way.
+            auto& local = threads_->local.local();
+            radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, local.profile);
+            ++local.rays;
             if (!(max_depth >= 0 && depth + 1 > max_depth))
                 radiance += throughput * (march ? march_in_scattering(ray, t_end, depth, rng) : beam_in_scattering(ray, t_end, rng));
             break;
