@@ -104,12 +104,8 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         owned_ = PhotonMaps();
         surface_map_ = nullptr;
     } else if (scene_.has_media() || surface) {
-        retire_beam();           // its BVH points into the last pass's map
-        owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
-        PhotonMapSettings pass_settings = settings_;   // pass 0 is the plan's pilot pass: photons.count
-        if (plan_ && context.pass != 0) pass_settings.count = plan_->count;
-        owned_ = run_photon_pass(scene_, pass_settings, context, surface, stats, allocation_);
-        surface_map_ = surface ? &owned_.surface : nullptr;
+        // Pass 0 of an auto plan is first traced at photons.count: the pilot's map, which the plan is made on.
+        trace_maps(context, plan_ ? plan_->count : settings_.count, surface, stats);
         // k above the stored count: say so once per run (the maps are then not queried).
         const bool volume_short = scene_.has_media() && volume_map_starved();
         const bool surface_short = surface_map_ && surface_map_->size() < k_;
@@ -126,9 +122,29 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     }
     if (!scene_.has_media() && log) *log << "photons: no media, so the volume photon map is empty\n";
     if (settings_.gather == GatherMode::pilot) choose_gather(context);
-    if (settings_.gather == GatherMode::automatic && !plan_) plan_auto(context, stats);
+    if (settings_.gather == GatherMode::automatic && !plan_) {
+        plan_auto(context, stats);
+        // Rendered with the pilot's small map, pass 0 would keep that map's bias and noise in the
+        // image (all of it where the time limit allows one pass): it is traced again at the plan's
+        // size, as every later pass is, and as a run starting at a later pass renders it.
+        if (!no_map_ && plan_->count > settings_.count && (scene_.has_media() || surface)) {
+            if (log)
+                *log << "photons: pass 0 traced again with the plan's " << plan_->count << " photons (the pilot's "
+                     << settings_.count << " only chose the plan)\n";
+            trace_maps(context, plan_->count, surface, stats);
+        }
+    }
     if (scene_.uses_embree() && !surface && log)
         *log << "photons: final_gather = true, so no surface photon map (paths continue through surfaces)\n";
+}
+
+void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats) {
+    retire_beam();           // its BVH points into the last pass's map
+    owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
+    PhotonMapSettings pass_settings = settings_;
+    pass_settings.count = count;
+    owned_ = run_photon_pass(scene_, pass_settings, context, surface, stats, allocation_);
+    surface_map_ = surface ? &owned_.surface : nullptr;
 }
 
 void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {

@@ -116,6 +116,8 @@ private:
     void build_beam(std::ostream* log, RunStats* stats);
     // Frees beam_, keeping its counts in beam_before_.
     void retire_beam();
+    // This pass's photon maps with `count` photons (the last pass's freed first).
+    void trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats);
     // gather = "beam": the segment's in-scattering, single scattering by NEE when direct = "nee".
     Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
 

@@ -86,6 +86,20 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
     EXPECT_EQ(no_limit.stats.render.samples, 144u * 16u);   // (its gather may differ: chosen at 16 samples per pass)
 }
 
+TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
+    // Under a limit that buys more photons than photons.count, pass 0 renders with a map of the
+    // plan's size, not the pilot's: the run emits the pilot's 100000 and then the planned count in
+    // every pass, pass 0 included (whatever number of passes the clock allows).
+    std::ostringstream log;
+    const RunResult r = render(write("cube.toml", thin_cube(1.0)), {"render.time_limit=0.5", "render.width=32", "render.height=32"}, &log);
+    ASSERT_TRUE(r.stats.auto_gather && r.stats.photons);
+    const AutoGatherStats& a = *r.stats.auto_gather;
+    ASSERT_TRUE(a.photon_pass) << log.str();
+    ASSERT_GT(a.count, 100000) << log.str();   // the plan's figure: counts only, the same on any machine
+    EXPECT_EQ(r.stats.photons->emitted, uint64_t(100000 + a.count * int64_t(r.stats.pass_count()))) << log.str();
+    EXPECT_NE(log.str().find("photons: pass 0 traced again with the plan's"), std::string::npos) << log.str();
+}
+
 TEST(AutoGather, ATimeLimitShorterThanOnePassWritesOneAndSaysSo) {
     std::ostringstream log;
     const RunResult r = render(write("cube.toml", thin_cube(1.0)), {"render.time_limit=1e-9", "photons.count=20000"}, &log);
