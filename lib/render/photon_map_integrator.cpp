@@ -248,8 +248,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
             // weighed by the exact transmittance, not found by the free flight's trial
             // (render/seen_through.h). The light is black: the path ends here either way.
             auto& local = threads_->local.local();
-            radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, local.profile);
-            ++local.rays;
+            radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, local.profile, local.rays);
             if (!(max_depth >= 0 && depth + 1 > max_depth))
                 radiance += throughput * (march ? march_in_scattering(ray, t_end, depth, rng) : beam_in_scattering(ray, t_end, rng));
             break;

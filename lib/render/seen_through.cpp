@@ -14,9 +14,10 @@ double exact_transmittance(const Scene& scene, const Ray& ray, double t_end, Opt
 }
 
 Rgb seen_through(const Scene& scene, const Ray& ray, bool on_surface, const SurfaceHit& hit, const EmissionWeighting& emission,
-                 OpticalDepthProfile& profile) {
+                 OpticalDepthProfile& profile, uint64_t& rays) {
     const Rgb e = on_surface ? emitted_radiance(scene, ray, hit, emission) : escaped_radiance(scene, ray.dir, emission);
     if ((e == 0.0).all()) return e;
+    ++rays;
     return e * exact_transmittance(scene, ray, on_surface ? hit.t : kInfinity, profile);
 }
 

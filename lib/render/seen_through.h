@@ -21,7 +21,9 @@ double exact_transmittance(const Scene& scene, const Ray& ray, double t_end, Opt
 
 // The emission met at the end of the camera segment (hit: the first surface, an area light, when
 // on_surface; else the ray escapes), weighted by `emission`, times the exact transmittance.
+// `rays` counts the segment as tracked only where there is emission to weigh (the plan's work
+// counts, render/work_units.h, stay those of scenes without a sky or area light).
 Rgb seen_through(const Scene& scene, const Ray& ray, bool on_surface, const SurfaceHit& hit, const EmissionWeighting& emission,
-                 OpticalDepthProfile& profile);
+                 OpticalDepthProfile& profile, uint64_t& rays);
 
 }  // namespace vpm

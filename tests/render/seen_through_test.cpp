@@ -38,8 +38,14 @@ TEST(SeenThrough, HomogeneousSphereIsTheClosedForm) {
     const Ray ray{Vec3(0.3, 0, 4), Vec3(0, 0, -1)};
     EXPECT_NEAR(exact_transmittance(*scene, ray, kInfinity, profile), std::exp(-2.4), 1e-12);
     SurfaceHit none;
-    const Rgb sky = seen_through(*scene, ray, false, none, EmissionWeighting::camera(), profile);
+    uint64_t rays = 0;
+    const Rgb sky = seen_through(*scene, ray, false, none, EmissionWeighting::camera(), profile, rays);
     EXPECT_NEAR(sky[1], 1.5 * std::exp(-2.4), 1e-12);
+    EXPECT_EQ(rays, 1u);
+    // Under a point light there is nothing to weigh and nothing is counted.
+    const auto dark = scene_from("[[lights]]\ntype = 'point'\nposition = [0, 3, 0]\nintensity = 1\n" + kSphere);
+    EXPECT_EQ(seen_through(*dark, ray, false, none, EmissionWeighting::camera(), profile, rays)[1], 0.0);
+    EXPECT_EQ(rays, 1u);
     // Up to t = 4.1 the ray has crossed 0.4 of the chord (it enters at t = 3.4).
     EXPECT_NEAR(exact_transmittance(*scene, ray, 4.1 - 0.3, profile), std::exp(-2.0 * 0.4), 1e-12);
 }
