@@ -318,6 +318,19 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
                 a.s2 += e.second + e.mass * (c * c.transpose());
                 continue;
             }
+            if (e.lattice) {   // a wide ball crossing a continuous medium's box: the lattice, as integral()
+                const MassLattice& lattice = e.lattice->get(*e.medium, e.box);
+                if (lattice.wide_enough(rj)) {
+                    double l0 = 0.0;
+                    Vec3 l1;
+                    Eigen::Matrix3d l2;
+                    lattice.ball_moments(x, rj, l0, l1, l2);
+                    a.s0 += l0;
+                    a.s1 += l1;
+                    a.s2 += l2;
+                    continue;
+                }
+            }
             clipped[j] = true;
             r_clip = std::max(r_clip, rj);
         }

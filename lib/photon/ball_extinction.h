@@ -20,7 +20,8 @@
 //   a continuous medium crossing its box with a ball of at least two of its 16^3 mass cells
 //                                      the mass lattice (photon/mass_lattice.h: cell masses cached
 //                                      once, about 256 columns per ball, no lookups; issue 20: the
-//                                      clipped rule below was 85% of the march's render in thin grids);
+//                                      clipped rule below was 85% of the march's render in thin grids;
+//                                      moments() too, from the cells' first and second moments: issue 21);
 //   otherwise                          4096 Halton points over the part of the medium's box that the
 //                                      ball's bounding cube covers, counting those inside the ball.
 //
@@ -71,7 +72,8 @@ public:
     // The integrals over B(x, ra) and B(x, rb), each what integral() gives, except that where both
     // need the clipped quadrature they share its points over the larger ball's cube (one pass).
     std::array<double, 2> integrals(const Vec3& x, double ra, double rb, uint64_t* lookups = nullptr) const;
-    // The moments above by the same three quadratures; the ball's by the degree-5 rule in a
+    // The moments above by the same quadratures (the lattice's for wide balls crossing a continuous
+    // medium's box, as integral()); the ball's by the degree-5 rule in a
     // continuous medium, else by its 32 points and their antipodes (64; a homogeneous shape's jump
     // needs more than 15 points). Both symmetric: a ball of constant sigma_t has offset exactly 0.
     BallMoments moments(const Vec3& x, double r) const;

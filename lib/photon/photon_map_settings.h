@@ -17,9 +17,10 @@
 //   | final_gather           | false       | true: no surface map, camera paths bounce off surfaces   |
 //   | forced_collisions      | false       | true: photons collide in every medium segment, power     |
 //   |                        |             | times 1 - exp(-tau) (photon/forced_collision.h)          |
-//   | extinction             | "ball"      | "ball": mean sigma_t over the kNN ball; "point": at x;   |
+//   | extinction             | "linear"    | "ball": mean sigma_t over the kNN ball; "point": at x;   |
 //   |                        |             | "linear": the ball's, exact for linear radiance across   |
-//   |                        |             | it (photon/linear_estimate.h)                            |
+//   |                        |             | it (photon/linear_estimate.h; docs/dense_bias.md, fourth |
+//   |                        |             | session: the default's measurement)                      |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
 //   |                        |             | fewer than k photons within: the camera path continues   |
 //   |                        |             | (photon/bounded_radius.h); 0: off                        |
@@ -98,7 +99,7 @@ struct PhotonMapSettings {
     double memory_budget_fraction = 0.5;
     bool final_gather = false;
     bool forced_collisions = false;   // photon/forced_collision.h
-    ExtinctionNormalisation extinction = ExtinctionNormalisation::ball;
+    ExtinctionNormalisation extinction = ExtinctionNormalisation::linear;
     double max_radius_mfp = 2.0;
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::automatic;
