@@ -13,7 +13,9 @@
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
 #include "render/beam_gather.h"
+#include "render/seen_through.h"
 #include "render/segment_direct_light.h"
+#include "render/single_scattering.h"
 #include "scene/media/homogeneous_medium.h"
 #include "photon/group_estimate.h"
 #include "photon/linear_estimate.h"
@@ -64,6 +66,7 @@ struct PhotonMapIntegrator::ThreadState {
         uint64_t march_points = 0;
         uint64_t map_used = 0;    // estimates taken from a map, not continued past (pilot: render/no_map_candidate.h)
         std::vector<Rgb> linear_weights;   // photons.extinction = "linear"
+        OpticalDepthProfile profile;       // render/seen_through.h (no path is traced while it is in use)
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
@@ -72,6 +75,7 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSett
     : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
       max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {
     gather_ = initial_gather(settings.gather);
+    both_strategies_ = settings.walk.mis && bounces_find_lights(scene);
 }
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
@@ -79,6 +83,7 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSett
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
       max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {
     gather_ = initial_gather(settings.gather);
+    both_strategies_ = settings.walk.mis && bounces_find_lights(scene);
     if (gather_ == Gather::beam) build_beam(nullptr, nullptr);
 }
 
@@ -206,16 +211,27 @@ EstimatorStats PhotonMapIntegrator::surface_stats() const {
     return total;
 }
 
-Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const { return trace(camera_ray, 0, rng); }
+Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
+    return trace(camera_ray, 0, rng, EmissionWeighting::camera());
+}
 
-Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) const {
+Rgb PhotonMapIntegrator::single_scattering(const Vec3& x, const Vec3& dir, double g, bool goes_on, Rng& rng) const {
+    if (goes_on) return direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis);
+    if (!both_strategies_) return direct_light_in_medium(scene_, x, dir, g, rng);
+    uint64_t rays = 0;
+    const Rgb l = single_scattering_both_strategies(scene_, x, dir, g, rng, rays);
+    threads_->local.local().rays += rays - 1;   // the caller counts one
+    return l;
+}
+
+Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, const EmissionWeighting& first_emission) const {
     const int max_depth = settings_.walk.max_depth;
     Ray ray = first_ray;
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
-    // transport/mis.h. A path started deeper (first_depth > 0) continues from a march point whose
-    // NEE weighed 1: the emission it meets counts 0.
-    EmissionWeighting emission = first_depth == 0 ? EmissionWeighting::camera() : EmissionWeighting::after(false, first_ray.origin, 0.0);
+    // transport/mis.h. A path started deeper (first_depth > 0) continues from a march point: the
+    // emission it meets counts as that point's NEE was weighted (render/single_scattering.h).
+    EmissionWeighting emission = first_emission;
     for (int depth = first_depth;; ++depth) {
         const PathVertex v = next_vertex(scene_, ray, rng);
         ++threads_->local.local().rays;
@@ -227,6 +243,16 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
         // wide (the stress matrix's furnace and pathological cells hung once "auto" chose the march).
         const bool march = first_depth == 0 && marches(ray, t_end);
         const bool beam = gather_ == Gather::beam;
+        if ((march || beam) && (!v.on_surface || hit.emitter)) {
+            // The segment's in-scattering is gathered apart, so the sky or area light behind it is
+            // weighed by the exact transmittance, not found by the free flight's trial
+            // (render/seen_through.h). The light is black: the path ends here either way.
+            auto& local = threads_->local.local();
+            radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, local.profile, local.rays);
+            if (!(max_depth >= 0 && depth + 1 > max_depth))
+                radiance += throughput * (march ? march_in_scattering(ray, t_end, depth, rng) : beam_in_scattering(ray, t_end, rng));
+            break;
+        }
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             if (march && !(max_depth >= 0 && depth + 1 > max_depth))
@@ -251,38 +277,40 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng) 
             const Medium& m = *event.medium;
             const Rgb weight = throughput * m.albedo();
             if ((weight == 0.0).all()) break;
-            if (settings_.direct == DirectLighting::nee) {
-                radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
-                ++threads_->local.local().rays;
-            }
+            const bool nee = settings_.direct == DirectLighting::nee;
             const double sigma_t = total_sigma_t(scene_, x);
-            if (sigma_t > 0.0) {
-                auto& local = threads_->local.local();
-                const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
-                const bool bounded = radius < max_radius_;   // the mean-free-path bound (photon/bounded_radius.h)
-                const bool starved = volume_map_starved();
-                Estimate<Rgb> s;
-                if (!starved)
-                    s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius,
-                                               local.buffers, &local.stats, gather_count());
-                if (bounded || starved) {
-                    const BoundedQuery q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
-                    if (q == BoundedQuery::zero) break;
-                    if (q == BoundedQuery::continue_path) {   // too few photons: scatter and go on
-                        ++local.continued;
-                        if (settings_.direct != DirectLighting::nee)
-                            radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng);
-                        throughput = weight;
-                        const double u1 = rng.uniform(), u2 = rng.uniform();
-                        ray = Ray{x, hg_sample(ray.dir, m.g(), u1, u2)};
-                        emission = EmissionWeighting::after(false, x, 0.0);   // its NEE above weighed 1
-                        if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
-                        continue;
-                    }
-                }
-                radiance += weight * normalised(s, x, -ray.dir, m.g(), radius, sigma_t, local.buffers, local.linear_weights);
-                ++local.map_used;
+            auto& local = threads_->local.local();
+            // The query draws no random numbers, so it runs first: a path that goes on from x
+            // weighs its NEE against the bounce (render.mis) like the path tracer's
+            // (render/single_scattering.h); one that ends on the map weighs it 1.
+            const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
+            const bool bounded = radius < max_radius_;   // the mean-free-path bound (photon/bounded_radius.h)
+            const bool starved = volume_map_starved();
+            Estimate<Rgb> s;
+            if (sigma_t > 0.0 && !starved)
+                s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius, local.buffers,
+                                           &local.stats, gather_count());
+            BoundedQuery q = BoundedQuery::use_estimate;
+            if (sigma_t > 0.0 && (bounded || starved)) q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
+            const bool goes_on = sigma_t > 0.0 && q == BoundedQuery::continue_path;
+            if (nee) {
+                radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng);
+                ++local.rays;
             }
+            if (!(sigma_t > 0.0) || q == BoundedQuery::zero) break;
+            if (goes_on) {   // too few photons: scatter and go on
+                ++local.continued;
+                if (!nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, settings_.walk.mis);
+                throughput = weight;
+                const double u1 = rng.uniform(), u2 = rng.uniform();
+                const Vec3 wo = hg_sample(ray.dir, m.g(), u1, u2);
+                emission = continued_emission(settings_.walk.mis, x, ray.dir, wo, m.g());
+                ray = Ray{x, wo};
+                if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
+                continue;
+            }
+            radiance += weight * normalised(s, x, -ray.dir, m.g(), radius, sigma_t, local.buffers, local.linear_weights);
+            ++local.map_used;
             break;
         }
         if ((hit.reflectance == 0.0).all()) break;
@@ -426,10 +454,6 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     const bool nee = settings_.direct == DirectLighting::nee;
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
     auto& local = threads_->local.local();
-    if (nee) {
-        in += direct_light_in_medium(scene_, x, dir, g, rng);
-        ++local.rays;
-    }
     const bool starved = volume_map_starved();
     Estimate<Rgb> s;
     if (!starved)
@@ -438,17 +462,23 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     // The collision gather's bound (photon/bounded_radius.h) here: a ball spanning many mean free
     // paths averages the lit skin of a dense medium with its dark inside (biased low), so such a
     // point takes the light a path would find instead: NEE and one phase-sampled continuation,
-    // both unbiased for the same incident radiance (the choice depends on x and the map only).
+    // both unbiased for the same incident radiance (the choice depends on x and the map only; the
+    // query draws no random numbers, so NEE, weighted as render/single_scattering.h says, follows it).
     const bool wide = starved || (settings_.max_radius_mfp > 0.0 && s.radius * sigma_t > settings_.max_radius_mfp);
+    if (nee) {
+        in += single_scattering(x, dir, g, wide, rng);
+        ++local.rays;
+    }
     if (wide) {
         ++local.march_wide;
-        if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng);
+        if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis);
         ++local.rays;
         // Roulette on the point's weight: where it is small, so is the chance of paying for a path.
         const double q = std::min(1.0, weight.maxCoeff());
         if (rng.uniform() < q) {
             const double u1 = rng.uniform(), u2 = rng.uniform();
-            in += trace(Ray{x, hg_sample(dir, g, u1, u2)}, depth + 1, rng) / q;
+            const Vec3 wo = hg_sample(dir, g, u1, u2);
+            in += trace(Ray{x, wo}, depth + 1, rng, continued_emission(settings_.walk.mis, x, dir, wo, g)) / q;
         }
         return in;
     }

@@ -43,9 +43,10 @@
 // of estimator rule (b)'s whole-map estimate, which costs a pass over the map per query (k = 65536
 // over 55,265 photons: minutes for a 48x48 image). prepare() logs a warning once per run.
 //
-// Emission: the camera sees area lights and the sky directly. After a final-gather bounce, NEE and
-// the bounce are MIS-weighted like the path tracer's (render.mis, transport/mis.h); after a path
-// continued in a medium (max_radius_mfp) NEE weighs 1 and the emission the path meets counts 0.
+// Emission: the camera sees area lights and the sky directly. After a final-gather bounce or a
+// path continued in a medium (max_radius_mfp, a starved map, "continue"), NEE and the bounce are
+// MIS-weighted like the path tracer's (render.mis, transport/mis.h); where the map ends the path,
+// single scattering takes both strategies (render/single_scattering.h).
 #include <functional>
 #include <memory>
 #include <optional>
@@ -58,6 +59,7 @@
 #include "render/beam_gather_stats.h"
 #include "render/photon_pass.h"
 #include "render/run_config.h"
+#include "transport/mis.h"
 #include "render/run_stats.h"
 #include "scene/scene.h"
 
@@ -119,8 +121,13 @@ private:
     // gather = "beam": the segment's in-scattering, single scattering by NEE when direct = "nee".
     Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
 
-    // The camera path's radiance from `ray` on, after `first_depth` scattering events.
-    Rgb trace(const Ray& ray, int first_depth, Rng& rng) const;
+    // The camera path's radiance from `ray` on, after `first_depth` scattering events; emission it
+    // meets first counts as `first_emission` says.
+    Rgb trace(const Ray& ray, int first_depth, Rng& rng, const EmissionWeighting& first_emission = EmissionWeighting::camera()) const;
+    // Single scattering at a medium vertex (render/single_scattering.h): `goes_on`, the path continues
+    // past x (MIS-weighted NEE when render.mis); else the map ends it (both strategies where they apply).
+    Rgb single_scattering(const Vec3& x, const Vec3& dir, double g, bool goes_on, Rng& rng) const;
+    bool both_strategies_ = false;   // render.mis and a light a bounce can find
     // gather = "march": the in-scattered radiance along `ray` over the media inside (0, t_end),
     // from gather_queries stratified points, each weighted by a ratio-tracked transmittance.
     // A point whose kNN ball is wider than max_radius_mfp mean free paths gets NEE and a continued
