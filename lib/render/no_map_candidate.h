@@ -18,6 +18,12 @@
 // and in the box at optical thickness 100 and albedo 0.99 it won on 512 pilot samples that do not
 // see the continued paths' heavy tail (2.27x the best forced gather): a photon-map integrator that
 // quietly path traces wherever the pilot is unsure is not the photon map a user asked for.
+// The pilot is sure where the continued paths are short: at most kNoMapShortPathRays tracked
+// segments per sample (free flights and shadow rays; one scattering event at most on average)
+// leave no long-path tail for its samples to miss, and there "continue" competes freely. Under a
+// sky (sphere and blob at thickness 1: 1.1-1.5 segments per sample) a kNN estimate costs 15-50
+// continued samples at the same or lower variance (BENCHMARKS.md section 11.11), while the dense
+// boxes the rule was made for continue over 10-19 segments per sample.
 #include <algorithm>
 #include <vector>
 
@@ -27,16 +33,18 @@ namespace vpm {
 
 constexpr const char* kNoMapCandidate = "continue";
 constexpr double kNoMapMaxUsedShare = 0.02;
+constexpr double kNoMapShortPathRays = 2.0;
 
 // Marks the no-map candidates excluded unless every map candidate used the map in at most
-// kNoMapMaxUsedShare of its queries (queries 0: unused).
+// kNoMapMaxUsedShare of its queries (queries 0: unused), or their own paths are short (at most
+// kNoMapShortPathRays tracked segments per sample).
 inline void exclude_no_map_where_the_map_is_used(std::vector<GatherMeasurement>& candidates) {
     double share = 0.0;
     for (const GatherMeasurement& m : candidates)
         if (m.uses_map && m.per_sample.queries > 0.0) share = std::max(share, m.per_sample.map_used / m.per_sample.queries);
     if (share <= kNoMapMaxUsedShare) return;
     for (GatherMeasurement& m : candidates)
-        if (!m.uses_map) m.excluded = true;
+        if (!m.uses_map && m.per_sample.rays > kNoMapShortPathRays) m.excluded = true;
 }
 
 }  // namespace vpm

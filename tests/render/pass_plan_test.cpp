@@ -168,8 +168,8 @@ TEST(PassPlan, APassThatFillsTheBudgetTakesAllTheSamplesItHolds) {
 }
 
 TEST(PassPlan, ContinueIsAChoiceOnlyWhereTheMapIsNextToUnused) {
-    // render/no_map_candidate.h: "continue" (no map) scores best here, but it is excluded once the
-    // map candidates used the map in more than kNoMapMaxUsedShare of their queries.
+    // render/no_map_candidate.h: "continue" (no map) scores best here, but where its paths are long
+    // it is excluded once the map candidates used the map in more than kNoMapMaxUsedShare of their queries.
     PlanInputs in = inputs(/*v_camera*/ 1e-2, /*v_half*/ 1e-4, /*v_quarter*/ 2e-4, /*sample*/ 10.0, /*photon*/ 100.0);
     in.candidates[0].per_sample.queries = 1.0;
     GatherMeasurement none = in.candidates[0];
@@ -177,6 +177,7 @@ TEST(PassPlan, ContinueIsAChoiceOnlyWhereTheMapIsNextToUnused) {
     none.uses_map = false;
     none.v_camera = 1e-3;
     none.v_map_half = 0.0;
+    none.per_sample.rays = 3.0;   // long continued paths: only where the map is next to unused
     in.candidates.push_back(none);
     for (const double used : {0.0, 0.02, 0.5}) {
         std::vector<GatherMeasurement> c = in.candidates;
@@ -185,5 +186,12 @@ TEST(PassPlan, ContinueIsAChoiceOnlyWhereTheMapIsNextToUnused) {
         PlanInputs run = in;
         run.candidates = c;
         EXPECT_EQ(plan_passes(run).chosen, used <= kNoMapMaxUsedShare ? 1 : 0) << used;
+        // Short continued paths (at most kNoMapShortPathRays segments per sample) compete freely.
+        c = in.candidates;
+        c[0].per_sample.map_used = used;
+        c[1].per_sample.rays = kNoMapShortPathRays;
+        exclude_no_map_where_the_map_is_used(c);
+        run.candidates = c;
+        EXPECT_EQ(plan_passes(run).chosen, 1) << used;
     }
 }
