@@ -20,6 +20,14 @@ std::string vec_str(const Vec3& v) {
     return s.str();
 }
 
+// The world box around an index-space box: its eight corners transformed.
+Bounds3 world_box(const Eigen::Affine3d& index_to_world, const Bounds3& b) {
+    Bounds3 w;
+    for (int c = 0; c < 8; ++c)
+        w.extend(index_to_world * Vec3((c & 1) ? b.hi.x() : b.lo.x(), (c & 2) ? b.hi.y() : b.lo.y(), (c & 4) ? b.hi.z() : b.lo.z()));
+    return w;
+}
+
 }  // namespace
 
 GridMedium::GridMedium(DensityGrid grid, double sigma_t_scale, const Rgb& albedo, double g,
@@ -30,19 +38,9 @@ GridMedium::GridMedium(DensityGrid grid, double sigma_t_scale, const Rgb& albedo
     const Eigen::Matrix3d m = world_to_index_.linear();
     axis_aligned_ = m(0, 1) == 0.0 && m(0, 2) == 0.0 && m(1, 0) == 0.0 && m(1, 2) == 0.0 && m(2, 0) == 0.0 && m(2, 1) == 0.0;
     if (!grid_.empty()) {
-        const Bounds3& ib = grid_.index_bounds();
-        for (int c = 0; c < 8; ++c) {
-            const Vec3 corner((c & 1) ? ib.hi.x() : ib.lo.x(), (c & 2) ? ib.hi.y() : ib.lo.y(),
-                              (c & 4) ? ib.hi.z() : ib.lo.z());
-            world_bounds_.extend(index_to_world_ * corner);
-        }
-        const Bounds3& ab = grid_.active_bounds();
-        if (!ab.empty()) {
-            for (int c = 0; c < 8; ++c) {
-                const Vec3 corner((c & 1) ? ab.hi.x() : ab.lo.x(), (c & 2) ? ab.hi.y() : ab.lo.y(),
-                                  (c & 4) ? ab.hi.z() : ab.lo.z());
-                active_world_bounds_.extend(index_to_world_ * corner);
-            }
+        world_bounds_ = world_box(index_to_world_, grid_.index_bounds());
+        if (!grid_.active_bounds().empty()) {
+            active_world_bounds_ = world_box(index_to_world_, grid_.active_bounds());
             // Padding far above the rounding of the corners' transform.
             const Vec3 pad = 1e-6 * (active_world_bounds_.hi - active_world_bounds_.lo).cwiseAbs();
             active_world_bounds_.lo -= pad;
