@@ -127,16 +127,19 @@ double sample_free_flight(const Field& f, double scale, double t0, double t1, Rn
         double t = s.ta, rate = mu, t_span = s.tb;
         typename Field::Span span{};
         bool local = false;
+        const auto back_to_segment_rate = [&] {   // from the span's end on, the segment's majorant
+            t = t_span;
+            rate = mu;
+            t_span = s.tb;
+            local = false;
+        };
         for (;;) {
             if (Em < 0.0) Em = unit_exponential(rng);
             const double tau = rate * (t_span - t);
             if (!(Em < tau)) {   // no tentative collision left in this span
                 Em -= tau;
                 if (!local) return true;
-                t = t_span;   // back to the segment's majorant
-                rate = mu;
-                t_span = s.tb;
-                local = false;
+                back_to_segment_rate();
                 continue;
             }
             const double tn = t + Em / rate;
@@ -144,10 +147,7 @@ double sample_free_flight(const Field& f, double scale, double t0, double t1, Rn
             Em = -1.0;
             if (!(t < t_span)) {   // rounding: the point fell at the span's end
                 if (!local) return true;
-                t = t_span;
-                rate = mu;
-                t_span = s.tb;
-                local = false;
+                back_to_segment_rate();
                 continue;
             }
             ++st.tentative;
