@@ -128,7 +128,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     if (context.log) {
         std::ostream& log = *context.log;
         log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
-            << kPilotSamples << " samples with the map and its halves";
+            << "up to " << kPilotSamples << " samples with the map and its halves, up to " << kNoMapPilotSamples << " without a map";
         if (map->size() == 0) log << "; the volume map is empty, nothing to measure";
         for (const auto& m : measured) {
             log << "; " << m.name << ": ";
@@ -141,6 +141,9 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                 << ", squared bias " << m.bias2 << ", mean " << m.mean << " +- " << m.mean_se
                 << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
                 << ", work " << m.sample_cost << " per sample, map estimates used " << m.per_sample.map_used << " per sample";
+            if (!m.uses_map)
+                log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance"
+                    << (m.excluded ? " (not a choice: the map is used and its paths are long or heavy-tailed, render/no_map_candidate.h)" : "");
         }
         log << "; work " << in.photon_cost << " per photon)\n";
         if (no_map_)

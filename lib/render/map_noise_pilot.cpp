@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "photon/walk_group_split.h"
+#include "render/pilot_tail.h"
 
 namespace vpm {
 
@@ -13,15 +14,17 @@ namespace {
 double luminance_of(const Rgb& l) { return all_finite(l) ? 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2] : 0.0; }
 
 constexpr int kPixels = kPilotSide * kPilotSide;
-size_t at(int j, int s) { return size_t(j * kPilotSamples + s); }   // a sample's slot: fixed whatever n is
+constexpr uint64_t kLongPilotSalt = 0x6c6f6e6770696c6fULL;   // streams of samples past kPilotSamples
+// A sample's slot: fixed whatever n is (`most`: the candidate's largest n).
+size_t at(int j, int s, int most) { return size_t(j) * size_t(most) + size_t(s); }
 
 // Per pixel: the mean of a's first n samples minus b's, squared, less the samples' share Var(a - b) / n.
-double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n) {
+double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n, int most) {
     double sum = 0.0;
     for (int j = 0; j < kPixels; ++j) {
         double mean = 0.0, m2 = 0.0;
         for (int s = 0; s < n; ++s) {
-            const double d = a[at(j, s)] - b[at(j, s)];
+            const double d = a[at(j, s, most)] - b[at(j, s, most)];
             const double delta = d - mean;
             mean += delta / (s + 1);
             m2 += delta * (d - mean);
@@ -32,12 +35,12 @@ double map_variance_of_difference(const std::vector<double>& a, const std::vecto
 }
 
 // Per pixel: the mean over n samples of (a + b) / 2 - f, squared, less its samples' share.
-double squared_mean_difference(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& f, int n) {
+double squared_mean_difference(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& f, int n, int most) {
     double sum = 0.0;
     for (int j = 0; j < kPixels; ++j) {
         double mean = 0.0, m2 = 0.0;
         for (int s = 0; s < n; ++s) {
-            const size_t i = at(j, s);
+            const size_t i = at(j, s, most);
             const double d = 0.5 * (a[i] + b[i]) - f[i];
             const double delta = d - mean;
             mean += delta / (s + 1);
@@ -72,12 +75,14 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
     const int width = camera.width(), height = camera.height();
     std::vector<GatherMeasurement> out;
     bool one_fits = false;   // an earlier candidate's one-sample pass fits the cap (render/pilot_budget.h)
+    const double work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
     for (size_t c = 0; c < candidates.size(); ++c) {
         const bool may_use_halves = candidates[c].uses_map;
         // Share the budget as if the halves were traced (render/pilot_budget.h), whether or not they are.
         const int budget_maps = may_use_halves ? 3 : 1;
         std::vector<const PhotonMap*> maps = {&map};
-        std::vector<std::vector<double>> values(3, std::vector<double>(size_t(kPixels * kPilotSamples)));
+        const int most = may_use_halves ? kPilotSamples : kNoMapPilotSamples;
+        std::vector<std::vector<double>> values(may_use_halves ? 3 : 1, std::vector<double>(size_t(kPixels) * size_t(most)));
         // Samples s0 .. s1 - 1 of every pilot pixel with map m.
         auto trace = [&](size_t m, int s0, int s1) {
             tbb::parallel_for(0, kPixels, [&](int j) {
@@ -85,9 +90,12 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
                 const int py = std::min(height - 1, int((j / kPilotSide + 0.5) / kPilotSide * height));
                 for (int s = s0; s < s1; ++s) {
                     // The same numbers for every map and candidate: the differences are the maps'.
-                    Rng rng(seed, stream * uint64_t(kPixels * kPilotSamples) + uint64_t(at(j, s)));
+                    // Samples past kPilotSamples (a candidate without a map) draw from streams of their own.
+                    Rng rng = s < kPilotSamples
+                                  ? Rng(seed, stream * uint64_t(kPixels * kPilotSamples) + uint64_t(j * kPilotSamples + s))
+                                  : Rng(mix64(seed ^ kLongPilotSalt), stream * uint64_t(kPixels * kNoMapPilotSamples) + at(j, s, most));
                     const double jx = rng.uniform(), jy = rng.uniform();
-                    values[m][at(j, s)] = luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
+                    values[m][at(j, s, most)] = luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
                 }
             });
         };
@@ -110,9 +118,17 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             continue;
         }
         one_fits = one_fits || !(image_pixels * probe_cost > budget.max_pass_cost);
-        const int n = budget.per_candidate > 0.0
-                          ? pilot_samples(budget.per_candidate, probe_cost, kPixels, budget_maps, kPilotSamples)
-                          : kPilotSamples;
+        int n = budget.per_candidate > 0.0
+                    ? pilot_samples(budget.per_candidate, probe_cost, kPixels, budget_maps, kPilotSamples)
+                    : kPilotSamples;
+        if (!may_use_halves) {
+            // Without a map a sample is cheap (no kNN query, no halves) and its tail is what decides
+            // (render/no_map_candidate.h): up to kNoMapPilotSamples, within the work the candidates
+            // before it spent together and within its budget share.
+            double share = hooks.work(before) - work_before;
+            if (budget.per_candidate > 0.0) share = std::min(share, budget.per_candidate);
+            if (share > 0.0) n = std::max(n, pilot_samples(share, probe_cost, kPixels, 1, kNoMapPilotSamples));
+        }
         trace(0, 1, n);
         g.per_sample = per_sample(before, hooks.counts(), double(kPixels * n));
         g.sample_cost = hooks.work(g.per_sample);
@@ -132,7 +148,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         for (int j = 0; j < kPixels; ++j) {
             double mean = 0.0, m2 = 0.0;
             for (int s = 0; s < n; ++s) {
-                const double x = values[0][at(j, s)], delta = x - mean;
+                const double x = values[0][at(j, s, most)], delta = x - mean;
                 mean += delta / (s + 1);
                 m2 += delta * (x - mean);
             }
@@ -141,23 +157,32 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         g.v_camera = v / kPixels;
         double sum = 0.0;
         for (int j = 0; j < kPixels; ++j)
-            for (int s = 0; s < n; ++s) sum += values[0][at(j, s)];
+            for (int s = 0; s < n; ++s) sum += values[0][at(j, s, most)];
         g.mean = sum / double(kPixels * n);
         // Pixels differ in mean, so the SE comes from the spread of the pixel means (each of n samples).
         double spread = 0.0;
         for (int j = 0; j < kPixels; ++j) {
             double pm = 0.0;
-            for (int s = 0; s < n; ++s) pm += values[0][at(j, s)] / n;
+            for (int s = 0; s < n; ++s) pm += values[0][at(j, s, most)] / n;
             spread += (pm - g.mean) * (pm - g.mean);
         }
         g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
+        // The share of the variance in the largest samples (render/pilot_tail.h), about each pixel's mean.
+        std::vector<double> squares;
+        squares.reserve(size_t(kPixels * n));
+        for (int j = 0; j < kPixels; ++j) {
+            double pm = 0.0;
+            for (int s = 0; s < n; ++s) pm += values[0][at(j, s, most)] / n;
+            for (int s = 0; s < n; ++s) squares.push_back((values[0][at(j, s, most)] - pm) * (values[0][at(j, s, most)] - pm));
+        }
+        g.tail_share = largest_squares_share(std::move(squares), kPilotTailFraction);
         g.v_map_quarter = -1.0;
         if (halves_too) {
-            g.v_map_half = 0.5 * map_variance_of_difference(values[1], values[2], n);
+            g.v_map_half = 0.5 * map_variance_of_difference(values[1], values[2], n, most);
             // The half maps' balls are 2^(1/3) wider: with a bias ~ r^2 (a smooth density, the corrected
             // estimate's leading term) their mean is off by (2^(2/3) - 1) times the full map's bias.
             const double f = std::pow(2.0, 2.0 / 3.0) - 1.0;
-            g.bias2 = squared_mean_difference(values[1], values[2], values[0], n) / (f * f);
+            g.bias2 = squared_mean_difference(values[1], values[2], values[0], n, most) / (f * f);
         }
         out.push_back(g);
     }

@@ -24,6 +24,18 @@
 // sky (sphere and blob at thickness 1: 1.1-1.5 segments per sample) a kNN estimate costs 15-50
 // continued samples at the same or lower variance (BENCHMARKS.md section 11.11), while the dense
 // boxes the rule was made for continue over 10-19 segments per sample.
+//
+// Short paths are not enough where the continuation is heavy-tailed. Under a point light and a
+// forward-peaked phase function (g = 0.8) most of its variance comes from paths that bounce backwards
+// at their first vertex (rare under g = 0.8) and then take NEE through the forward lobe towards the
+// light: samples 1000-2400x the pixel mean, one in ~10^4 (BENCHMARKS.md section 16). With 8 samples
+// per pixel the pilot measured its variance 5-29x too low there and "continue" won the pilot but lost
+// the run 1.4-6.9x (matrix v6). Its samples are cheap, so it takes up to kNoMapPilotSamples per pixel
+// (render/map_noise_pilot.h), and where the map is used it is no choice when its largest 1/1024 samples
+// hold more than kNoMapMaxTailShare of its squared deviations: a variance carried by a few samples in
+// a thousand is one the pilot has not measured. Measured: 0.83-0.98 in the g = 0.8 cells, 0.05-0.36
+// where the map is used at g = 0. Below kNoMapTailMinSamples per pixel (a share too small to pay for
+// them) the largest 1/1024 are a sample or two whatever the tail, and the test is not made.
 #include <algorithm>
 #include <vector>
 
@@ -34,17 +46,24 @@ namespace vpm {
 constexpr const char* kNoMapCandidate = "continue";
 constexpr double kNoMapMaxUsedShare = 0.02;
 constexpr double kNoMapShortPathRays = 2.0;
+constexpr double kNoMapMaxTailShare = 0.5;
+constexpr int kNoMapTailMinSamples = 128;
 
-// Marks the no-map candidates excluded unless every map candidate used the map in at most
-// kNoMapMaxUsedShare of its queries (queries 0: unused), or their own paths are short (at most
-// kNoMapShortPathRays tracked segments per sample).
+// Where a map candidate used the map in more than kNoMapMaxUsedShare of its queries (queries 0:
+// unused), marks the no-map candidates excluded unless their own paths are short (at most
+// kNoMapShortPathRays tracked segments per sample) and light-tailed (at most kNoMapMaxTailShare of
+// their squared deviations in their largest 1/1024 samples, measured over kNoMapTailMinSamples or more).
 inline void exclude_no_map_where_the_map_is_used(std::vector<GatherMeasurement>& candidates) {
     double share = 0.0;
     for (const GatherMeasurement& m : candidates)
         if (m.uses_map && m.per_sample.queries > 0.0) share = std::max(share, m.per_sample.map_used / m.per_sample.queries);
     if (share <= kNoMapMaxUsedShare) return;
-    for (GatherMeasurement& m : candidates)
-        if (!m.uses_map && m.per_sample.rays > kNoMapShortPathRays) m.excluded = true;
+    for (GatherMeasurement& m : candidates) {
+        if (m.uses_map) continue;
+        const bool long_paths = m.per_sample.rays > kNoMapShortPathRays;
+        const bool heavy_tail = m.samples >= kNoMapTailMinSamples && m.tail_share > kNoMapMaxTailShare;
+        if (long_paths || heavy_tail) m.excluded = true;
+    }
 }
 
 }  // namespace vpm

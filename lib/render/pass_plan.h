@@ -43,6 +43,7 @@ struct GatherMeasurement {
     double max_weight = 0.0;      // largest march point weight relative to an exact majorant's (0: no march)
     double mean = 0.0;            // the pilot's mean luminance over its pixels and samples
     double mean_se = 0.0;         // its standard error
+    double tail_share = 0.0;      // share of its squared deviations in its largest 1/1024 samples (render/pilot_tail.h)
     CountedOperations per_sample; // the operations behind it
     int samples = 0;              // pilot samples per pixel and map (render/pilot_budget.h)
     bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap

@@ -204,9 +204,9 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, means, mean_ses, cost, queries, rays, lookups, used, steps;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, means, mean_ses, tails, cost, queries, rays, lookups, used, steps;
         std::vector<int> samples;
-        std::vector<bool> dropped;
+        std::vector<bool> dropped, excluded;
         for (const auto& c : a->candidates) {
             names.push_back(c.name);
             v_camera.push_back(c.v_camera);
@@ -217,6 +217,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             weights.push_back(c.max_weight);
             means.push_back(c.mean);
             mean_ses.push_back(c.mean_se);
+            tails.push_back(c.tail_share);
             queries.push_back(c.per_sample.queries);
             rays.push_back(c.per_sample.rays);
             lookups.push_back(c.per_sample.lookups);
@@ -224,6 +225,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             steps.push_back(c.per_sample.steps);
             samples.push_back(c.samples);
             dropped.push_back(c.dropped);
+            excluded.push_back(c.excluded);
         }
         record.set("photons.auto_gather.candidates", nlohmann::json(names));
         record.set("photons.auto_gather.v_camera", nlohmann::json(v_camera));
@@ -234,6 +236,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.march_weight_max", nlohmann::json(weights));
         record.set("photons.auto_gather.mean", nlohmann::json(means));
         record.set("photons.auto_gather.mean_se", nlohmann::json(mean_ses));
+        record.set("photons.auto_gather.tail_share", nlohmann::json(tails));
         record.set("photons.auto_gather.queries_per_sample", nlohmann::json(queries));
         record.set("photons.auto_gather.rays_per_sample", nlohmann::json(rays));
         record.set("photons.auto_gather.lookups_per_sample", nlohmann::json(lookups));
@@ -241,6 +244,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.steps_per_sample", nlohmann::json(steps));
         record.set("photons.auto_gather.pilot_samples", nlohmann::json(samples));
         record.set("photons.auto_gather.dropped", nlohmann::json(dropped));
+        record.set("photons.auto_gather.excluded", nlohmann::json(excluded));
         record.set("photons.auto_gather.photon_pass", a->photon_pass);
         record.set("photons.auto_gather.photon_cost", a->photon_cost);
         record.set("photons.auto_gather.count", a->count);

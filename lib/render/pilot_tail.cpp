@@ -1,0 +1,25 @@
+#include "render/pilot_tail.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "core/error.h"
+
+namespace vpm {
+
+double largest_squares_share(std::vector<double> squares, double fraction) {
+    if (!(fraction > 0.0 && fraction <= 1.0)) throw Error("largest_squares_share: fraction must be in (0, 1]");
+    if (squares.empty()) return 0.0;
+    const size_t top = std::min(squares.size(), size_t(std::ceil(fraction * double(squares.size()))));
+    // Sorted descending so that both sums add the same values in the same order on every run.
+    std::sort(squares.begin(), squares.end(), std::greater<double>());
+    double total = 0.0, largest = 0.0;
+    for (size_t i = 0; i < squares.size(); ++i) {
+        total += squares[i];
+        if (i < top) largest += squares[i];
+    }
+    return total > 0.0 ? largest / total : 0.0;
+}
+
+}  // namespace vpm
