@@ -143,7 +143,9 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                 << ", work " << m.sample_cost << " per sample, map estimates used " << m.per_sample.map_used << " per sample";
             if (!m.uses_map)
                 log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance"
-                    << (m.excluded ? " (not a choice: the map is used and its paths are long or heavy-tailed, render/no_map_candidate.h)" : "");
+                    << (!m.excluded ? ""
+                        : m.per_sample.rays > kNoMapShortPathRays ? " (not a choice: the map is used and its paths are long, render/no_map_candidate.h)"
+                                                                   : " (not a choice: the map is used and its samples are heavy-tailed, render/no_map_candidate.h)");
         }
         log << "; work " << in.photon_cost << " per photon)\n";
         if (no_map_)
