@@ -33,8 +33,8 @@
 // the run 1.4-6.9x (matrix v6). Its samples are cheap, so it takes up to kNoMapPilotSamples per pixel
 // (render/map_noise_pilot.h), and where the map is used it is no choice when its largest 1/1024 samples
 // hold more than kNoMapMaxTailShare of its squared deviations: a variance carried by a few samples in
-// a thousand is one the pilot has not measured. Measured: 0.83-0.98 in the g = 0.8 cells, 0.05-0.36
-// where the map is used at g = 0. Below kNoMapTailMinSamples per pixel (a share too small to pay for
+// a thousand is one the pilot has not measured. Measured where paths are short: 0.84-0.96 in the g =
+// 0.8 cells, 0.05-0.35 at g = 0 (long paths, excluded anyway: up to 0.53 at albedo 0.99). Below kNoMapTailMinSamples per pixel (a share too small to pay for
 // them) the largest 1/1024 are a sample or two whatever the tail, and the test is not made.
 #include <algorithm>
 #include <vector>

@@ -7,9 +7,9 @@
 // With the fraction fixed, a light-tailed estimator gives about the same share at any sample count
 // once the largest fraction holds several samples, while a tail whose rare samples carry the variance
 // gives a share near 1. Measured on the pilot's "continue" samples at 64 pixels x 128-1024 samples
-// (BENCHMARKS.md section 16): the top 1/1024 held 0.83-0.98 of the squared deviations in the g = 0.8
-// cells under a point light (NEE through the forward lobe after a rare backward bounce) and 0.05-0.36
-// in the cells where the map is used and g = 0.
+// (BENCHMARKS.md section 16): the top 1/1024 held 0.84-0.96 of the squared deviations in the g = 0.8
+// cells under a point light (NEE through the forward lobe after a rare backward bounce) and 0.05-0.35
+// in the g = 0 cells with short continued paths (up to 0.53 in albedo-0.99 grids: long walks).
 #include <vector>
 
 namespace vpm {
