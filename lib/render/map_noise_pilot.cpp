@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "photon/walk_group_split.h"
+#include "render/pilot_bias.h"
 
 namespace vpm {
 
@@ -29,23 +30,6 @@ double map_variance_of_difference(const std::vector<double>& a, const std::vecto
         sum += mean * mean - m2 / (n - 1) / n;
     }
     return sum / kPixels;   // E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b)
-}
-
-// Per pixel: the mean over n samples of (a + b) / 2 - f, squared, less its samples' share.
-double squared_mean_difference(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& f, int n) {
-    double sum = 0.0;
-    for (int j = 0; j < kPixels; ++j) {
-        double mean = 0.0, m2 = 0.0;
-        for (int s = 0; s < n; ++s) {
-            const size_t i = at(j, s);
-            const double d = 0.5 * (a[i] + b[i]) - f[i];
-            const double delta = d - mean;
-            mean += delta / (s + 1);
-            m2 += delta * (d - mean);
-        }
-        sum += mean * mean - m2 / (n - 1) / n;
-    }
-    return sum / kPixels;
 }
 
 CountedOperations per_sample(const CountedOperations& before, const CountedOperations& after, double samples) {
@@ -154,10 +138,10 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         g.v_map_quarter = -1.0;
         if (halves_too) {
             g.v_map_half = 0.5 * map_variance_of_difference(values[1], values[2], n);
-            // The half maps' balls are 2^(1/3) wider: with a bias ~ r^2 (a smooth density, the corrected
-            // estimate's leading term) their mean is off by (2^(2/3) - 1) times the full map's bias.
-            const double f = std::pow(2.0, 2.0 / 3.0) - 1.0;
-            g.bias2 = squared_mean_difference(values[1], values[2], values[0], n) / (f * f);
+            const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
+            g.bias2 = bias.bias2;
+            g.bias_mean = bias.mean;
+            g.bias_se = bias.se;
         }
         out.push_back(g);
     }
