@@ -1,5 +1,6 @@
 #include "render/map_noise_pilot.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
@@ -17,8 +18,10 @@ constexpr int kPixels = kPilotSide * kPilotSide;
 size_t at(int j, int s) { return size_t(j * kPilotSamples + s); }   // a sample's slot: fixed whatever n is
 
 // Per pixel: the mean of a's first n samples minus b's, squared, less the samples' share Var(a - b) / n.
-double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n) {
-    double sum = 0.0;
+// Averaged over the pixels: E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b); `se` its
+// standard error from the pixels' spread.
+double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n, double& se) {
+    double mean_t = 0.0, m2_t = 0.0;
     for (int j = 0; j < kPixels; ++j) {
         double mean = 0.0, m2 = 0.0;
         for (int s = 0; s < n; ++s) {
@@ -27,9 +30,13 @@ double map_variance_of_difference(const std::vector<double>& a, const std::vecto
             mean += delta / (s + 1);
             m2 += delta * (d - mean);
         }
-        sum += mean * mean - m2 / (n - 1) / n;
+        const double t = mean * mean - m2 / (n - 1) / n;
+        const double delta = t - mean_t;
+        mean_t += delta / (j + 1);
+        m2_t += delta * (t - mean_t);
     }
-    return sum / kPixels;   // E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b)
+    se = std::sqrt(m2_t / (kPixels - 1) / kPixels);
+    return mean_t;
 }
 
 CountedOperations per_sample(const CountedOperations& before, const CountedOperations& after, double samples) {
@@ -137,7 +144,12 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
         g.v_map_quarter = -1.0;
         if (halves_too) {
-            g.v_map_half = 0.5 * map_variance_of_difference(values[1], values[2], n);
+            // A map variance the pilot does not resolve is charged at its standard error, not at 0 (or
+            // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
+            // whose map noise then set the image's error (BENCHMARKS.md section 17).
+            double se = 0.0;
+            const double v = map_variance_of_difference(values[1], values[2], n, se);
+            g.v_map_half = 0.5 * std::max(v, se);
             const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
             g.bias2 = bias.bias2;
             g.bias_mean = bias.mean;
