@@ -53,6 +53,10 @@
 //   |                        |             | discs (render/beam_gather.h), single scattering by NEE   |
 //   |                        |             | at gather_queries points per segment                     |
 //   | gather_queries         | 4           | points per segment for "march" (NEE points for "beam")   |
+//   | march_points           | "fixed"     | "march": how many points a crossed medium gets: "fixed"  |
+//   |                        |             | gather_queries; "mass" ceil(gather_queries (1 - T));     |
+//   |                        |             | "free_flight" gather_queries stratified free flights,    |
+//   |                        |             | those inside the segment (transport/march_points.h)      |
 //   | beam_k                 | 32          | "beam": each photon's radius is its beam_k-th nearest    |
 //   |                        |             | other photon (photon/photon_radii.h)                     |
 //   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
@@ -76,6 +80,7 @@
 
 #include "core/math.h"
 #include "photon/estimators.h"
+#include "transport/march_count.h"
 #include "transport/walk_settings.h"
 
 namespace vpm {
@@ -104,6 +109,7 @@ struct PhotonMapSettings {
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
+    MarchCount march_points = MarchCount::fixed;   // points per crossed medium (transport/march_points.h)
     int beam_k = 32;
     double store_probability = 1.0;
     bool store_auto = false;   // store_probability = "auto": from the pass's walk statistics (photon/store_thinning.h)
