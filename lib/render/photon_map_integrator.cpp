@@ -429,9 +429,10 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
 }
 
 Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const {
-    // Per medium, n stratified points with the free-flight density of its exact extinction
-    // (transport/march_points.h): each weighs albedo P / n times the other media's transmittance,
-    // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field.
+    // Per medium, m stratified points with the free-flight density of its exact extinction
+    // (transport/march_points.h): each weighs albedo P / m times the other media's transmittance,
+    // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field; m = n or fewer where
+    // P is small (photons.march_points, transport/march_count.h).
     const int n = settings_.gather_queries;
     auto& local = threads_->local.local();
     Rgb sum = Rgb::Zero();
