@@ -209,6 +209,16 @@ double mean_sq_diff_half(const Image& a, const Image& b, double scale) {
 
 }  // namespace
 
+void check_matrix_method_set(const std::string& set) {
+    const size_t eq = set.find('=');
+    const std::string key = eq == std::string::npos ? set : set.substr(0, eq);
+    if (eq == std::string::npos || eq == 0 || eq + 1 == set.size())
+        throw Error("vpm bench matrix --set '" + set + "': expected KEY=VALUE, e.g. photons.store_probability=\"auto\"");
+    if (key.rfind("photons.", 0) != 0 && key != "render.seed")
+        throw Error("vpm bench matrix --set '" + set + "': key '" + key + "' is not allowed (allowed: photons.* and "
+                    "render.seed; the cells' scenes, budgets and cached references stay as generated)");
+}
+
 double MatrixRow::ratio(size_t method) const {
     const double path = methods.at(0).cost();
     return path > 0 ? methods.at(method).cost() / path : std::numeric_limits<double>::quiet_NaN();
@@ -301,7 +311,9 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
         for (const MatrixMethod& method : matrix_methods()) {
             MatrixMethodResult r;
             r.label = method.label;
-            RunResult res = m.render(scene, method.sets, 0, o.budget, &r.seconds);
+            std::vector<std::string> sets = o.method_sets;
+            sets.insert(sets.end(), method.sets.begin(), method.sets.end());
+            RunResult res = m.render(scene, sets, 0, o.budget, &r.seconds);
             const RunError e = run_error(res.image, ref.image);
             r.passes = int(res.stats.pass_summary.count);
             r.rel_rmse = e.rel_rmse;

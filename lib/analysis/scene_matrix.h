@@ -60,9 +60,18 @@ struct MatrixOptions {
     std::ostream* log = nullptr;
     std::function<bool(const MatrixCell&)> filter;   // null: every cell
     std::vector<std::string> sets;    // --set overrides for every run after the method's (tests: fewer photons)
+    // `vpm bench matrix --set`: photons.* and render.seed for the compared runs (path tracer and photon
+    // map settings), before the method's own, so that a forced gather stays forced; never for the
+    // references, which are cached by scene (check_matrix_method_set).
+    std::vector<std::string> method_sets;
 };
 
 struct MatrixReport;
+
+// Throws vpm::Error unless `set` is KEY=VALUE with KEY photons.* or render.seed: a key that changes
+// the scene or the render (media, lights, camera, render.time_limit) would be compared against
+// references cached for another scene or budget.
+void check_matrix_method_set(const std::string& set);
 
 struct MatrixMethodResult {
     std::string label;

@@ -12,6 +12,7 @@
 
 #include "analysis/row_hash.h"
 #include "analysis/scene_matrix.h"
+#include "core/error.h"
 #include "render/run_config.h"
 
 namespace fs = std::filesystem;
@@ -146,4 +147,15 @@ TEST(SceneMatrix, SceneHashFollowsMediaContentNotTheirFolder) {
     EXPECT_EQ(a, b);
     EXPECT_NE(a, changed);
     fs::remove_all(root);
+}
+
+// `vpm bench matrix --set` reaches the compared runs only, so it may not change what the cached
+// references were rendered for.
+TEST(SceneMatrix, MethodSetsAreLimitedToPhotonKeysAndTheSeed) {
+    EXPECT_NO_THROW(vpm::check_matrix_method_set("photons.store_probability=\"auto\""));
+    EXPECT_NO_THROW(vpm::check_matrix_method_set("render.seed=2"));
+    EXPECT_THROW(vpm::check_matrix_method_set("media.albedo=0.5"), vpm::Error);
+    EXPECT_THROW(vpm::check_matrix_method_set("render.time_limit=1"), vpm::Error);
+    EXPECT_THROW(vpm::check_matrix_method_set("photons.k"), vpm::Error);
+    EXPECT_THROW(vpm::check_matrix_method_set("=3"), vpm::Error);
 }

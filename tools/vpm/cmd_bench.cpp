@@ -210,7 +210,11 @@ int run_matrix(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1e300));
     app.add_option("--media", media, "Folder with blob.vdb and plume.vdb")->capture_default_str()->check(CLI::ExistingDirectory);
     app.add_flag("--no-plot", no_plot, "Do not run tools/plot_matrix.py");
+    app.add_option("--set", o.method_sets,
+                   "KEY=VALUE for every compared run, not the references (repeatable; photons.* or render.seed), "
+                   "e.g. --set photons.store_probability='\"auto\"' to measure a default before changing it");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    for (const std::string& s : o.method_sets) vpm::check_matrix_method_set(s);
     o.quick = quick;
     o.budget = budget > 0 ? budget : (quick ? 1.0 : 4.0);
     o.reference_seconds = reference > 0 ? reference : (quick ? 4.0 : 30.0);
