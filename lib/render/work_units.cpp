@@ -19,7 +19,11 @@ WorkUnits work_units(const Scene& scene, int k) {
     const double knn = 700.0 + 280.0 * double(k);
     w.query = (grids ? 0.75 : 0.5) * knn;
     w.query_wide = 200.0;
-    w.ray = grids ? 300.0 : 500.0;
+    // A tracked segment in homogeneous media is a closed form: 105-130 ns (user CPU per sample of the
+    // path-traced continuation over its counted segments: box tau 10 117, sphere tau 1 129, sphere tau
+    // 100 105; BENCHMARKS.md section 19). 500 charged the continuation 2.6-6.4x (median 4.3x) its
+    // time and the collision gather 1.3x, against the march's 1.2x: the plan's choice leaned to the march.
+    w.ray = grids ? 300.0 : 120.0;
     w.lookup = grids ? 40.0 : 5.0;
     w.step = grids ? 10.0 : 0.0;
     // Photon pass (trace and kd-tree build ns per emitted photon, the same runs): within 0.79-1.19x.
