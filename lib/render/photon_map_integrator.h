@@ -83,6 +83,9 @@ public:
     std::string name() const override { return "photon_map"; }
     // gather = "auto" under render.time_limit: the plan's samples per pass (render/pass_plan.h).
     int samples_per_pass(int configured) const override;
+    // Once the plan chose "continue" no pass traces photons: the passes may go in groups, and the
+    // first pass's photon pass and pilot are not what a later pass costs (render/run.cpp).
+    bool stateless_passes() const override { return no_map_; }
     // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
     // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
     // beam: one BVH query per segment (render/beam_gather.h); a map without discs falls back to march.

@@ -42,19 +42,25 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     int spp = rs.spp_per_pass();   // the integrator may size it (samples_per_pass) once prepared
     // Passes of an integrator without per-pass state go in groups of at least kMinGroupSamples
     // camera samples, rendered in one go over the image (render_passes: the same image as one by one).
-    const double pass_samples = double(rs.width) * double(rs.height) * double(spp);
-    const int64_t group = integrator->stateless_passes()
-                              ? int64_t(std::min(65536.0, std::ceil(double(kMinGroupSamples) / pass_samples)))
-                              : 1;
+    // (Asked per group: an integrator may become stateless once prepared, the photon map without a map.)
+    auto group_size = [&] {
+        const double pass_samples = double(rs.width) * double(rs.height) * double(spp);
+        return integrator->stateless_passes() ? int64_t(std::min(65536.0, std::ceil(double(kMinGroupSamples) / pass_samples))) : 1;
+    };
     const Timer run_timer;
     int64_t done = 0;   // passes rendered
-    double first_group_seconds = 0.0;
+    double first_group_seconds = 0.0, first_group_render_seconds = 0.0;
     int64_t first_group_passes = 0;
+    // Time per pass from the passes after the first group; until there are any, the first group's
+    // whole time, or only its render where nothing else repeats (a stateless integrator: the photon
+    // map planned without a map paid its photon pass and pilot once, 1.2 s of a 2 s limit in the box
+    // at optical thickness 3, and stopped after one 0.15 s pass).
     auto seconds_per_pass = [&] {
-        return done > first_group_passes ? (run_timer.seconds() - first_group_seconds) / double(done - first_group_passes)
-                                         : run_timer.seconds() / double(done);
+        if (done > first_group_passes) return (run_timer.seconds() - first_group_seconds) / double(done - first_group_passes);
+        return (integrator->stateless_passes() ? first_group_render_seconds : run_timer.seconds()) / double(done);
     };
     for (;;) {
+        const int64_t group = group_size();
         // How many passes this group renders: the configured ones first, then, under a time limit,
         // as many as the measured time per pass says still fit (at least one: the limit is checked
         // before a group starts). The image depends on the total pass count only.
@@ -110,6 +116,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         // Time per pass from the passes after the first: the first also holds one-off work (the
         // photon map's pilot, the light allocation) and would stop a time-limited run early.
         if (before == 0) first_group_seconds = run_timer.seconds();
+        if (before == 0) first_group_render_seconds = group_render.seconds;
         if (before == 0) first_group_passes = done;
         const double mean_pass = seconds_per_pass();
         if (options.log && before == 0 && rs.time_limit > 0 && run_timer.seconds() > rs.time_limit)

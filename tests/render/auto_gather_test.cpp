@@ -13,7 +13,9 @@
 
 #include "config/params.h"
 #include "core/error.h"
+#include "render/photon_map_integrator.h"
 #include "render/run.h"
+#include "render/run_stats.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;
@@ -89,10 +91,10 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
 TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
     // Under a limit that buys more photons than photons.count, pass 0 renders with a map of the
     // plan's size, not the pilot's: the run emits the pilot's 100000 and then the planned count in
-    // every pass, pass 0 included (whatever number of passes the clock allows). 1 s: at 0.5 s the plan
-    // buys samples, not photons, since the march got cheaper (photons.march_points = "mass").
+    // every pass, pass 0 included (whatever number of passes the clock allows). Optical thickness 3:
+    // at 1 the path-traced continuation wins the plan (no map), at 3 the march with 200000 photons.
     std::ostringstream log;
-    const RunResult r = render(write("cube.toml", thin_cube(1.0)), {"render.time_limit=1", "render.width=32", "render.height=32"}, &log);
+    const RunResult r = render(write("cube.toml", thin_cube(1.0, 3.0)), {"render.time_limit=1", "render.width=32", "render.height=32"}, &log);
     ASSERT_TRUE(r.stats.auto_gather && r.stats.photons);
     const AutoGatherStats& a = *r.stats.auto_gather;
     ASSERT_TRUE(a.photon_pass) << log.str();
@@ -233,4 +235,33 @@ TEST(AutoGather, FurnaceStaysUnbiasedWithoutTheMap) {
     EXPECT_EQ(one.stats.auto_gather->chosen, "continue");
     const test::Sample s = test::repeated_run_brightness(config, 6);
     EXPECT_NEAR(s.mean(), 0.5, 3.0 * s.se() + 0.005);
+}
+
+TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
+    // The cube at optical thickness 2 and albedo 0.5, 32x32, under a 1 s limit is planned without a
+    // map ("continue": counts only, the same on any machine; at thickness 1 and albedo 0.8 the march
+    // wins since photons.march_points = "mass" made it cheaper). From then on no pass traces photons,
+    // so the run loop may group passes and must not take pass 0's photon pass and pilot for what each
+    // later pass costs (render/run.cpp).
+    const RunConfig config = RunConfig::load(write("cube.toml", thin_cube(1.0, 2.0, 0.5)), {"render.time_limit=1", "render.width=32", "render.height=32"});
+    PhotonMapIntegrator pm(*config.scene, photon_map_settings(config));
+    EXPECT_FALSE(pm.stateless_passes());   // a photon pass per pass until a plan says otherwise
+    PassContext context;
+    context.progress = false;
+    context.configured_spp = 16;
+    RunStats stats;
+    pm.prepare(context, stats);
+    pm.collect(stats, nullptr);
+    ASSERT_TRUE(stats.auto_gather);
+    EXPECT_EQ(stats.auto_gather->chosen, "continue");
+    EXPECT_TRUE(pm.stateless_passes());
+    // A run that keeps its map keeps a photon pass per pass.
+    const RunConfig thick = RunConfig::load(write("cube3.toml", thin_cube(1.0, 3.0)), {"render.time_limit=1", "render.width=32", "render.height=32"});
+    PhotonMapIntegrator map(*thick.scene, photon_map_settings(thick));
+    RunStats thick_stats;
+    map.prepare(context, thick_stats);
+    map.collect(thick_stats, nullptr);
+    ASSERT_TRUE(thick_stats.auto_gather);
+    EXPECT_NE(thick_stats.auto_gather->chosen, "continue");
+    EXPECT_FALSE(map.stateless_passes());
 }
