@@ -1,10 +1,12 @@
 #include "render/map_noise_pilot.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
 
 #include "photon/walk_group_split.h"
+#include "render/pilot_bias.h"
 
 namespace vpm {
 
@@ -16,8 +18,10 @@ constexpr int kPixels = kPilotSide * kPilotSide;
 size_t at(int j, int s) { return size_t(j * kPilotSamples + s); }   // a sample's slot: fixed whatever n is
 
 // Per pixel: the mean of a's first n samples minus b's, squared, less the samples' share Var(a - b) / n.
-double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n) {
-    double sum = 0.0;
+// Averaged over the pixels: E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b); `se` its
+// standard error from the pixels' spread.
+double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n, double& se) {
+    double mean_t = 0.0, m2_t = 0.0;
     for (int j = 0; j < kPixels; ++j) {
         double mean = 0.0, m2 = 0.0;
         for (int s = 0; s < n; ++s) {
@@ -26,26 +30,13 @@ double map_variance_of_difference(const std::vector<double>& a, const std::vecto
             mean += delta / (s + 1);
             m2 += delta * (d - mean);
         }
-        sum += mean * mean - m2 / (n - 1) / n;
+        const double t = mean * mean - m2 / (n - 1) / n;
+        const double delta = t - mean_t;
+        mean_t += delta / (j + 1);
+        m2_t += delta * (t - mean_t);
     }
-    return sum / kPixels;   // E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b)
-}
-
-// Per pixel: the mean over n samples of (a + b) / 2 - f, squared, less its samples' share.
-double squared_mean_difference(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& f, int n) {
-    double sum = 0.0;
-    for (int j = 0; j < kPixels; ++j) {
-        double mean = 0.0, m2 = 0.0;
-        for (int s = 0; s < n; ++s) {
-            const size_t i = at(j, s);
-            const double d = 0.5 * (a[i] + b[i]) - f[i];
-            const double delta = d - mean;
-            mean += delta / (s + 1);
-            m2 += delta * (d - mean);
-        }
-        sum += mean * mean - m2 / (n - 1) / n;
-    }
-    return sum / kPixels;
+    se = std::sqrt(m2_t / (kPixels - 1) / kPixels);
+    return mean_t;
 }
 
 CountedOperations per_sample(const CountedOperations& before, const CountedOperations& after, double samples) {
@@ -153,11 +144,16 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
         g.v_map_quarter = -1.0;
         if (halves_too) {
-            g.v_map_half = 0.5 * map_variance_of_difference(values[1], values[2], n);
-            // The half maps' balls are 2^(1/3) wider: with a bias ~ r^2 (a smooth density, the corrected
-            // estimate's leading term) their mean is off by (2^(2/3) - 1) times the full map's bias.
-            const double f = std::pow(2.0, 2.0 / 3.0) - 1.0;
-            g.bias2 = squared_mean_difference(values[1], values[2], values[0], n) / (f * f);
+            // A map variance the pilot does not resolve is charged at its standard error, not at 0 (or
+            // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
+            // whose map noise then set the image's error (BENCHMARKS.md section 17).
+            double se = 0.0;
+            const double v = map_variance_of_difference(values[1], values[2], n, se);
+            g.v_map_half = 0.5 * std::max(v, se);
+            const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
+            g.bias2 = bias.bias2;
+            g.bias_mean = bias.mean;
+            g.bias_se = bias.se;
         }
         out.push_back(g);
     }

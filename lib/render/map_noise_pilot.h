@@ -7,9 +7,8 @@
 //             E[(mean_A - mean_B)^2] = 2 V_map(N0/2) + Var(A - B) / n (the samples' own share of
 //             the difference, measured per pixel and subtracted),
 //   bias^2    the squared bias of a pixel at N0, from the half maps' mean minus the full map's
-//             (the same samples: the difference is the maps' alone) as (2^(2/3) - 1) b(N0) for a
-//             bias ~ r^2 ~ N^-2/3 (the corrected estimate's in a smooth density; at a medium's
-//             boundary it goes as r and this underestimates it),
+//             (the same samples: the difference is the maps' alone), pooled with its sign over the
+//             pixels and charged only where resolved (render/pilot_bias.h),
 //   cost      counted work units per sample with the full map (queries, rays, lookups).
 // A per-sample variance alone misses V_map: every sample of a pass sees the same map. Pixels,
 // samples and streams are fixed by the seed, so the figures are the same on any thread count.

@@ -38,7 +38,7 @@ struct GatherMeasurement {
     double v_camera = 0.0;        // per-sample variance of a pixel's luminance given the map
     double v_map_half = 0.0;      // variance of a pixel's mean from the map at N0 / 2 (may be < 0: noise)
     double v_map_quarter = 0.0;   // the same at N0 / 4 (not measured: < 0)
-    double bias2 = 0.0;           // squared bias of a pixel at N0 (may be < 0: noise), ~ N^-4/3
+    double bias2 = 0.0;           // squared bias of a pixel at N0 (>= 0; 0 where unresolved: render/pilot_bias.h), ~ N^-4/3
     double sample_cost = 0.0;     // counted work units per camera sample
     double max_weight = 0.0;      // largest march point weight relative to an exact majorant's (0: no march)
     double mean = 0.0;            // the pilot's mean luminance over its pixels and samples
@@ -48,6 +48,8 @@ struct GatherMeasurement {
     bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap
     bool uses_map = true;         // false: no photon pass is paid for (render/no_map_candidate.h)
     bool excluded = false;        // not a choice (render/no_map_candidate.h: the map is used)
+    double bias_mean = 0.0;       // the pilot's pooled, signed bias at N0 behind bias2
+    double bias_se = 0.0;         // and its standard error
 };
 
 struct PlanInputs {

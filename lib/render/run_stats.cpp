@@ -204,7 +204,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, weights, means, mean_ses, cost, queries, rays, lookups, used, steps;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, bias_mean, bias_se, weights, means, mean_ses, cost, queries, rays, lookups, used, steps;
         std::vector<int> samples;
         std::vector<bool> dropped;
         for (const auto& c : a->candidates) {
@@ -214,6 +214,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             v_map_quarter.push_back(c.v_map_quarter);
             cost.push_back(c.sample_cost);
             bias2.push_back(c.bias2);
+            bias_mean.push_back(c.bias_mean);
+            bias_se.push_back(c.bias_se);
             weights.push_back(c.max_weight);
             means.push_back(c.mean);
             mean_ses.push_back(c.mean_se);
@@ -231,6 +233,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.v_map_quarter", nlohmann::json(v_map_quarter));
         record.set("photons.auto_gather.sample_cost", nlohmann::json(cost));
         record.set("photons.auto_gather.bias2", nlohmann::json(bias2));
+        record.set("photons.auto_gather.bias_mean", nlohmann::json(bias_mean));
+        record.set("photons.auto_gather.bias_se", nlohmann::json(bias_se));
         record.set("photons.auto_gather.march_weight_max", nlohmann::json(weights));
         record.set("photons.auto_gather.mean", nlohmann::json(means));
         record.set("photons.auto_gather.mean_se", nlohmann::json(mean_ses));

@@ -91,10 +91,18 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
 TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
     // Under a limit that buys more photons than photons.count, pass 0 renders with a map of the
     // plan's size, not the pilot's: the run emits the pilot's 100000 and then the planned count in
-    // every pass, pass 0 included (whatever number of passes the clock allows). Optical thickness 3:
-    // at 1 the path-traced continuation wins the plan (no map), at 3 the march with 200000 photons.
+    // every pass, pass 0 included (whatever number of passes the clock allows).
+    // The uniform furnace at k = 128, 64 x 64 (its map noise, not a bias, buys photons: the pilot's
+    // bias is charged only where resolved, render/pilot_bias.h; the thin cube's plan keeps 100000 at
+    // optical thickness 1 and 3).
     std::ostringstream log;
-    const RunResult r = render(write("cube.toml", thin_cube(1.0, 3.0)), {"render.time_limit=1", "render.width=32", "render.height=32"}, &log);
+    const std::string f = write("furnace128.toml",
+                                "[render]\nwidth = 64\nheight = 64\nintegrator = \"photon_map\"\ntime_limit = 2\n\n"
+                                "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
+                                "[photons]\nk = 128\ndirect = \"photon_map\"\nmax_radius_mfp = 0\n\n"
+                                "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
+                                "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.6\nalbedo = 1.0\n");
+    const RunResult r = render(f, {}, &log);
     ASSERT_TRUE(r.stats.auto_gather && r.stats.photons);
     const AutoGatherStats& a = *r.stats.auto_gather;
     ASSERT_TRUE(a.photon_pass) << log.str();
