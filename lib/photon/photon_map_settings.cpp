@@ -81,6 +81,8 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
         s.size_samples = !render.has("passes");
     }
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
+    s.march_points = p.choice("march_points", s.march_points,
+                              {{"fixed", MarchCount::fixed}, {"mass", MarchCount::mass}, {"free_flight", MarchCount::free_flight}});
     s.beam_k = int(p.integer("beam_k", s.beam_k, Range::closed(1, 1 << 20)));
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
     s.clustering = p.choice("clustering", s.clustering,

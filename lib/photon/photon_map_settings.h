@@ -27,9 +27,10 @@
 //   | allocation             | "importance"| photons per light: "importance" (pilot: power landing    |
 //   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
 //   | gather                 | "auto"      | camera side: "collision": one estimate where the camera  |
-//   |                        |             | ray collides; "march": gather_queries stratified points  |
-//   |                        |             | along every segment in the media (the free flight of the |
-//   |                        |             | medium's exact extinction: transport/march_points.h),    |
+//   |                        |             | ray collides; "march": up to gather_queries stratified   |
+//   |                        |             | points (march_points) along every segment in the media   |
+//   |                        |             | (the free flight of the medium's exact extinction:       |
+//   |                        |             | transport/march_points.h),                               |
 //   |                        |             | each weighing albedo (1 - T) / n times the other media's |
 //   |                        |             | transmittance (every ray gathers, also in thin media);   |
 //   |                        |             | a point whose ball exceeds max_radius_mfp takes NEE and  |
@@ -53,6 +54,11 @@
 //   |                        |             | discs (render/beam_gather.h), single scattering by NEE   |
 //   |                        |             | at gather_queries points per segment                     |
 //   | gather_queries         | 4           | points per segment for "march" (NEE points for "beam")   |
+//   | march_points           | "mass"      | "march": how many points a crossed medium gets: "mass"   |
+//   |                        |             | ceil(gather_queries (1 - T)), at least 1; "fixed"        |
+//   |                        |             | gather_queries; "free_flight" gather_queries stratified  |
+//   |                        |             | free flights, those inside the segment                   |
+//   |                        |             | (transport/march_count.h; BENCHMARKS.md section 18)      |
 //   | beam_k                 | 32          | "beam": each photon's radius is its beam_k-th nearest    |
 //   |                        |             | other photon (photon/photon_radii.h)                     |
 //   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
@@ -76,6 +82,7 @@
 
 #include "core/math.h"
 #include "photon/estimators.h"
+#include "transport/march_count.h"
 #include "transport/walk_settings.h"
 
 namespace vpm {
@@ -104,6 +111,7 @@ struct PhotonMapSettings {
     PhotonAllocationRule allocation = PhotonAllocationRule::importance;
     GatherMode gather = GatherMode::automatic;
     int gather_queries = 4;
+    MarchCount march_points = MarchCount::mass;   // points per crossed medium (transport/march_points.h)
     int beam_k = 32;
     double store_probability = 1.0;
     bool store_auto = false;   // store_probability = "auto": from the pass's walk statistics (photon/store_thinning.h)

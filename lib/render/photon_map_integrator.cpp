@@ -429,21 +429,22 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
 }
 
 Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const {
-    // Per medium, n stratified points with the free-flight density of its exact extinction
-    // (transport/march_points.h): each weighs albedo P / n times the other media's transmittance,
-    // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field.
+    // Per medium, m stratified points with the free-flight density of its exact extinction
+    // (transport/march_points.h): each weighs albedo P / m times the other media's transmittance,
+    // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field; m = n or fewer where
+    // P is small (photons.march_points, transport/march_count.h).
     const int n = settings_.gather_queries;
     auto& local = threads_->local.local();
     Rgb sum = Rgb::Zero();
     // The profile counts as one tracked segment per point, like each other medium's.
-    for_each_march_point(scene_, ray, t_end, n, rng, scene_.media.size(), local.rays,
-                         [&](const Medium& medium, double t, double others, double mass) {
+    for_each_march_point(scene_, ray, t_end, n, settings_.march_points, rng, scene_.media.size(), local.rays,
+                         [&](const Medium& medium, double t, double others, MarchMass mass) {
                              // Relative to the weight in the medium alone.
                              local.march_weight_max = std::max(local.march_weight_max, others);
                              local.march_weight_sum += others;
                              ++local.march_points;
                              const Vec3 x = ray.at(t);
-                             const Rgb weight = (others * mass / n) * medium.albedo();
+                             const Rgb weight = (others * mass.mass / mass.divisor) * medium.albedo();
                              sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, rng);
                          });
     return sum;

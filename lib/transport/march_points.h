@@ -17,6 +17,7 @@
 #include "scene/media/medium.h"
 #include "scene/media/optical_depth_profile.h"
 #include "scene/scene.h"
+#include "transport/march_count.h"
 
 namespace vpm {
 
@@ -25,19 +26,29 @@ namespace vpm {
 double place_march_points(const Medium& medium, const Ray& ray, double tmax, int n, Rng& rng,
                           OpticalDepthProfile& profile, std::vector<double>& ts);
 
+// Each point weighs mass / divisor (times the albedo and the other media's transmittance).
+struct MarchMass {
+    double mass = 0.0;   // P (fixed, mass), 1 (free_flight); 0 when the medium is not crossed
+    int divisor = 1;
+};
+
+// The points as place_march_points, counted by `count`.
+MarchMass place_counted_march_points(const Medium& medium, const Ray& ray, double tmax, int n, MarchCount count,
+                                     Rng& rng, OpticalDepthProfile& profile, std::vector<double>& ts);
+
 // The march's points on every medium the segment crosses, in the order above: per point, the other
 // media's transmittance from the previous point (a product of independent ratio-tracking
 // estimates), `tracked` += per_point, and, while that product is non-zero,
-// visit(medium, t, others, P) with the point's weight others x P / n (times the albedo). The march
-// gather and the beam gather's single scattering share it.
+// visit(medium, t, others, m) with the point's weight others x m.mass / m.divisor (times the albedo),
+// m from place_counted_march_points. The march gather and the beam gather's single scattering share it.
 template <class Visit>
-void for_each_march_point(const Scene& scene, const Ray& ray, double t_end, int n, Rng& rng, uint64_t per_point,
-                          uint64_t& tracked, Visit&& visit) {
+void for_each_march_point(const Scene& scene, const Ray& ray, double t_end, int n, MarchCount count, Rng& rng,
+                          uint64_t per_point, uint64_t& tracked, Visit&& visit) {
     OpticalDepthProfile profile;   // per call, not thread-local: a visit may trace a path that marches
     std::vector<double> ts;
     for (const auto& medium : scene.media) {
         if ((medium->albedo() == 0.0).all()) continue;
-        const double mass = place_march_points(*medium, ray, t_end, n, rng, profile, ts);
+        const MarchMass mass = place_counted_march_points(*medium, ray, t_end, n, count, rng, profile, ts);
         double others = 1.0, t_prev = 0.0;   // the other media's transmittance to the point
         for (const double t : ts) {
             for (const auto& m : scene.media)

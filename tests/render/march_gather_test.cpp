@@ -90,3 +90,24 @@ TEST_F(MarchGather, SameImageOnOneAndTwoThreads) {
     EXPECT_TRUE(one.image.rgb == two.image.rgb);
     EXPECT_GT(one.image.mean(), 0.0);
 }
+
+TEST_F(MarchGather, MassCountQueriesThinSegmentsOnce) {
+    // photons.march_points = "mass" (the default) gives a crossed medium ceil(4 (1 - T)) points
+    // instead of 4 (transport/march_count.h): in the thin blob (optical thickness ~1 across)
+    // nearly every segment holds under a quarter of the mass, so the kNN queries fall towards a
+    // quarter of "fixed"'s; where 4 (1 - T) > 1 some segments keep 2..4, so the ratio stays above 1/4.
+    const std::vector<std::string> sets = {"photons.gather=\"march\"", "render.spp=2", "render.width=8", "render.height=8"};
+    auto with = [&](const std::string& rule) {
+        auto s = sets;
+        s.push_back("photons.march_points=\"" + rule + "\"");
+        return render(blob(1.5), s);
+    };
+    const RunResult fixed = with("fixed"), mass = with("mass");
+    ASSERT_TRUE(fixed.stats.volume_estimates && mass.stats.volume_estimates);
+    const double f = double(fixed.stats.volume_estimates->queries), m = double(mass.stats.volume_estimates->queries);
+    ASSERT_GT(f, 0.0);
+    std::printf("queries: fixed %.0f, mass %.0f\n", f, m);
+    EXPECT_LT(m, 0.5 * f);
+    EXPECT_GE(m, 0.25 * f);
+    EXPECT_TRUE(mass.image.rgb != fixed.image.rgb);   // the rule is read: other points, another image
+}

@@ -10,6 +10,7 @@
 
 #include "io/vdb_io.h"
 #include "scene/media/grid_medium.h"
+#include "scene/media/homogeneous_medium.h"
 #include "transport/march_points.h"
 
 using namespace vpm;
@@ -76,4 +77,94 @@ TEST(MarchPoints, NoPointsOffTheMedium) {
     const Ray miss{Vec3(b.hi.x() + 1.0, 0, 0), Vec3(0, 1, 0)};
     EXPECT_EQ(place_march_points(m, miss, 10.0, 4, rng, profile, ts), 0.0);
     EXPECT_TRUE(ts.empty());
+}
+
+// photons.march_points (transport/march_count.h): each count rule must estimate the segment's
+// single-scattering integral without bias. In a homogeneous slab of optical depth tau along the
+// ray, sum_j f(t_j) mass / divisor estimates I = integral_0^L sigma e^(-sigma t) f(t) dt, here
+// with f(t) = 1 + t (closed form). The tolerance is 4 standard errors of the mean over the draws;
+// a rule that kept free_flight's weight 1 / n but stratified over the segment's mass only would
+// read P times too low, one that kept P / n with ceil(n P) points up to n / ceil(n P) too high.
+namespace {
+
+struct RuleMoments {
+    double mean = 0.0, se = 0.0, mean_count = 0.0;
+    int min_count = 1 << 30, max_count = 0;
+};
+
+RuleMoments draw(const Medium& m, const Ray& ray, double L, int n, MarchCount count, int draws, uint64_t seed) {
+    OpticalDepthProfile profile;
+    std::vector<double> ts;
+    Rng rng(seed);
+    double s = 0.0, s2 = 0.0, c = 0.0;
+    RuleMoments r;
+    for (int d = 0; d < draws; ++d) {
+        const MarchMass w = place_counted_march_points(m, ray, L, n, count, rng, profile, ts);
+        double e = 0.0;
+        for (const double t : ts) e += (1.0 + t) * w.mass / w.divisor;
+        s += e;
+        s2 += e * e;
+        c += double(ts.size());
+        r.min_count = std::min(r.min_count, int(ts.size()));
+        r.max_count = std::max(r.max_count, int(ts.size()));
+    }
+    r.mean = s / draws;
+    r.se = std::sqrt(std::max(0.0, s2 / draws - r.mean * r.mean) / (draws - 1));
+    r.mean_count = c / draws;
+    return r;
+}
+
+}  // namespace
+
+TEST(MarchPoints, EveryCountRuleIsUnbiased) {
+    const double sigma = 0.25;   // the slab [0, 2] along x: tau 0.5, P = 0.39, 4 P = 1.57
+    const auto m = HomogeneousMedium::box(Vec3(0, -1, -1), Vec3(2, 1, 1), sigma, Rgb::Constant(0.9), 0.0);
+    const Ray ray{Vec3(0, 0, 0), Vec3(1, 0, 0)};
+    const double L = 2.0, P = -std::expm1(-sigma * L);
+    // integral_0^L sigma e^(-sigma t) (1 + t) dt = P + (1 - e^(-sigma L) (1 + sigma L)) / sigma
+    const double exact = P + (1.0 - std::exp(-sigma * L) * (1.0 + sigma * L)) / sigma;
+    const int n = 4, draws = 40000;
+    for (const MarchCount rule : {MarchCount::fixed, MarchCount::mass, MarchCount::free_flight}) {
+        const RuleMoments r = draw(m, ray, L, n, rule, draws, 5);
+        EXPECT_NEAR(r.mean, exact, 4.0 * r.se + 1e-12) << "rule " << int(rule);
+        if (rule == MarchCount::fixed) {
+            EXPECT_EQ(r.min_count, n);
+            EXPECT_EQ(r.max_count, n);
+        } else if (rule == MarchCount::mass) {
+            EXPECT_EQ(r.min_count, 2);   // ceil(4 P)
+            EXPECT_EQ(r.max_count, 2);
+        } else {
+            // Stratum 0 always inside, stratum 1 (which straddles 4 P = 1.57) with probability 0.57.
+            EXPECT_EQ(r.min_count, 1);
+            EXPECT_EQ(r.max_count, 2);
+            const double count_se = 0.5 / std::sqrt(double(draws));
+            EXPECT_NEAR(r.mean_count, n * P, 4.0 * count_se);
+        }
+    }
+    // A thick segment (P ~ 1) gets n points under every rule, a thin one (4 P < 1) one point under
+    // "mass" and at most one under "free_flight".
+    const auto thin = HomogeneousMedium::box(Vec3(0, -1, -1), Vec3(2, 1, 1), 0.05, Rgb::Constant(0.9), 0.0);
+    EXPECT_EQ(draw(thin, ray, L, n, MarchCount::mass, 100, 6).max_count, 1);
+    EXPECT_EQ(draw(thin, ray, L, n, MarchCount::free_flight, 100, 6).max_count, 1);
+    const auto thick = HomogeneousMedium::box(Vec3(0, -1, -1), Vec3(2, 1, 1), 40.0, Rgb::Constant(0.9), 0.0);
+    for (const MarchCount rule : {MarchCount::mass, MarchCount::free_flight})
+        EXPECT_EQ(draw(thick, ray, L, n, rule, 100, 7).min_count, n);
+}
+
+TEST(MarchPoints, FixedCountKeepsThePointsOfTheMarch) {
+    // "fixed" is the march before the count rules: the same points from the same random numbers.
+    const GridMedium m(load_vdb_density(VPM_SOURCE_DIR "/media/blob.vdb", ""), 8.0, Rgb::Constant(0.9), 0.0);
+    const Bounds3 b = m.bounds();
+    const Ray ray{Vec3(b.lo.x() - 0.3, 0.0, 0.0), Vec3(1, 0, 0)};
+    OpticalDepthProfile profile;
+    std::vector<double> a, c;
+    Rng ra(3), rc(3);
+    for (int d = 0; d < 50; ++d) {
+        const double P = place_march_points(m, ray, 100.0, 4, ra, profile, a);
+        const MarchMass w = place_counted_march_points(m, ray, 100.0, 4, MarchCount::fixed, rc, profile, c);
+        ASSERT_GT(P, 0.0);
+        EXPECT_EQ(w.mass, P);
+        EXPECT_EQ(w.divisor, 4);
+        EXPECT_EQ(a, c);
+    }
 }
