@@ -114,10 +114,10 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
                     : kPilotSamples;
         if (!may_use_halves) {
             // Without a map a sample is cheap (no kNN query, no halves) and its tail is what decides
-            // (render/no_map_candidate.h): up to kNoMapPilotSamples, within the work the candidates
-            // before it spent together and within its budget share.
-            double share = hooks.work(before) - work_before;
-            if (budget.per_candidate > 0.0) share = std::min(share, budget.per_candidate);
+            // (render/no_map_candidate.h): up to kNoMapPilotSamples, within its budget share, or without
+            // a budget within the work the candidates before it spent together. (Capped by that work
+            // under a budget too, a march made cheaper left it 348 samples in the blob at g = 0.8.)
+            const double share = budget.per_candidate > 0.0 ? budget.per_candidate : hooks.work(before) - work_before;
             if (share > 0.0) n = std::max(n, pilot_samples(share, probe_cost, kPixels, 1, kNoMapPilotSamples));
         }
         trace(0, 1, n);

@@ -40,8 +40,8 @@ struct MapNoisePilotHooks {
 
 constexpr int kPilotSide = 8;       // pilot pixels: the centres of an 8 x 8 grid of image blocks
 constexpr int kPilotSamples = 8;    // samples per pilot pixel and map, at most (render/pilot_budget.h)
-// A candidate without a map takes up to this many samples per pilot pixel: within its budget share
-// and no more counted work than the candidates before it spent together (render/no_map_candidate.h:
+// A candidate without a map takes up to this many samples per pilot pixel: within its budget share,
+// or without a budget no more counted work than the candidates before it spent (render/no_map_candidate.h:
 // its variance sits in a tail that 8 samples per pixel do not reach).
 constexpr int kNoMapPilotSamples = 1024;
 // The largest samples whose share of the variance the pilot reports (render/pilot_tail.h).
