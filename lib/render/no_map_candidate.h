@@ -18,12 +18,17 @@
 // and in the box at optical thickness 100 and albedo 0.99 it won on 512 pilot samples that do not
 // see the continued paths' heavy tail (2.27x the best forced gather): a photon-map integrator that
 // quietly path traces wherever the pilot is unsure is not the photon map a user asked for.
-// The pilot is sure where the continued paths are short: at most kNoMapShortPathRays tracked
-// segments per sample (free flights and shadow rays; one scattering event at most on average)
-// leave no long-path tail for its samples to miss, and there "continue" competes freely. Under a
-// sky (sphere and blob at thickness 1: 1.1-1.5 segments per sample) a kNN estimate costs 15-50
-// continued samples at the same or lower variance (BENCHMARKS.md section 11.11), while the dense
-// boxes the rule was made for continue over 10-19 segments per sample.
+// The pilot is sure where the continued paths are not long: at most kNoMapShortPathRays tracked
+// segments per sample (free flights and shadow rays) leave no long-path tail for its samples to
+// miss, and there "continue" competes freely. Under a sky (sphere and blob at thickness 1: 1.1-1.5
+// segments per sample) a kNN estimate costs 15-50 continued samples at the same or lower variance
+// (BENCHMARKS.md section 11.11). The bound was 2 segments until the plan costed homogeneous segments
+// at their time (render/work_units.cpp) and the run loop kept rendering after a plan without a map
+// (render/run.cpp); then, free, "continue" took the dense albedo-0.9 and -0.5 homogeneous cells
+// (3.4-10.7 segments per sample) from 2.6-42x the path tracer's time to equal error to 1.2-1.5x,
+// and lost only in the box at thickness 100 and albedo 0.99 (18.7 segments: 4.3x, the map wins
+// there). 12 keeps every measured win and that loss out (BENCHMARKS.md section 19); it is one losing
+// cell's bound, not a derived one.
 //
 // Short paths are not enough where the continuation is heavy-tailed. Under a point light and a
 // forward-peaked phase function (g = 0.8) most of its variance comes from paths that bounce backwards
@@ -45,7 +50,7 @@ namespace vpm {
 
 constexpr const char* kNoMapCandidate = "continue";
 constexpr double kNoMapMaxUsedShare = 0.02;
-constexpr double kNoMapShortPathRays = 2.0;
+constexpr double kNoMapShortPathRays = 12.0;   // tracked segments per sample: see above
 constexpr double kNoMapMaxTailShare = 0.5;
 constexpr int kNoMapTailMinSamples = 128;
 

@@ -94,14 +94,15 @@ TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
     // every pass, pass 0 included (whatever number of passes the clock allows).
     // The uniform furnace at k = 128, 64 x 64 (its map noise, not a bias, buys photons: the pilot's
     // bias is charged only where resolved, render/pilot_bias.h; the thin cube's plan keeps 100000 at
-    // optical thickness 1 and 3).
+    // optical thickness 1 and 3). Optical radius 5.4: the continued paths (13 segments per sample)
+    // are too long for "continue" to compete where the map is used (render/no_map_candidate.h).
     std::ostringstream log;
     const std::string f = write("furnace128.toml",
-                                "[render]\nwidth = 64\nheight = 64\nintegrator = \"photon_map\"\ntime_limit = 2\n\n"
+                                "[render]\nwidth = 64\nheight = 64\nintegrator = \"photon_map\"\ntime_limit = 4\n\n"
                                 "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
                                 "[photons]\nk = 128\ndirect = \"photon_map\"\nmax_radius_mfp = 0\n\n"
                                 "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
-                                "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.6\nalbedo = 1.0\n");
+                                "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.9\nalbedo = 1.0\n");
     const RunResult r = render(f, {}, &log);
     ASSERT_TRUE(r.stats.auto_gather && r.stats.photons);
     const AutoGatherStats& a = *r.stats.auto_gather;
@@ -263,8 +264,9 @@ TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
     ASSERT_TRUE(stats.auto_gather);
     EXPECT_EQ(stats.auto_gather->chosen, "continue");
     EXPECT_TRUE(pm.stateless_passes());
-    // A run that keeps its map keeps a photon pass per pass.
-    const RunConfig thick = RunConfig::load(write("cube3.toml", thin_cube(1.0, 3.0)), {"render.time_limit=1", "render.width=32", "render.height=32"});
+    // A run that keeps its map keeps a photon pass per pass: the cube at optical thickness 100 and
+    // albedo 0.99, where the map is used and the plan takes the march.
+    const RunConfig thick = RunConfig::load(write("cube100.toml", thin_cube(1.0, 100.0, 0.99)), {"render.time_limit=1", "render.width=32", "render.height=32"});
     PhotonMapIntegrator map(*thick.scene, photon_map_settings(thick));
     RunStats thick_stats;
     map.prepare(context, thick_stats);

@@ -177,7 +177,7 @@ TEST(PassPlan, ContinueIsAChoiceOnlyWhereTheMapIsNextToUnused) {
     none.uses_map = false;
     none.v_camera = 1e-3;
     none.v_map_half = 0.0;
-    none.per_sample.rays = 3.0;   // long continued paths: only where the map is next to unused
+    none.per_sample.rays = kNoMapShortPathRays + 1.0;   // long continued paths: only where the map is next to unused
     in.candidates.push_back(none);
     for (const double used : {0.0, 0.02, 0.5}) {
         std::vector<GatherMeasurement> c = in.candidates;
