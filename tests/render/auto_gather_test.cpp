@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "config/params.h"
@@ -246,13 +247,9 @@ TEST(AutoGather, FurnaceStaysUnbiasedWithoutTheMap) {
     EXPECT_NEAR(s.mean(), 0.5, 3.0 * s.se() + 0.005);
 }
 
-TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
-    // The dense cube (optical thickness 1000, every kNN ball wider than max_radius_mfp) at 32x32 under
-    // a 1 s limit is planned without a map ("continue": counts only, the same on any machine; the thin
-    // cube's plan now depends on its continuation's 1024-sample pilot, render/no_map_candidate.h). From
-    // then on no pass traces photons, so the run loop may group passes and must not take pass 0's photon
-    // pass and pilot for what each later pass costs (render/run.cpp).
-    const RunConfig config = RunConfig::load(write("dense.toml", thin_cube(1.0, 1000.0, 0.9)), {"render.time_limit=1", "render.width=32", "render.height=32"});
+// The plan of one photon-map pass 0 under a 1 s limit at 32x32, and whether later passes are stateless.
+static std::pair<std::string, bool> planned_gather_and_stateless(const std::string& file) {
+    const RunConfig config = RunConfig::load(file, {"render.time_limit=1", "render.width=32", "render.height=32"});
     PhotonMapIntegrator pm(*config.scene, photon_map_settings(config));
     EXPECT_FALSE(pm.stateless_passes());   // a photon pass per pass until a plan says otherwise
     PassContext context;
@@ -261,17 +258,21 @@ TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
     RunStats stats;
     pm.prepare(context, stats);
     pm.collect(stats, nullptr);
-    ASSERT_TRUE(stats.auto_gather);
-    EXPECT_EQ(stats.auto_gather->chosen, "continue");
-    EXPECT_TRUE(pm.stateless_passes());
+    EXPECT_TRUE(stats.auto_gather);
+    return {stats.auto_gather ? stats.auto_gather->chosen : std::string(), pm.stateless_passes()};
+}
+
+TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
+    // The dense cube (optical thickness 1000, every kNN ball wider than max_radius_mfp) is planned
+    // without a map ("continue": counts only, the same on any machine). From then on no pass traces
+    // photons, so the run loop may group passes and must not take pass 0's photon pass and pilot for
+    // what each later pass costs (render/run.cpp).
+    const auto dense = planned_gather_and_stateless(write("dense.toml", thin_cube(1.0, 1000.0, 0.9)));
+    EXPECT_EQ(dense.first, "continue");
+    EXPECT_TRUE(dense.second);
     // A run that keeps its map keeps a photon pass per pass: the cube at optical thickness 100 and
     // albedo 0.99, where the map is used and the plan takes the march.
-    const RunConfig thick = RunConfig::load(write("cube100.toml", thin_cube(1.0, 100.0, 0.99)), {"render.time_limit=1", "render.width=32", "render.height=32"});
-    PhotonMapIntegrator map(*thick.scene, photon_map_settings(thick));
-    RunStats thick_stats;
-    map.prepare(context, thick_stats);
-    map.collect(thick_stats, nullptr);
-    ASSERT_TRUE(thick_stats.auto_gather);
-    EXPECT_NE(thick_stats.auto_gather->chosen, "continue");
-    EXPECT_FALSE(map.stateless_passes());
+    const auto thick = planned_gather_and_stateless(write("cube100.toml", thin_cube(1.0, 100.0, 0.99)));
+    EXPECT_NE(thick.first, "continue");
+    EXPECT_FALSE(thick.second);
 }
