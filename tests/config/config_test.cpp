@@ -2,6 +2,8 @@
 // --set overrides validate like the file; the resolved config round-trips.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -188,7 +190,7 @@ TEST(Config, OnlyScenesWithShapesCreateAnEmbreeDevice) {
 }
 
 TEST(Config, BaseConfigIsMergedUnderTheIncludingFile) {
-    const auto dir = std::filesystem::temp_directory_path() / "vpm_config_base_test";
+    const auto dir = std::filesystem::temp_directory_path() / ("vpm_config_base_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     {
         std::ofstream(dir / "base.toml") << kMinimal;

@@ -18,6 +18,7 @@
 #include "render/run.h"
 #include "render/run_stats.h"
 #include "../support/render_statistics.h"
+#include "../support/vpm_process.h"
 
 using namespace vpm;
 namespace fs = std::filesystem;
@@ -43,10 +44,11 @@ std::string thin_cube(double s, double sigma_t = 1.0, double albedo = 0.8) {
     return t.str();
 }
 
+// Scene files go to one folder per test process (ctest runs the tests as parallel processes, and
+// two suites may run at once), removed when the process ends.
 std::string write(const std::string& name, const std::string& text) {
-    const fs::path dir = fs::temp_directory_path() / "vpm_auto_gather_test";
-    fs::create_directories(dir);
-    const fs::path p = dir / name;
+    static const vpm::test::ScratchDir dir;
+    const fs::path p = dir.path / name;
     std::ofstream(p) << text;
     return p.string();
 }

@@ -16,6 +16,7 @@
 #include "render/map_noise_pilot.h"
 #include "render/no_map_candidate.h"
 #include "render/pilot_tail.h"
+#include "../support/vpm_process.h"
 #include "render/run.h"
 #include "scene/camera.h"
 
@@ -117,9 +118,8 @@ namespace {
 
 // The matrix's point-lit box at optical thickness 1 (BENCHMARKS.md section 11.12), 16 x 16.
 std::string box(double g) {
-    const fs::path dir = fs::temp_directory_path() / "vpm_pilot_tail_test";
-    fs::create_directories(dir);
-    const fs::path p = dir / ("box_g" + std::to_string(g) + ".toml");
+    static const vpm::test::ScratchDir dir;   // one per test process, removed when it ends
+    const fs::path p = dir.path / ("box_g" + std::to_string(g) + ".toml");
     std::ofstream(p) << "[render]\nwidth = 16\nheight = 16\nspp = 1\nintegrator = \"photon_map\"\n\n"
                         "[camera]\nposition = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nfov = 40.0\n\n"
                         "[photons]\ncount = 20000\n\n"

@@ -6,6 +6,8 @@
 // third-party files beside a checkout (../shared/..., absent in a plain clone) are skipped.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -100,7 +102,7 @@ TEST(DocPaths, DocumentsNameExistingFiles) {
 }
 
 TEST(DocPaths, TheCheckFindsAStalePath) {
-    const fs::path tmp = fs::temp_directory_path() / "vpm_doc_paths_test.md";
+    const fs::path tmp = fs::temp_directory_path() / ("vpm_doc_paths_test_" + std::to_string(::getpid()) + ".md");
     std::ofstream(tmp) << "See lib/scene/params.h and lib/config/params.h.\n";
     const std::vector<std::string> stale = stale_paths(tmp, false, false);
     fs::remove(tmp);

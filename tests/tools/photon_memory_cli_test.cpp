@@ -4,6 +4,8 @@
 // past 5 GB with no progress line. The guard itself is checked directly as well.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,7 +18,7 @@ namespace fs = std::filesystem;
 using namespace vpm;
 
 TEST(PhotonMemory, CountThatCannotFitFailsFastWithAClearError) {
-    const fs::path dir = fs::temp_directory_path() / "vpm_photon_memory_cli";
+    const fs::path dir = fs::temp_directory_path() / ("vpm_photon_memory_cli_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path out = dir / "img.exr", err_file = dir / "stderr.txt";

@@ -2,6 +2,8 @@
 // OUT.passes.csv and the sidecar.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -45,7 +47,7 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
 }  // namespace
 
 TEST(RenderPassesCli, ReferenceErrorAfterEveryPass) {
-    const fs::path dir = fs::temp_directory_path() / "vpm_render_passes_cli";
+    const fs::path dir = fs::temp_directory_path() / ("vpm_render_passes_cli_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const std::string config = std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml";
@@ -85,7 +87,7 @@ TEST(RenderPassesCli, ReferenceErrorAfterEveryPass) {
 
 // Issue 24: a NaN or zero-mean reference is refused before the first pass, naming the file.
 TEST(RenderPassesCli, BadReferenceIsRefusedBeforeTheWork) {
-    const fs::path dir = fs::temp_directory_path() / "vpm_render_passes_cli_bad_ref";
+    const fs::path dir = fs::temp_directory_path() / ("vpm_render_passes_cli_bad_ref_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const std::string config = std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml";
@@ -114,7 +116,7 @@ TEST(RenderPassesCli, BadReferenceIsRefusedBeforeTheWork) {
 // tracer's passes go in groups of at least 65536 camera samples, the sidecar keeps the first 256
 // passes and a summary, the log a line per power of two, and OUT.passes.csv a row per group.
 TEST(RenderPassesCli, TimeLimitKeepsRecordsBounded) {
-    const fs::path dir = fs::temp_directory_path() / "vpm_render_passes_cli_time_limit";
+    const fs::path dir = fs::temp_directory_path() / ("vpm_render_passes_cli_time_limit_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const std::string config = std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml";
