@@ -49,7 +49,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     };
     const Timer run_timer;
     int64_t done = 0;   // passes rendered
-    double first_group_seconds = 0.0, first_group_render_seconds = 0.0;
+    double first_group_seconds = 0.0;
     int64_t first_group_passes = 0;
     // Time per pass from the passes after the first group; until there are any, the first group's
     // whole time, or only its render where nothing else repeats (a stateless integrator: the photon
@@ -57,7 +57,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     // at optical thickness 3, and stopped after one 0.15 s pass).
     auto seconds_per_pass = [&] {
         if (done > first_group_passes) return (run_timer.seconds() - first_group_seconds) / double(done - first_group_passes);
-        return (integrator->stateless_passes() ? first_group_render_seconds : run_timer.seconds()) / double(done);
+        return (integrator->stateless_passes() ? render.seconds : run_timer.seconds()) / double(done);   // render: the first group's so far
     };
     for (;;) {
         const int64_t group = group_size();
@@ -115,9 +115,10 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
 
         // Time per pass from the passes after the first: the first also holds one-off work (the
         // photon map's pilot, the light allocation) and would stop a time-limited run early.
-        if (before == 0) first_group_seconds = run_timer.seconds();
-        if (before == 0) first_group_render_seconds = group_render.seconds;
-        if (before == 0) first_group_passes = done;
+        if (before == 0) {
+            first_group_seconds = run_timer.seconds();
+            first_group_passes = done;
+        }
         const double mean_pass = seconds_per_pass();
         if (options.log && before == 0 && rs.time_limit > 0 && run_timer.seconds() > rs.time_limit)
             *options.log << "warning: render.time_limit = " << rs.time_limit << " s is shorter than the first "
