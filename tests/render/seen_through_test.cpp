@@ -11,16 +11,14 @@
 #include "render/seen_through.h"
 #include "scene/scene.h"
 #include "../support/sample_statistics.h"
+#include "../support/scene_from_config.h"
 
 using namespace vpm;
 
 namespace {
 
 std::unique_ptr<Scene> scene_from(const std::string& text) {
-    auto doc = parse_config("[camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\n" + text, "seen.toml", ".");
-    toml::table resolved;
-    Params root(doc, &resolved);
-    return Scene::build(root, 8, 8);
+    return test::scene_from_config("[camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\n" + text, 8, 8, "seen.toml");
 }
 
 const std::string kSky = "[[lights]]\ntype = 'environment'\nradiance = 1.5\n";

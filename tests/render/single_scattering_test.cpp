@@ -17,16 +17,14 @@
 #include "transport/direct_light.h"
 #include "../support/render_statistics.h"
 #include "../support/sample_statistics.h"
+#include "../support/scene_from_config.h"
 
 using namespace vpm;
 
 namespace {
 
 std::unique_ptr<Scene> scene_from(const std::string& text) {
-    auto doc = parse_config("[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n" + text, "single.toml", ".");
-    toml::table resolved;
-    Params root(doc, &resolved);
-    return Scene::build(root, 8, 8);
+    return test::scene_from_config("[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n" + text, 8, 8, "single.toml");
 }
 
 const char* kSphere = "[[media]]\ntype = 'homogeneous'\nshape = 'sphere'\nradius = 1\nsigma_t_scale = 1.5\nalbedo = 0.9\ng = 0\n";

@@ -11,6 +11,7 @@
 #include "scene/lights/emission_bounds.h"
 #include "scene/scene.h"
 #include "../support/sample_statistics.h"
+#include "../support/scene_from_config.h"
 
 using namespace vpm;
 
@@ -19,12 +20,7 @@ namespace {
 const Bounds3 kBox{Vec3(-1000, -500, -2000), Vec3(1500, 700, 900)};
 const Bounds3 kFocus{Vec3(-3, -1, 2), Vec3(1, 2, 4)};
 
-std::unique_ptr<Scene> build_scene(const std::string& text) {
-    auto doc = parse_config(text, "focus.toml", ".");
-    toml::table resolved;
-    Params root(doc, &resolved);
-    return Scene::build(root, 16, 16);
-}
+std::unique_ptr<Scene> build_scene(const std::string& text) { return test::scene_from_config(text, 16, 16, "focus.toml"); }
 
 }  // namespace
 

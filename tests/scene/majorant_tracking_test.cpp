@@ -346,6 +346,39 @@ TEST(GridTracking, AgreesWithThePreviousTrackerInThePlume) {
     }
 }
 
+namespace {
+
+// bench_tracing's walk (rays from a spot at (-1.6, 2.6, 1.2) into a cone around the plume's core,
+// roulette at albedo 0.92, isotropic turns; the medium's g does not enter), `paths` of them from
+// Rng(11): the real collisions, and the free flights that were neither finite nor a miss (+inf).
+struct WalkCounts {
+    int64_t real = 0;
+    int64_t nonfinite = 0;
+};
+
+WalkCounts bench_walk(const GridMedium& m, int paths, TrackingStats& st) {
+    Rng rng(11);
+    WalkCounts c;
+    for (int i = 0; i < paths; ++i) {
+        Ray ray{Vec3(-1.6, 2.6, 1.2), (Vec3(0.0, 0.6, 0.0) + 0.3 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) -
+                                       Vec3(-1.6, 2.6, 1.2)).normalized()};
+        for (int bounce = 0; bounce < 1000; ++bounce) {
+            const double t = m.sample_free_flight(ray, kInfinity, rng, &st);
+            if (t == kInfinity) break;
+            if (!std::isfinite(t)) {
+                ++c.nonfinite;
+                break;
+            }
+            ++c.real;
+            if (rng.uniform() >= 0.92) break;
+            ray = Ray{ray.at(t), Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5).normalized()};
+        }
+    }
+    return c;
+}
+
+}  // namespace
+
 TEST(GridTracking, TentativeCollisionsFollowTheSubBlockMajorants) {
     // After a tentative collision, free flights run the rest of its 2^3-voxel sub-block at that
     // sub-block's majorant (local_span), so tentative collisions follow the finer majorant and not
@@ -354,20 +387,8 @@ TEST(GridTracking, TentativeCollisionsFollowTheSubBlockMajorants) {
     // (ringed block majorants, before), 2.46 now. The free flights stay exact (tests above).
     const DensityGrid plume = load_vdb_density(kMediaDir + "/plume.vdb", "density");
     const GridMedium m(plume, 400.0, Rgb::Constant(0.92), 0.0);
-    Rng rng(11);
     TrackingStats st;
-    int64_t real = 0;
-    for (int i = 0; i < 20000; ++i) {
-        Ray ray{Vec3(-1.6, 2.6, 1.2), (Vec3(0.0, 0.6, 0.0) + 0.3 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) -
-                                       Vec3(-1.6, 2.6, 1.2)).normalized()};
-        for (int bounce = 0; bounce < 1000; ++bounce) {
-            const double t = m.sample_free_flight(ray, kInfinity, rng, &st);
-            if (!(t < kInfinity)) break;
-            ++real;
-            if (rng.uniform() >= 0.92) break;
-            ray = Ray{ray.at(t), Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5).normalized()};
-        }
-    }
+    const int64_t real = bench_walk(m, 20000, st).real;
     ASSERT_GT(real, 20000);
     EXPECT_LT(double(st.tentative) / double(real), 4.0);
 }
@@ -492,21 +513,10 @@ TEST(GridTrackingExtreme, RandomWalkInTheDensePlumeCostsAFewEvaluationsPerCollis
     // 1e8: the work per real collision, not per unit of optical depth.
     const DensityGrid plume = load_vdb_density(kMediaDir + "/plume.vdb", "density");
     const GridMedium m(plume, 1e8, Rgb::Constant(0.92), 0.4);
-    Rng rng(11);
     TrackingStats st;
-    int64_t real = 0;
-    for (int i = 0; i < 2000; ++i) {
-        Ray ray{Vec3(-1.6, 2.6, 1.2), (Vec3(0.0, 0.6, 0.0) + 0.3 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) -
-                                       Vec3(-1.6, 2.6, 1.2)).normalized()};
-        for (int bounce = 0; bounce < 1000; ++bounce) {
-            const double t = m.sample_free_flight(ray, kInfinity, rng, &st);
-            if (!(t < kInfinity)) break;
-            ++real;
-            ASSERT_TRUE(std::isfinite(t));
-            if (rng.uniform() >= 0.92) break;
-            ray = Ray{ray.at(t), Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5).normalized()};
-        }
-    }
+    const WalkCounts walk = bench_walk(m, 2000, st);
+    EXPECT_EQ(walk.nonfinite, 0);
+    const int64_t real = walk.real;
     ASSERT_GT(real, 5000);
     EXPECT_LT(double(st.lookups + st.cells) / double(real), 3.0);
     EXPECT_LT(double(st.blocks) / double(real), 20.0);

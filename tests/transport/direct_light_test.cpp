@@ -14,16 +14,14 @@
 #include "transport/mis.h"
 #include "transport/walk_steps.h"
 #include "../support/sample_statistics.h"
+#include "../support/scene_from_config.h"
 
 using namespace vpm;
 
 namespace {
 
 std::unique_ptr<Scene> scene_from(const std::string& text) {
-    auto doc = parse_config("[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n" + text, "transport.toml", ".");
-    toml::table resolved;
-    Params root(doc, &resolved);
-    return Scene::build(root, 8, 8);
+    return test::scene_from_config("[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n" + text, 8, 8, "transport.toml");
 }
 
 // A homogeneous isotropic sphere of radius 1 at the origin with extinction sigma_t.
