@@ -151,21 +151,21 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             for (int s = 0; s < n; ++s) sum += values[0][at(j, s, most)];
         g.mean = sum / double(kPixels * n);
         // Pixels differ in mean, so the SE comes from the spread of the pixel means (each of n samples).
+        std::vector<double> pixel_mean(kPixels, 0.0);
         double spread = 0.0;
         for (int j = 0; j < kPixels; ++j) {
-            double pm = 0.0;
-            for (int s = 0; s < n; ++s) pm += values[0][at(j, s, most)] / n;
-            spread += (pm - g.mean) * (pm - g.mean);
+            for (int s = 0; s < n; ++s) pixel_mean[size_t(j)] += values[0][at(j, s, most)] / n;
+            spread += (pixel_mean[size_t(j)] - g.mean) * (pixel_mean[size_t(j)] - g.mean);
         }
         g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
         // The share of the variance in the largest samples (render/pilot_tail.h), about each pixel's mean.
         std::vector<double> squares;
         squares.reserve(size_t(kPixels * n));
-        for (int j = 0; j < kPixels; ++j) {
-            double pm = 0.0;
-            for (int s = 0; s < n; ++s) pm += values[0][at(j, s, most)] / n;
-            for (int s = 0; s < n; ++s) squares.push_back((values[0][at(j, s, most)] - pm) * (values[0][at(j, s, most)] - pm));
-        }
+        for (int j = 0; j < kPixels; ++j)
+            for (int s = 0; s < n; ++s) {
+                const double d = values[0][at(j, s, most)] - pixel_mean[size_t(j)];
+                squares.push_back(d * d);
+            }
         g.tail_share = largest_squares_share(std::move(squares), kPilotTailFraction);
         g.v_map_quarter = -1.0;
         if (halves_too) {
