@@ -246,23 +246,19 @@ inline bool dda(const Vec3& o, const Vec3& d, const Vec3& inv_d, const Vec3& bas
                 double tb, Visit&& visit) {
     const double inv_h = 1.0 / h;
     double qo[3], qd[3], inv_qd[3], t_next[3];
-    int cell[3], step[3];
+    int cell[3], step[3], up[3];   // up: 1 when the next face is the cell's upper one (qd > 0)
     for (int a = 0; a < 3; ++a) {
         qo[a] = (o[a] - base[a]) * inv_h;
         qd[a] = d[a] * inv_h;
         inv_qd[a] = inv_d[a] * h;
         const double q = qo[a] + ta * qd[a];   // entry cell, clamped against rounding
         cell[a] = std::min(std::max(static_cast<int>(std::floor(q)), 0), n[a] - 1);
-        if (qd[a] > 0.0) {
-            step[a] = 1;
-            t_next[a] = (cell[a] + 1 - qo[a]) * inv_qd[a];
-        } else if (qd[a] < 0.0) {
-            step[a] = -1;
-            t_next[a] = (cell[a] - qo[a]) * inv_qd[a];
-        } else {
-            step[a] = 0;
-            t_next[a] = kInfinity;
-        }
+        // Selects rather than branches on the direction's sign, which is random from ray to ray.
+        const int down = qd[a] < 0.0;
+        up[a] = qd[a] > 0.0;
+        step[a] = up[a] - down;
+        const double tn = (cell[a] + up[a] - qo[a]) * inv_qd[a];
+        t_next[a] = (up[a] | down) ? tn : kInfinity;
     }
     double t = ta;
     for (;;) {
@@ -280,7 +276,7 @@ inline bool dda(const Vec3& o, const Vec3& d, const Vec3& inv_d, const Vec3& bas
             continue;
         }
         // Recomputed from the origin each step, so no drift accumulates along long rays.
-        t_next[a] = (cell[a] + (step[a] > 0 ? 1 : 0) - qo[a]) * inv_qd[a];
+        t_next[a] = (cell[a] + up[a] - qo[a]) * inv_qd[a];
     }
 }
 
@@ -296,10 +292,12 @@ inline bool clip_line(const Bounds3& box, const Vec3& o, const Vec3& d, const Ve
             continue;
         }
         const double inv = inv_d[a];
-        double tn = (lo - o[a]) * inv, tf = (hi - o[a]) * inv;
-        if (tn > tf) std::swap(tn, tf);
-        ta = std::max(ta, tn);
-        tb = std::min(tb, tf);
+        const double tn = (lo - o[a]) * inv, tf = (hi - o[a]) * inv;
+        // "if (tn > tf) swap" as selects (the direction's sign is random, so the branch was not
+        // predictable). Same values, NaN included: std::min(tn, tf) is tn unless tf < tn, and
+        // std::max(tf, tn) is tf unless tf < tn.
+        ta = std::max(ta, std::min(tn, tf));
+        tb = std::min(tb, std::max(tf, tn));
     }
     return ta < tb;   // also rejects NaN
 }

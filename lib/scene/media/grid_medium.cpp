@@ -60,6 +60,7 @@ bool GridMedium::misses_active(const Ray& ray, double tmax) const {
     if (ray.origin.x() >= lo.x() && ray.origin.x() <= hi.x() && ray.origin.y() >= lo.y() && ray.origin.y() <= hi.y() &&
         ray.origin.z() >= lo.z() && ray.origin.z() <= hi.z())
         return false;
+    const Vec3 inv = ray.dir.cwiseInverse();   // the three divisions issued together
     double ta = 0.0, tb = tmax;
     for (int a = 0; a < 3; ++a) {
         const double o = ray.origin[a];
@@ -67,13 +68,11 @@ bool GridMedium::misses_active(const Ray& ray, double tmax) const {
             if (o < lo[a] || o > hi[a]) return true;
             continue;
         }
-        const double inv = 1.0 / ray.dir[a];
-        const double t_lo = (lo[a] - o) * inv, t_hi = (hi[a] - o) * inv;
-        // Selects, not branches (the direction's sign is random); a NaN is never chosen over a number
-        // here, so it only widens [ta, tb].
-        const double tn = t_hi < t_lo ? t_hi : t_lo, tf = t_hi < t_lo ? t_lo : t_hi;
-        ta = tn > ta ? tn : ta;
-        tb = tf < tb ? tf : tb;
+        const double t_lo = (lo[a] - o) * inv[a], t_hi = (hi[a] - o) * inv[a];
+        // min / max (minsd, maxsd), not a swap branch on the direction's random sign; with a NaN these
+        // select exactly what the swap did (grid_detail::clip_line).
+        ta = std::max(ta, std::min(t_lo, t_hi));
+        tb = std::min(tb, std::max(t_hi, t_lo));
     }
     return ta > tb + 1e-7 * (std::abs(ta) + std::abs(tb));
 }
