@@ -39,15 +39,11 @@
 // (render/map_noise_pilot.h), and where the map is used it is no choice when its largest 1/1024 samples
 // hold more than kNoMapMaxTailShare of its squared deviations: a variance carried by a few samples in
 // a thousand is one the pilot has not measured. Measured where paths are short: 0.84-0.96 in the g =
-// 0.8 cells, 0.05-0.35 at g = 0 (long paths, excluded anyway: up to 0.53 at albedo 0.99). Below
-// kNoMapTailMinSamples samples over all pilot pixels (a share too small to pay for them) the largest
-// 1/1024 are a sample or two whatever the tail, and the test is not made. (Counted per pixel, 128,
-// the test went unmade once the pilot had 4x the pixels: the dense blob at albedo 0.99 took
-// "continue" on 126 samples per pixel, 3.6x the path tracer's time, BENCHMARKS.md section 23.)
+// 0.8 cells, 0.05-0.35 at g = 0 (long paths, excluded anyway: up to 0.53 at albedo 0.99). Below kNoMapTailMinSamples per pixel (a share too small to pay for
+// them) the largest 1/1024 are a sample or two whatever the tail, and the test is not made.
 #include <algorithm>
 #include <vector>
 
-#include "render/map_noise_pilot.h"
 #include "render/pass_plan.h"
 
 namespace vpm {
@@ -56,7 +52,7 @@ constexpr const char* kNoMapCandidate = "continue";
 constexpr double kNoMapMaxUsedShare = 0.02;
 constexpr double kNoMapShortPathRays = 12.0;   // tracked segments per sample: see above
 constexpr double kNoMapMaxTailShare = 0.5;
-constexpr int kNoMapTailMinSamples = 128 * 64;   // over all pilot pixels: 8 in the largest 1/1024
+constexpr int kNoMapTailMinSamples = 128;
 
 // Where a map candidate used the map in more than kNoMapMaxUsedShare of its queries (queries 0:
 // unused), marks the no-map candidates excluded unless their own paths are short (at most
@@ -70,7 +66,7 @@ inline void exclude_no_map_where_the_map_is_used(std::vector<GatherMeasurement>&
     for (GatherMeasurement& m : candidates) {
         if (m.uses_map) continue;
         const bool long_paths = m.per_sample.rays > kNoMapShortPathRays;
-        const bool heavy_tail = m.samples * kPilotSide * kPilotSide >= kNoMapTailMinSamples && m.tail_share > kNoMapMaxTailShare;
+        const bool heavy_tail = m.samples >= kNoMapTailMinSamples && m.tail_share > kNoMapMaxTailShare;
         if (long_paths || heavy_tail) m.excluded = true;
     }
 }
