@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 
 #include <tbb/parallel_for.h>
 
@@ -18,7 +17,6 @@ double luminance_of(const Rgb& l) { return all_finite(l) ? 0.2126 * l[0] + 0.715
 
 constexpr int kPixels = kPilotSide * kPilotSide;
 constexpr uint64_t kLongPilotSalt = 0x6c6f6e6770696c6fULL;   // streams of samples past kPilotSamples
-constexpr uint64_t kPilotPixelSalt = 0x706978656c706c63ULL;  // where in its block a pilot pixel lies
 // A sample's slot: fixed whatever n is (`most`: the candidate's largest n; kPilotSamples with halves).
 size_t at(int j, int s, int most) { return size_t(j) * size_t(most) + size_t(s); }
 
@@ -66,14 +64,6 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
     // dense boxes at 0.8 M stored photons) is skipped.
     std::vector<PhotonMap> halves;
     const int width = camera.width(), height = camera.height();
-    // Pixel j: a place in block j drawn from the seed (the same for every candidate and map).
-    std::vector<std::pair<int, int>> pixels(kPixels);
-    for (int j = 0; j < kPixels; ++j) {
-        Rng rng(mix64(seed ^ kPilotPixelSalt), uint64_t(j));
-        const double u = rng.uniform(), v = rng.uniform();
-        pixels[size_t(j)] = {std::min(width - 1, int((j % kPilotSide + u) / kPilotSide * width)),
-                             std::min(height - 1, int((j / kPilotSide + v) / kPilotSide * height))};
-    }
     std::vector<GatherMeasurement> out;
     bool one_fits = false;   // an earlier candidate's one-sample pass fits the cap (render/pilot_budget.h)
     const double work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
@@ -87,7 +77,8 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         // Samples s0 .. s1 - 1 of every pilot pixel with map m.
         auto trace = [&](size_t m, int s0, int s1) {
             tbb::parallel_for(0, kPixels, [&](int j) {
-                const int px = pixels[size_t(j)].first, py = pixels[size_t(j)].second;
+                const int px = std::min(width - 1, int((j % kPilotSide + 0.5) / kPilotSide * width));
+                const int py = std::min(height - 1, int((j / kPilotSide + 0.5) / kPilotSide * height));
                 for (int s = s0; s < s1; ++s) {
                     // The same numbers for every map and candidate: the differences are the maps'.
                     // Samples past kPilotSamples (a candidate without a map) draw from streams of their own.
@@ -184,18 +175,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             double se = 0.0;
             const double v = map_variance_of_difference(values[1], values[2], n, se);
             g.v_map_half = 0.5 * std::max(v, se);
-            // The bias is pooled over every other pilot pixel in each direction (an 8 x 8 grid, as
-            // before the 16 x 16 pilot): over all of them, neighbours whose kNN balls overlap share
-            // map noise, and in the uniform furnace (no smoothing bias) the pooled figure read 3.8-4.1
-            // SE on one seed of six, pooled pixel by pixel or over blocks of 2 x 2.
-            const int sub = kPilotSide / 2, per = n;
-            std::vector<std::vector<double>> subset(3, std::vector<double>(size_t(sub * sub * per)));
-            for (int y = 0; y < sub; ++y)
-                for (int x = 0; x < sub; ++x)
-                    for (int s = 0; s < n; ++s)
-                        for (size_t m = 0; m < 3; ++m)
-                            subset[m][size_t((y * sub + x) * per + s)] = values[m][at(2 * y * kPilotSide + 2 * x, s, kPilotSamples)];
-            const PilotBias bias = pooled_half_map_bias(subset[1], subset[2], subset[0], sub * sub, n, per);
+            const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
             g.bias2 = bias.bias2;
             g.bias_mean = bias.mean;
             g.bias_se = bias.se;

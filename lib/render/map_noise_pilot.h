@@ -38,12 +38,7 @@ struct MapNoisePilotHooks {
     std::function<double(const CountedOperations&)> work;   // their work units
 };
 
-// Pilot pixels: one per block of a 16 x 16 grid over the image, at a place in the block drawn from
-// the seed. The centres of an 8 x 8 grid missed where the march's camera noise lives in a sphere lit
-// from the side: the 1% of pixels along its lit rim held 75% of it, and the pilot measured 1/7 of
-// the image's V_camera (BENCHMARKS.md section 23). Fixed centres also alias with the image's
-// structure; a drawn place in every block makes the pilot's mean over pixels the image's, in expectation.
-constexpr int kPilotSide = 16;
+constexpr int kPilotSide = 8;       // pilot pixels: the centres of an 8 x 8 grid of image blocks
 constexpr int kPilotSamples = 8;    // samples per pilot pixel and map, at most (render/pilot_budget.h)
 // A candidate without a map takes up to this many samples per pilot pixel: within its budget share,
 // or without a budget no more counted work than the candidates before it spent (render/no_map_candidate.h:
