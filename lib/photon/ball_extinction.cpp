@@ -41,8 +41,9 @@ constexpr uint32_t kClippedPoints = 4096;
 constexpr uint32_t kMassPoints = 65536;
 constexpr uint64_t kCellsPerLookup = 1;   // a lattice cell or column visited costs about one grid lookup (bench_ball_extinction: 718 visits 64 us, 4096 lookups 346 us)
 // A cell or column visited for the moments (first and second, per cut cell its slab's moments) costs
-// about two: 87 ns per visit against 57-61 ns per lookup of the moments' 15-point rule, whose lookups
-// the plan charges 40 units each (1 thread, blob balls of 4-5 cells, 120 visits each; BENCHMARKS 22).
+// about two: 68-76 ns per visit against 44 ns per lookup of the moments' 15-point rule, which the plan
+// charges 40 units (1 thread, 4000 blob balls crossing the box at r = 0.26-0.35 of it, 488 visits
+// each; BENCHMARKS.md 22).
 constexpr uint64_t kLookupsPerMomentCell = 2;
 
 const std::array<Vec3, kBallPoints>& unit_ball_points() {
