@@ -73,7 +73,8 @@ struct PhotonMapIntegrator::ThreadState {
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
     : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)),
+      continuation_(scene, settings.walk) {
     gather_ = initial_gather(settings.gather);
     both_strategies_ = settings.walk.mis && bounces_find_lights(scene);
 }
@@ -81,7 +82,8 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSett
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
                                          const PhotonMap& volume_map, const PhotonMap* surface_map)
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)) {
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)),
+      continuation_(scene, settings.walk) {
     gather_ = initial_gather(settings.gather);
     both_strategies_ = settings.walk.mis && bounces_find_lights(scene);
     if (gather_ == Gather::beam) build_beam(nullptr, nullptr);
@@ -212,6 +214,7 @@ EstimatorStats PhotonMapIntegrator::surface_stats() const {
 }
 
 Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
+    if (no_map_) return continuation_.radiance(camera_ray, rng);
     return trace(camera_ray, 0, rng, EmissionWeighting::camera());
 }
 

@@ -56,6 +56,7 @@
 #include "render/integrator.h"
 #include "photon/photon_map_settings.h"
 #include "render/pass_plan.h"
+#include "render/path_tracer.h"
 #include "render/beam_gather_stats.h"
 #include "render/photon_pass.h"
 #include "render/run_config.h"
@@ -166,8 +167,11 @@ private:
     // picks the gather, and under render.time_limit the photons and samples per pass.
     std::optional<PassPlan> plan_;
     std::optional<AutoGatherStats> auto_stats_;
-    // The plan chose "continue" (render/no_map_candidate.h): no photon pass, every query continues.
+    // The plan chose "continue" (render/no_map_candidate.h): no photon pass, and the camera paths
+    // are the path tracer's. With an empty map trace() draws the same paths in distribution, but
+    // pays for the map's bookkeeping at every collision: 1.2-1.5x the path tracer's time per sample.
     bool no_map_ = false;
+    PathTracer continuation_;
     PhotonMap empty_map_;   // the "continue" candidate's map in the pilot
     void plan_auto(const PassContext& context, RunStats& stats);
     // Runs f with fresh per-thread counters and buffers, so that a pilot's work is not the run's.

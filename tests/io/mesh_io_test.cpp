@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "core/error.h"
@@ -17,10 +18,17 @@ namespace {
 
 using Tri = std::array<uint32_t, 3>;
 
-fs::path temp_dir() {
-    const fs::path d = fs::temp_directory_path() / ("vpm_mesh_io_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
+// One folder for the whole test binary, removed when it exits.
+const fs::path& temp_dir() {
+    static const struct Folder {
+        fs::path path = fs::temp_directory_path() / ("vpm_mesh_io_" + std::to_string(::getpid()));
+        Folder() { fs::create_directories(path); }
+        ~Folder() {
+            std::error_code ec;
+            fs::remove_all(path, ec);
+        }
+    } folder;
+    return folder.path;
 }
 
 std::string write_file(const std::string& name, const std::string& bytes) {

@@ -195,3 +195,23 @@ TEST(PassPlan, ContinueIsAChoiceOnlyWhereTheMapIsNextToUnused) {
         EXPECT_EQ(plan_passes(run).chosen, 1) << used;
     }
 }
+
+TEST(PassPlan, WithoutTheMapThePassIsTheSmallestTheRunLoopGroups) {
+    // Without a map every sample count scores alike; the plan takes the smallest pass of at least
+    // kNoMapPassSamples camera samples (the run loop groups such passes, so a time limit cuts them
+    // finely), with and without a budget.
+    PlanInputs in = inputs(/*v_camera*/ 1e-2, /*v_half*/ 1e-4, /*v_quarter*/ 2e-4, /*sample*/ 475.0, /*photon*/ 1000.0);
+    in.pixels = 64.0 * 64.0;
+    GatherMeasurement none = in.candidates[0];
+    none.name = kNoMapCandidate;
+    none.uses_map = false;
+    none.v_camera = 1e-6;   // far ahead of the map candidates
+    none.v_map_half = 0.0;
+    in.candidates.push_back(none);
+    for (const double budget : {0.0, 8e9, 123456789.0}) {
+        in.budget = budget;
+        const PassPlan p = plan_passes(in);
+        ASSERT_EQ(p.chosen, int(in.candidates.size()) - 1) << budget;
+        EXPECT_EQ(p.spp, 16) << budget;   // 16 x 4096 = kNoMapPassSamples
+    }
+}

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "scene/surfaces/surfaces.h"
+#include "../support/scratch_dir.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;
@@ -209,8 +210,8 @@ TEST(Surfaces, MeshFromObjRelativeToTheConfig) {
 }
 
 TEST(Surfaces, MeshFromPlyInAnotherFolder) {
-    const fs::path dir = fs::temp_directory_path() / ("vpm_surfaces_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const vpm::test::ScratchDir scratch;
+    const fs::path& dir = scratch.path;
     std::ofstream(dir / "tri.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                                       "property float y\nproperty float z\nelement face 1\n"
                                       "property list uchar int vertex_indices\nend_header\n"

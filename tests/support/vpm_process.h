@@ -12,26 +12,11 @@
 #include <sstream>
 #include <string>
 
+#include "scratch_dir.h"
+
 namespace vpm::test {
 
 namespace fs = std::filesystem;
-
-// A fresh folder per test, removed afterwards.
-struct ScratchDir {
-    fs::path path;
-    ScratchDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = fs::temp_directory_path() /
-               ("vpm_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" + std::to_string(::getpid()));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~ScratchDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 inline std::string read_file(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
