@@ -40,6 +40,11 @@ constexpr BallRule kBallRule = BallRule::degree5;   // bench_ball_extinction: ha
 constexpr uint32_t kClippedPoints = 4096;
 constexpr uint32_t kMassPoints = 65536;
 constexpr uint64_t kCellsPerLookup = 1;   // a lattice cell or column visited costs about one grid lookup (bench_ball_extinction: 718 visits 64 us, 4096 lookups 346 us)
+// A cell or column visited for the moments (first and second, per cut cell its slab's moments) costs
+// about two: 68-76 ns per visit against 44 ns per lookup of the moments' 15-point rule, which the plan
+// charges 40 units (1 thread, 4000 blob balls crossing the box at r = 0.26-0.35 of it, 488 visits
+// each; BENCHMARKS.md 22).
+constexpr uint64_t kLookupsPerMomentCell = 2;
 
 const std::array<Vec3, kBallPoints>& unit_ball_points() {
     static const std::array<Vec3, kBallPoints> points = [] {
@@ -211,17 +216,21 @@ void BallExtinction::entry_integrals(const Entry& e, const Vec3& x, const double
     double sum[2] = {0.0, 0.0};
     const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
     const double r2max = std::max(r2a, r2b);
+    // The points inside the larger ball are the ones looked up (about half of the cube's): counting all
+    // 4096 charged a clipped ball 2-3x its time (the plume at optical thickness 1, BENCHMARKS 22).
+    uint64_t looked_up = 0;
     for (const Vec3& h : clipped_points()) {
         const Vec3 p = c.lo + h.cwiseProduct(extent);
         const double d2 = (p - x).squaredNorm();
         if (d2 > r2max) continue;
+        ++looked_up;
         const double s = e.medium->sigma_t(p);
         sum[0] += d2 <= r2a ? s : 0.0;   // no branch: a shell between the radii is unpredictable
         sum[1] += d2 <= r2b ? s : 0.0;
     }
     for (int j = 0; j < n; ++j)
         if (clipped[j]) out[j] = sum[j] * vc / kClippedPoints;
-    if (lookups) *lookups += kClippedPoints;
+    if (lookups) *lookups += looked_up;
 }
 
 double BallExtinction::integral(const Vec3& x, double r, uint64_t* lookups) const {
@@ -246,7 +255,7 @@ std::array<double, 2> BallExtinction::integrals(const Vec3& x, double ra, double
     return total;
 }
 
-void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoments* out) const {
+void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoments* out, uint64_t* lookups) const {
     // Sums of sigma_t, sigma_t d and sigma_t d d^T (d = p - x) over all media, then centred; per
     // radius, except that the clipped quadrature's points cover the largest radius's cube and serve
     // every radius that needs them (one pass of lookups).
@@ -271,6 +280,7 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
             Vec3 m1;
             Eigen::Matrix3d m2;
             if (e.medium->ball_moments(x, rj, m0, m1, m2)) {
+                if (lookups) *lookups += 1;
                 a.s0 += m0;
                 a.s1 += m1;
                 a.s2 += m2;
@@ -283,6 +293,7 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
                 // A medium with a jump inside its box (a homogeneous sphere's surface): 32 points and
                 // their antipodes (64), so that a ball of constant sigma_t has offset exactly 0.
                 const double w = volume / (2 * kBallPoints);
+                if (lookups) *lookups += 2 * kBallPoints;
                 for (const Vec3& p : unit_ball_points()) {
                     a.add(w * e.medium->sigma_t(x + rj * p), rj * p);
                     a.add(w * e.medium->sigma_t(x - rj * p), -rj * p);
@@ -297,6 +308,7 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
                 // symmetric), exact for the moments up to the second of a cubic sigma_t over the ball;
                 // the 64 points cost 4x the lookups (the plume's render 1.9x "ball"'s; now about 1.5x).
                 const double pa = rj * std::sqrt(2.0 / 3.0), pb = 0.5 * rj;
+                if (lookups) *lookups += rule_points(BallRule::degree5);
                 a.add(volume * (11.0 / 70.0) * e.medium->sigma_t(x), Vec3::Zero());
                 for (int i = 0; i < 3; ++i) {
                     Vec3 d = Vec3::Zero();
@@ -324,7 +336,9 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
                     double l0 = 0.0;
                     Vec3 l1;
                     Eigen::Matrix3d l2;
-                    lattice.ball_moments(x, rj, l0, l1, l2);
+                    uint64_t cells = 0;
+                    lattice.ball_moments(x, rj, l0, l1, l2, &cells);
+                    if (lookups) *lookups += kLookupsPerMomentCell * cells;
                     a.s0 += l0;
                     a.s1 += l1;
                     a.s2 += l2;
@@ -346,6 +360,7 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
             const Vec3 p = c.lo + h.cwiseProduct(extent);
             const double d2 = (p - x).squaredNorm();
             if (d2 > r2max) continue;
+            if (lookups) *lookups += 1;   // the points looked up, as entry_integrals counts them
             const double sw = w * e.medium->sigma_t(p);
             if (d2 <= r2a) sums[0].add(sw, p - x);
             if (d2 <= r2b) sums[1].add(sw, p - x);
@@ -361,16 +376,16 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
     }
 }
 
-BallMoments BallExtinction::moments(const Vec3& x, double r) const {
+BallMoments BallExtinction::moments(const Vec3& x, double r, uint64_t* lookups) const {
     BallMoments m;
-    moments_n(x, &r, 1, &m);
+    moments_n(x, &r, 1, &m, lookups);
     return m;
 }
 
-std::array<BallMoments, 2> BallExtinction::moments(const Vec3& x, double ra, double rb) const {
+std::array<BallMoments, 2> BallExtinction::moments(const Vec3& x, double ra, double rb, uint64_t* lookups) const {
     std::array<BallMoments, 2> m;
     const double r[2] = {ra, rb};
-    moments_n(x, r, 2, m.data());
+    moments_n(x, r, 2, m.data(), lookups);
     return m;
 }
 

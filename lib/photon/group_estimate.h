@@ -76,7 +76,7 @@ inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool
     }
     std::array<double, 2> m0{0.0, 0.0};
     std::array<BallMoments, 2> mo;
-    if (linear) mo = ball.moments(x, r[0], r[1]);
+    if (linear) mo = ball.moments(x, r[0], r[1], lookups);
     else m0 = ball.integrals(x, r[0], r[1], lookups);
     for (int h = 0; h < 2; ++h) {
         const double r2 = r[h] * r[h];

@@ -150,7 +150,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         log << "; work " << in.photon_cost << " per photon)\n";
         if (no_map_)
             log << "photons: no photon pass after this one: the map " << (measured[0].per_sample.map_used > 0.0 ? "did not pay for its pass" : "was never used (every kNN ball wider than photons.max_radius_mfp)")
-                << ", so camera paths continue past every medium collision and surface hit (path traced, unbiased), this pass included\n";
+                << ", so every pass, this one included, is the path tracer's (the same estimator, unbiased)\n";
         if (in.size_photons || in.size_samples)
             log << "passes: " << a.count << " photons per pass (" << (in.size_photons ? "sized" : "photons.count")
                 << "), " << (in.size_samples ? std::to_string(plan.spp) : std::string("render.spp")) << " samples per pass ("

@@ -365,7 +365,7 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
         }
     }
     if (linear) {
-        const BallMoments m = threads_->ball.moments(x, s.radius);
+        const BallMoments m = threads_->ball.moments(x, s.radius, &threads_->local.local().lookups);
         if (m.m0 > 0.0) return linear_estimate(s, settings_.estimator, buffers, *map_, x, m, scratch);
         return s.value / sigma_t;
     }
