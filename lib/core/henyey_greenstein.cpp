@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/turn_sincos.h"
+
 namespace vpm {
 
 namespace {
@@ -31,9 +33,9 @@ double hg_sample_cos(double g, double u) {
 Vec3 hg_sample(const Vec3& d_in, double g, double u1, double u2) {
     const double mu = hg_sample_cos(g, u1);
     const double sin_theta = std::sqrt(std::max(0.0, (1.0 - mu) * (1.0 + mu)));
-    const double phi = 2.0 * kPi * u2;
+    const SinCos phi = sincos_turns(u2);   // azimuth 2 pi u2
     const Frame frame(d_in);
-    return frame.to_world(Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), mu)).normalized();
+    return frame.to_world(Vec3(sin_theta * phi.cos, sin_theta * phi.sin, mu)).normalized();
 }
 
 }  // namespace vpm

@@ -54,18 +54,25 @@ bool GridMedium::misses_active(const Ray& ray, double tmax) const {
     // the parameters (so rounding that differs from the index-space clip never rejects a ray that
     // clip would keep). NaN anywhere keeps the ray: the exact path decides.
     if (active_world_bounds_.empty()) return true;   // no active block: density 0 everywhere
+    const Vec3& lo = active_world_bounds_.lo;
+    const Vec3& hi = active_world_bounds_.hi;
+    // A ray starting in the box meets it (photons scattered in the medium): no divisions.
+    if (ray.origin.x() >= lo.x() && ray.origin.x() <= hi.x() && ray.origin.y() >= lo.y() && ray.origin.y() <= hi.y() &&
+        ray.origin.z() >= lo.z() && ray.origin.z() <= hi.z())
+        return false;
+    const Vec3 inv = ray.dir.cwiseInverse();   // the three divisions issued together
     double ta = 0.0, tb = tmax;
     for (int a = 0; a < 3; ++a) {
-        const double o = ray.origin[a], lo = active_world_bounds_.lo[a], hi = active_world_bounds_.hi[a];
+        const double o = ray.origin[a];
         if (ray.dir[a] == 0.0) {
-            if (o < lo || o > hi) return true;
+            if (o < lo[a] || o > hi[a]) return true;
             continue;
         }
-        const double inv = 1.0 / ray.dir[a];
-        double tn = (lo - o) * inv, tf = (hi - o) * inv;
-        if (tn > tf) std::swap(tn, tf);
-        if (tn > ta) ta = tn;
-        if (tf < tb) tb = tf;
+        const double t_lo = (lo[a] - o) * inv[a], t_hi = (hi[a] - o) * inv[a];
+        // min / max (minsd, maxsd), not a swap branch on the direction's random sign; with a NaN these
+        // select exactly what the swap did (grid_detail::clip_line).
+        ta = std::max(ta, std::min(t_lo, t_hi));
+        tb = std::min(tb, std::max(t_hi, t_lo));
     }
     return ta > tb + 1e-7 * (std::abs(ta) + std::abs(tb));
 }
@@ -107,10 +114,19 @@ struct TrilinearRayField {
     double cells_per_t;   // |d|_1: voxel-cell faces crossed per unit of t
 
     Vec3 id;              // 1 / d per axis
+    // Per axis, the face of a sub-block the ray leaves through: its offset (2 for d > 0, 0 for
+    // d < 0), and whether the ray moves along the axis at all (chosen once, not per tentative collision).
+    int exit_face[3];
+    bool moves[3];
 
     TrilinearRayField(const DensityGrid& g, const Eigen::Affine3d& world_to_index, const Ray& ray)
         : grid(g), o(world_to_index * ray.origin), d(world_to_index.linear() * ray.dir), cells_per_t(d.lpNorm<1>()),
-          id(d.cwiseInverse()) {}
+          id(d.cwiseInverse()) {
+        for (int a = 0; a < 3; ++a) {
+            exit_face[a] = d[a] > 0.0 ? 2 : 0;
+            moves[a] = d[a] > 0.0 || d[a] < 0.0;
+        }
+    }
     Vec3 inv_d() const { return id; }
 
     template <class V>
@@ -127,28 +143,27 @@ struct TrilinearRayField {
         double majorant, t_end;
         int lo[3], size;
     };
-    Span local_span(const Segment& s, double t) const {
-        Span sp;
+    void local_span(const Segment& s, double t, Span& sp) const {
         if (!s.sub) {
             sp.majorant = s.majorant;
             sp.t_end = s.tb;
             for (int a = 0; a < 3; ++a) sp.lo[a] = s.lo[a];
             sp.size = DensityGrid::kDim;
-            return sp;
+            return;
         }
-        const Vec3 q = DensityGrid::clamp_to(o + t * d, s);
+        const Vec3 p = o + t * d;
         int i[3];
         double t_end = s.tb;
-        for (int a = 0; a < 3; ++a) {
-            i[a] = std::min(static_cast<int>((q[a] - s.lo[a]) * 0.5), 3);
+        for (int a = 0; a < 3; ++a) {   // clamp_to, then the sub-block's exit face on this axis
+            const double q = std::min(std::max(p[a], double(s.lo[a])), double(s.lo[a] + DensityGrid::kDim));
+            i[a] = std::min(static_cast<int>((q - s.lo[a]) * 0.5), 3);
             sp.lo[a] = s.lo[a] + 2 * i[a];
-            if (d[a] > 0.0) t_end = std::min(t_end, (sp.lo[a] + 2 - o[a]) * id[a]);
-            else if (d[a] < 0.0) t_end = std::min(t_end, (sp.lo[a] - o[a]) * id[a]);
+            const double te = (sp.lo[a] + exit_face[a] - o[a]) * id[a];
+            if (moves[a] && te < t_end) t_end = te;
         }
         sp.majorant = s.sub[(i[0] * 4 + i[1]) * 4 + i[2]];
         sp.t_end = std::max(t_end, t);
         sp.size = 2;
-        return sp;
     }
     // The density at o + t d clamped into the span's closed region (where its majorant holds).
     double density_local(const Segment&, const Span& sp, double t) const {

@@ -16,7 +16,8 @@
 //       a bound on density(s, t) at this t, <= s.majorant and cheaper than density() (e.g. a finer
 //       level of majorants); may simply return s.majorant
 //   struct Span { double majorant, t_end; ... };
-//   Span local_span(const Segment& s, double t) const;
+//   void local_span(const Segment& s, double t, Span& out) const;   // (in place: a returned
+//       struct written field by field and read back whole stalled store forwarding)
 //       a finer cell around t: a bound on the density over the ray's piece [t, t_end] in it
 //       (t <= t_end <= s.tb; may be {s.majorant, s.tb}); delta tracking runs at that rate there
 //   double density_local(const Segment& s, const Span& sp, double t) const;
@@ -156,7 +157,7 @@ double sample_free_flight(const Field& f, double scale, double t0, double t1, Rn
             // density: no lookup. Either way the rest of that finer cell runs at its own rate.
             const double u = rng.uniform() * rate;
             if (!local) {
-                span = f.local_span(s, t);
+                f.local_span(s, t, span);
                 const double mu_loc = scale * span.majorant;
                 local = true;
                 rate = mu_loc;
