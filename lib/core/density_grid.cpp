@@ -209,7 +209,6 @@ void DensityGrid::finalize() {
                 }
                 walk_majorant_[i] = std::max(m, 0.0f);
             }
-    build_aprons();
     active_bounds_ = Bounds3{};
     for (int bx = 0; bx < nblocks_.x(); ++bx)
         for (int by = 0; by < nblocks_.y(); ++by)
@@ -225,34 +224,6 @@ void DensityGrid::finalize() {
     }
 }
 
-void DensityGrid::build_aprons() {
-    apron_index_.assign(blocks_.size(), -1);
-    apron_.clear();
-    std::vector<float> vox(kApron);
-    for (int bx = 0; bx < nblocks_.x(); ++bx)
-        for (int by = 0; by < nblocks_.y(); ++by)
-            for (int bz = 0; bz < nblocks_.z(); ++bz) {
-                const size_t i = block_index(bx, by, bz);
-                const int x0 = (block_lo_.x() + bx) * kDim, y0 = (block_lo_.y() + by) * kDim,
-                          z0 = (block_lo_.z() + bz) * kDim;
-                for (int x = 0; x <= kDim; ++x)
-                    for (int y = 0; y <= kDim; ++y)
-                        for (int z = 0; z <= kDim; ++z) vox[(x * 9 + y) * 9 + z] = voxel(x0 + x, y0 + y, z0 + z);
-                // Constant: every voxel has the block's value, bit for bit (a zero's sign included),
-                // and it is finite, so interpolating any 8 of them gives that value exactly.
-                const float c = blocks_[i].value;
-                bool constant = blocks_[i].dense < 0 && std::isfinite(c);
-                for (int j = 0; j < kApron && constant; ++j)
-                    constant = vox[j] == c && std::signbit(vox[j]) == std::signbit(c);
-                if (constant) continue;
-                if (apron_.size() / kApron >= static_cast<size_t>(INT32_MAX))
-                    throw std::length_error("DensityGrid: too many blocks with aprons");
-                apron_index_[i] = static_cast<int32_t>(apron_.size() / kApron);
-                apron_.insert(apron_.end(), vox.begin(), vox.end());
-            }
-    apron_.shrink_to_fit();
-}
-
 double DensityGrid::density(const Vec3& p) const {
     // NaN-safe range test; outside (lo-1, hi+1) every voxel read is background.
     if (!(p.x() > index_bounds_.lo.x() && p.x() < index_bounds_.hi.x() && p.y() > index_bounds_.lo.y() &&
@@ -262,25 +233,26 @@ double DensityGrid::density(const Vec3& p) const {
     const int ix = static_cast<int>(fx), iy = static_cast<int>(fy), iz = static_cast<int>(fz);
     const double wx = p.x() - fx, wy = p.y() - fy, wz = p.z() - fz;
     double v[2][2][2];   // double: differences of floats would round in float
-    {
-        // The range test above puts the cell's lower corner in a block of the grid (the padding
-        // block below included); its apron holds all 8 corners.
-        if (apron_index_.empty()) throw std::logic_error("DensityGrid::density called before finalize()");
+    if ((ix & 7) != 7 && (iy & 7) != 7 && (iz & 7) != 7) {
+        // All eight corners in one block: one block lookup.
         const int bx = (ix >> kLog2Dim) - block_lo_.x();
         const int by = (iy >> kLog2Dim) - block_lo_.y();
         const int bz = (iz >> kLog2Dim) - block_lo_.z();
-        const size_t i = block_index(bx, by, bz);
-        const int32_t k = apron_index_[i];
-        if (k < 0) return blocks_[i].value;
-        const float* d = apron_.data() + static_cast<size_t>(k) * kApron + apron_offset(ix, iy, iz);
+        const Block& b = blocks_[block_index(bx, by, bz)];
+        if (b.dense < 0) return b.value;
+        const float* d = data_.data() + static_cast<size_t>(b.dense) * kVoxels + voxel_offset(ix, iy, iz);
         v[0][0][0] = d[0];
         v[0][0][1] = d[1];
-        v[0][1][0] = d[9];
-        v[0][1][1] = d[10];
-        v[1][0][0] = d[81];
-        v[1][0][1] = d[82];
-        v[1][1][0] = d[90];
-        v[1][1][1] = d[91];
+        v[0][1][0] = d[8];
+        v[0][1][1] = d[9];
+        v[1][0][0] = d[64];
+        v[1][0][1] = d[65];
+        v[1][1][0] = d[72];
+        v[1][1][1] = d[73];
+    } else {
+        for (int dx = 0; dx < 2; ++dx)
+            for (int dy = 0; dy < 2; ++dy)
+                for (int dz = 0; dz < 2; ++dz) v[dx][dy][dz] = voxel(ix + dx, iy + dy, iz + dz);
     }
     // Same order as openvdb BoxSampler: z, then y, then x.
     const double a00 = v[0][0][0] + wz * (v[0][0][1] - v[0][0][0]);

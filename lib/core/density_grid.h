@@ -28,11 +28,6 @@
 // - Blocks whose own value and all 26 neighbours are one constant c are flagged uniform: the
 //   density is exactly c throughout their region, so tracking can use closed forms there.
 //
-// Lookups: a cell whose lower corner lies in block B reads voxels 8B .. 8B+8, one layer into the
-// blocks above. Every block where those 9^3 voxels are not one constant keeps a copy of them (its
-// "apron"), so density() and stencil() read all 8 corners from one block: a third of the cells
-// straddle a block face, and their 8 separate voxel lookups were a third of density()'s time.
-//
 // Exact optical depth: inside one voxel cell [i, i+1]^3 the trilinear field along a line is a
 // cubic in the line parameter; stencil() gives the cell's 8 voxels and
 // tracking::trilinear_along() (majorant_tracking.h) the cubic in Bernstein form (non-negative
@@ -105,8 +100,7 @@ public:
     }
     float voxel(const Vec3i& ijk) const { return voxel(ijk.x(), ijk.y(), ijk.z()); }
 
-    // Trilinear density at index-space point p (voxel centres at integer coordinates). After
-    // finalize() (std::logic_error before, inside the grid's box).
+    // Trilinear density at index-space point p (voxel centres at integer coordinates).
     double density(const Vec3& p) const;
 
     // Index-space box outside which density() is exactly 0: (data_lo - 1, data_hi + 1).
@@ -125,8 +119,7 @@ public:
     size_t block_total() const { return blocks_.size(); }
     size_t memory_bytes() const {
         return data_.size() * sizeof(float) + blocks_.size() * sizeof(Block) + majorant_.size() * sizeof(float) +
-               sub_.size() * sizeof(int32_t) + sub_majorant_.size() * sizeof(float) +
-               apron_index_.size() * sizeof(int32_t) + apron_.size() * sizeof(float);
+               sub_.size() * sizeof(int32_t) + sub_majorant_.size() * sizeof(float);
     }
     // Data box (inclusive voxel indices) given at construction.
     const Vec3i& voxel_lo() const { return voxel_lo_; }
@@ -184,24 +177,25 @@ public:
 
     // The 8 voxels of the cell with lower corner (x, y, z), as v[dx*4 + dy*2 + dz] (0 outside).
     void stencil(int x, int y, int z, double v[8]) const {
-        const int bx = (x >> kLog2Dim) - block_lo_.x();
-        const int by = (y >> kLog2Dim) - block_lo_.y();
-        const int bz = (z >> kLog2Dim) - block_lo_.z();
-        if (!apron_index_.empty() && static_cast<unsigned>(bx) < static_cast<unsigned>(nblocks_.x()) &&
-            static_cast<unsigned>(by) < static_cast<unsigned>(nblocks_.y()) &&
-            static_cast<unsigned>(bz) < static_cast<unsigned>(nblocks_.z())) {
-            const size_t i = block_index(bx, by, bz);
-            const int32_t k = apron_index_[i];
-            if (k < 0) {   // the 9^3 voxels are the block's constant
-                for (int c = 0; c < 8; ++c) v[c] = blocks_[i].value;
+        if ((x & 7) != 7 && (y & 7) != 7 && (z & 7) != 7) {
+            const int bx = (x >> kLog2Dim) - block_lo_.x();
+            const int by = (y >> kLog2Dim) - block_lo_.y();
+            const int bz = (z >> kLog2Dim) - block_lo_.z();
+            if (static_cast<unsigned>(bx) < static_cast<unsigned>(nblocks_.x()) &&
+                static_cast<unsigned>(by) < static_cast<unsigned>(nblocks_.y()) &&
+                static_cast<unsigned>(bz) < static_cast<unsigned>(nblocks_.z())) {
+                const Block& b = blocks_[block_index(bx, by, bz)];
+                if (b.dense < 0) {
+                    for (int i = 0; i < 8; ++i) v[i] = b.value;
+                    return;
+                }
+                const float* d = data_.data() + static_cast<size_t>(b.dense) * kVoxels + voxel_offset(x, y, z);
+                v[0] = d[0], v[1] = d[1], v[2] = d[8], v[3] = d[9];
+                v[4] = d[64], v[5] = d[65], v[6] = d[72], v[7] = d[73];
                 return;
             }
-            const float* d = apron_.data() + static_cast<size_t>(k) * kApron + apron_offset(x, y, z);
-            v[0] = d[0], v[1] = d[1], v[2] = d[9], v[3] = d[10];
-            v[4] = d[81], v[5] = d[82], v[6] = d[90], v[7] = d[91];
-            return;
         }
-        for (int c = 0; c < 8; ++c) v[c] = voxel(x + (c >> 2), y + ((c >> 1) & 1), z + (c & 1));
+        for (int i = 0; i < 8; ++i) v[i] = voxel(x + (i >> 2), y + ((i >> 1) & 1), z + (i & 1));
     }
 
     // Sub-block majorants: -1 none (block majorant, with ring, holds), -2 uniform block.
@@ -216,10 +210,6 @@ private:
         float value = 0.0f;   // the constant when dense < 0
     };
     static int voxel_offset(int x, int y, int z) { return ((x & 7) << 6) | ((y & 7) << 3) | (z & 7); }
-    // Aprons: voxels 8B .. 8B+8 of block B, (x*9 + y)*9 + z relative to 8B.
-    static constexpr int kApron = 729;
-    static int apron_offset(int x, int y, int z) { return ((x & 7) * 9 + (y & 7)) * 9 + (z & 7); }
-    void build_aprons();
     size_t block_index(int bx, int by, int bz) const {
         return (static_cast<size_t>(bx) * nblocks_.y() + by) * nblocks_.z() + bz;
     }
@@ -234,8 +224,6 @@ private:
     std::vector<float> walk_majorant_;     // per block: max of the voxels 8B .. 8B+8 (no ring), for walk_segments
     std::vector<int32_t> sub_;             // per block: kNoSub, kUniform, or index into sub_majorant_ / 64
     std::vector<float> sub_majorant_;      // 64 per refined block, sub-block (sx, sy, sz) at (sx*4 + sy)*4 + sz
-    std::vector<int32_t> apron_index_;     // per block: -1 (its 9^3 voxels are blocks_[i].value) or index into apron_ / kApron
-    std::vector<float> apron_;             // kApron per block that has one
     Bounds3 index_bounds_;
     Bounds3 active_bounds_;   // the regions of blocks with majorant > 0 (density is 0 outside)
     float max_value_ = 0.0f, min_value_ = 0.0f;
