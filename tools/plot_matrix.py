@@ -30,11 +30,17 @@ def num(s):
 
 
 def main():
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return
     if len(sys.argv) != 2:
         sys.exit("usage: plot_matrix.py OUT_DIR/matrix.csv")
     path = sys.argv[1]
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+    except OSError as e:
+        sys.exit("plot_matrix.py: cannot read %s: %s" % (path, e.strerror))
     if not rows:
         sys.exit("plot_matrix.py: " + path + " has no rows")
     labels = ["%s | %s" % (r["group"], r["cell"]) for r in rows]

@@ -79,10 +79,18 @@ def plot_kernels(sub, out):
 
 
 def main():
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
         return 2
-    rows = list(csv.DictReader(open(sys.argv[1], newline="")))
+    try:
+        with open(sys.argv[1], newline="") as f:
+            rows = list(csv.DictReader(f))
+    except OSError as e:
+        print(f"plot_study: cannot read {sys.argv[1]}: {e.strerror}", file=sys.stderr)
+        return 1
     out = sys.argv[2]
     colours = estimator_colours(rows)
     scenarios = sorted({r["scenario"] for r in rows}, key=lambda s: [r["scenario"] for r in rows].index(s))

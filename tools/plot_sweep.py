@@ -204,14 +204,21 @@ def bias_vs_k(groups, titles, axes, out):
 
 
 def main():
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0
     if len(sys.argv) != 2:
         print(__doc__, file=sys.stderr)
         return 2
     out = sys.argv[1]
-    with open(os.path.join(out, "points.csv"), newline="") as f:
-        reader = csv.DictReader(f)
-        rows = list(reader)
-        axes = [c for c in reader.fieldnames if c not in FIXED]
+    try:
+        with open(os.path.join(out, "points.csv"), newline="") as f:
+            reader = csv.DictReader(f)
+            rows = list(reader)
+            axes = [c for c in reader.fieldnames if c not in FIXED]
+    except OSError as e:
+        print(f"plot_sweep: cannot read {os.path.join(out, 'points.csv')}: {e.strerror}", file=sys.stderr)
+        return 1
     if not rows:
         print("plot_sweep: points.csv has no rows", file=sys.stderr)
         return 1
