@@ -12,22 +12,18 @@
 #include "photon/mass_lattice.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"
+#include "../support/repo_media.h"
 
 using namespace vpm;
 
 namespace {
 
-std::vector<std::unique_ptr<Medium>> grid(const char* name) {
-    std::vector<std::unique_ptr<Medium>> media;
-    media.push_back(std::make_unique<GridMedium>(load_vdb_density(std::string(VPM_SOURCE_DIR "/media/") + name + ".vdb"), 1.0,
-                                                 Rgb::Constant(0.9), 0.0));
-    return media;
-}
+using vpm::test::repo_grid_medium;
 
 }  // namespace
 
 TEST(BallMomentsCount, SmallBallCountsTheFifteenPointRule) {
-    const auto media = grid("blob");
+    const auto media = repo_grid_medium("blob");
     const BallExtinction ball(media);
     const Bounds3 box = media[0]->bounds();
     const Vec3 x = 0.5 * (box.lo + box.hi), size = box.hi - box.lo;
@@ -41,7 +37,7 @@ TEST(BallMomentsCount, SmallBallCountsTheFifteenPointRule) {
 
 TEST(BallMomentsCount, WideCrossingBallCountsTwiceTheLatticeVisits) {
     // A moments visit (a cut cell's slab moments) costs about two lookups (ball_extinction.cpp).
-    const auto media = grid("blob");
+    const auto media = repo_grid_medium("blob");
     const BallExtinction ball(media);
     const Bounds3 box = media[0]->bounds();
     const Vec3 size = box.hi - box.lo, x = box.lo + 0.3 * size;
@@ -69,8 +65,7 @@ TEST(BallMomentsCount, ClippedBallCountsThePointsLookedUp) {
     // A wide ball crossing a box too elongated for the lattice (r under two of its longest cells)
     // takes the 4096 Halton points over its cube in the box; only those inside the ball are looked
     // up, and both integral() and moments() count exactly those.
-    std::vector<std::unique_ptr<Medium>> media;
-    media.push_back(std::make_unique<GridMedium>(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb"), 1.0, Rgb::Constant(0.9), 0.0));
+    const std::vector<std::unique_ptr<Medium>> media = repo_grid_medium("plume");
     const BallExtinction ball(media);
     const Bounds3 box = media[0]->bounds();
     const Vec3 size = box.hi - box.lo;

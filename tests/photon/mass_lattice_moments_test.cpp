@@ -21,6 +21,7 @@
 #include "scene/media/ball_clip_moments.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"
+#include "../support/repo_media.h"
 
 using namespace vpm;
 
@@ -144,8 +145,7 @@ TEST(MassLatticeMoments, WideCrossingBallsInTheBlobAndThePlume) {
 TEST(MassLatticeMoments, BallExtinctionTakesTheLatticeForWideCrossingBalls) {
     // BallExtinction::moments for a wide ball crossing the blob's box: the lattice's moments, whose
     // mass is integral()'s exactly (so "linear" with every weight 1 is "ball").
-    std::vector<std::unique_ptr<Medium>> media;
-    media.push_back(std::make_unique<GridMedium>(load_vdb_density(VPM_SOURCE_DIR "/media/blob.vdb"), 1.0, Rgb::Constant(0.9), 0.0));
+    const std::vector<std::unique_ptr<Medium>> media = vpm::test::repo_grid_medium("blob");
     const BallExtinction ball(media);
     const Bounds3 box = media[0]->bounds();
     const Vec3 size = box.hi - box.lo;

@@ -19,6 +19,7 @@
 #include "photon/mass_lattice.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"
+#include "../support/repo_media.h"
 
 using namespace vpm;
 
@@ -111,8 +112,7 @@ TEST(MassLattice, BallExtinctionUsesItForWideCrossingBallsOnly) {
     // A grid ball crossing the box with r of a third of the box takes the lattice: a bounded count
     // (columns and cut cells, about one lookup's cost each), far below the clipped rule's 4096
     // lookups, and it agrees with the reference.
-    std::vector<std::unique_ptr<Medium>> media;
-    media.push_back(std::make_unique<GridMedium>(load_vdb_density(VPM_SOURCE_DIR "/media/blob.vdb"), 1.0, Rgb::Constant(0.9), 0.0));
+    const std::vector<std::unique_ptr<Medium>> media = vpm::test::repo_grid_medium("blob");
     const BallExtinction ball(media);
     const Bounds3 box = media[0]->bounds();
     const Vec3 size = box.hi - box.lo;
@@ -131,8 +131,7 @@ TEST(MassLattice, BallExtinctionUsesItForWideCrossingBallsOnly) {
 TEST(MassLattice, SameIntegralsWhicheverThreadBuildsIt) {
     // The lattice is built lazily by the first thread that needs it; two threads racing for it and
     // one thread alone must give the same integrals bit for bit (images the same on any thread count).
-    std::vector<std::unique_ptr<Medium>> media;
-    media.push_back(std::make_unique<GridMedium>(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb"), 1.0, Rgb::Constant(0.9), 0.0));
+    const std::vector<std::unique_ptr<Medium>> media = vpm::test::repo_grid_medium("plume");
     const Bounds3 box = media[0]->bounds();
     const Vec3 size = box.hi - box.lo;
     std::vector<std::pair<Vec3, double>> balls;
