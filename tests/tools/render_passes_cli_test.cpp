@@ -54,7 +54,7 @@ TEST(RenderPassesCli, ReferenceErrorAfterEveryPass) {
     const std::string small = " -q --set render.width=16 --set render.height=16 ";
     ASSERT_EQ(run_vpm("render " + config + small + "--set render.spp=64 -o " + (dir / "ref.exr").string(), dir), 0);
     ASSERT_EQ(run_vpm("render " + config + small +
-                          "--set render.integrator=photon_map --set photons.count=5000 --set render.spp=8 "
+                          "--set render.integrator=photon_map --set photons.count=5000 --set photons.gather=collision --set render.spp=8 "
                           "--set render.passes=8 --reference " + (dir / "ref.exr").string() + " -o " +
                           (dir / "pm.exr").string(),
                       dir),
