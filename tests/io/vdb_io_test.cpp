@@ -5,32 +5,17 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <unistd.h>
 
 #include "core/error.h"
 #include "core/density_grid.h"
 #include "io/vdb_io.h"
+#include "../support/scratch_dir.h"
 
 using namespace vpm;
 namespace fs = std::filesystem;
 
 namespace {
 
-class TempDir {
-public:
-    TempDir() {
-        path_ = fs::temp_directory_path() / ("vpm_test_media_" + std::to_string(::getpid()));
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path_, ec);
-    }
-    std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-    fs::path path_;
-};
 
 DensityGrid small_grid(float special = 0.5f) {
     const Vec3i dims(12, 10, 9);
@@ -115,7 +100,7 @@ TEST(VdbIo, SharedSmokeSampleLoads) {
 }
 
 TEST(VdbIo, RoundTripKeepsValuesAndTransform) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const DensityGrid g = small_grid();
     const std::string path = dir.file("rt.vdb");
     write_vdb_density(path, "density", g);
@@ -134,7 +119,7 @@ TEST(VdbIo, RoundTripKeepsValuesAndTransform) {
 
 TEST(VdbIo, TilesBecomeConstantBlocks) {
     // A uniform 32^3 box is pruned by OpenVDB into tiles; the loader must expand them.
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const Vec3i dims(32, 32, 32);
     const DensityGrid g = DensityGrid::from_dense(Vec3i::Zero(), dims, std::vector<float>(size_t(dims.prod()), 0.75f));
     write_vdb_density(dir.file("box.vdb"), "density", g);
@@ -153,14 +138,14 @@ TEST(VdbIoErrors, MissingFile) {
 }
 
 TEST(VdbIoErrors, NotAVdbFile) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const std::string path = dir.file("garbage.vdb");
     std::ofstream(path) << "this is not an OpenVDB file, just some text\n";
     expect_error<FileError>([&] { load_vdb_density(path); }, {path, "not a readable OpenVDB file"});
 }
 
 TEST(VdbIoErrors, TruncatedFile) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const std::string full = dir.file("full.vdb");
     write_vdb_density(full, "density", small_grid());
     std::ifstream in(full, std::ios::binary);
@@ -174,7 +159,7 @@ TEST(VdbIoErrors, TruncatedFile) {
 }
 
 TEST(VdbIoErrors, AbsentGridListsAvailable) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const std::string path = dir.file("named.vdb");
     write_vdb_density(path, "smoke_density", small_grid());
     expect_error<ConfigError>([&] { load_vdb_density(path, "density"); },
@@ -182,7 +167,7 @@ TEST(VdbIoErrors, AbsentGridListsAvailable) {
 }
 
 TEST(VdbIoErrors, WrongGridType) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const std::string vec = dir.file("vec.vdb"), ints = dir.file("int.vdb");
     write_vdb_test_grid(vec, "velocity", "vec3s");
     write_vdb_test_grid(ints, "flags", "int32");
@@ -192,14 +177,14 @@ TEST(VdbIoErrors, WrongGridType) {
 }
 
 TEST(VdbIoErrors, NegativeVoxel) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const std::string path = dir.file("neg.vdb");
     write_vdb_density(path, "density", small_grid(-0.25f));
     expect_error<FileError>([&] { load_vdb_density(path, "density"); }, {path, "negative value -0.25", "density"});
 }
 
 TEST(VdbIoErrors, NanVoxel) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const std::string path = dir.file("nan.vdb");
     write_vdb_density(path, "density", small_grid(std::numeric_limits<float>::quiet_NaN()));
     expect_error<FileError>([&] { load_vdb_density(path, "density"); }, {path, "non-finite"});
@@ -209,14 +194,14 @@ TEST(VdbIoErrors, NanVoxel) {
 }
 
 TEST(VdbIoErrors, EmptyGrid) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const std::string path = dir.file("empty.vdb");
     write_vdb_test_grid(path, "density", "empty_float");
     expect_error<FileError>([&] { load_vdb_density(path, "density"); }, {path, "empty"});
 }
 
 TEST(VdbIoErrors, FrustumTransform) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const std::string path = dir.file("frustum.vdb");
     write_vdb_test_grid(path, "density", "frustum_float");
     expect_error<FileError>([&] { load_vdb_density(path, "density"); }, {path, "not affine"});

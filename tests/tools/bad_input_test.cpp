@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -16,24 +15,13 @@
 
 #include "core/density_grid.h"
 #include "io/vdb_io.h"
+#include "../support/scratch_dir.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;
 
 namespace {
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() /
-               ("vpm_bad_input_" + std::to_string(getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 std::string read(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
@@ -78,7 +66,7 @@ Outcome run_vpm(const std::string& args, const fs::path& dir) {
 }
 
 // Renders `config` (written to DIR/NAME) to DIR/out/render.exr and checks the failure contract.
-void expect_clean_failure(const TempDir& dir, const std::string& name, const std::string& config,
+void expect_clean_failure(const vpm::test::ScratchDir& dir, const std::string& name, const std::string& config,
                           const std::vector<std::string>& needles, const std::string& output = "") {
     const fs::path cfg = dir.path / name;
     write(cfg, config);
@@ -104,7 +92,7 @@ DensityGrid small_grid(float special = 0.5f) {
 
 
 TEST(BadInput, ValidSceneRendersAndFailureKeepsExistingOutput) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     write(dir.path / "ok.toml", scene_text());
     const fs::path out = dir.path / "keep.exr";
     const Outcome ok = run_vpm("render -q '" + dir.file("ok.toml") + "' -o '" + out.string() + "'", dir.path);
@@ -122,21 +110,21 @@ TEST(BadInput, ValidSceneRendersAndFailureKeepsExistingOutput) {
 }
 
 TEST(BadInput, MalformedToml) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     expect_clean_failure(dir, "syntax.toml", "[render\nwidth = 4\n", {"syntax.toml:1"});
 }
 
 TEST(BadInput, JsonNumberOutOfRange) {
     // Found by fuzz_config: a JSON config with a number beyond double range escaped as nlohmann's
     // out_of_range (exit 3 "internal error" here, abort in the fuzz target).
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     expect_clean_failure(dir, "overflow.json", "{\"render\": {\"width\": 1e99999}}\n", {"overflow.json", "JSON"});
 }
 
 // Issue 24: a JSON config that is an array was reported as a TOML syntax error, and a duplicate
 // JSON key silently kept the last value.
 TEST(BadInput, JsonArrayAndDuplicateKeys) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     expect_clean_failure(dir, "array.json", "[1, 2]\n", {"array.json", "must be an object", "got a JSON array"});
     expect_clean_failure(dir, "empty_array.json", "[]\n", {"empty_array.json", "got a JSON array"});
     expect_clean_failure(dir, "dup.json", "{\"render\": {\"width\": 4, \"height\": 4, \"width\": 8}}\n",
@@ -151,36 +139,36 @@ TEST(BadInput, JsonArrayAndDuplicateKeys) {
 }
 
 TEST(BadInput, UnknownKey) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     expect_clean_failure(dir, "unknown.toml", scene_text("widht = 3"), {"unknown.toml:", "render.widht"});
 }
 
 TEST(BadInput, WrongType) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     expect_clean_failure(dir, "type.toml", scene_text("seed = \"many\""), {"type.toml:", "render.seed"});
 }
 
 TEST(BadInput, OutOfRange) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     expect_clean_failure(dir, "range.toml",
                          scene_text("", "\n[[media]]\ntype = \"homogeneous\"\ng = 1.5\n"), {"range.toml:", "media.0.g"});
     expect_clean_failure(dir, "range2.toml", scene_text("rr_depth = 0"), {"range2.toml:", "render.rr_depth"});
 }
 
 TEST(BadInput, MissingVdb) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     expect_clean_failure(dir, "missing.toml", scene_text("", grid_medium("nope.vdb")), {"missing.toml:", "media.0.file", "nope.vdb"});
 }
 
 TEST(BadInput, UnreadableVdb) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     fs::create_directories(dir.path / "folder.vdb");   // as root chmod does not stop reads; a folder does
     expect_clean_failure(dir, "unreadable.toml", scene_text("", grid_medium("folder.vdb")),
                          {"unreadable.toml:", "media.0.file", "folder.vdb"});
 }
 
 TEST(BadInput, TruncatedAndNotAVdb) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     const fs::path good = dir.path / "good.vdb";
     vpm::write_vdb_density(good.string(), "density", small_grid());
     const std::string bytes = read(good);
@@ -191,14 +179,14 @@ TEST(BadInput, TruncatedAndNotAVdb) {
 }
 
 TEST(BadInput, AbsentGridName) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     vpm::write_vdb_density(dir.file("g.vdb"), "smoke", small_grid());
     expect_clean_failure(dir, "absent.toml", scene_text("", grid_medium("g.vdb", "density")),
                          {"absent.toml:", "media.0.grid", "no grid named 'density'", "'smoke' (float)"});
 }
 
 TEST(BadInput, WrongGridType) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     vpm::write_vdb_test_grid(dir.file("vec.vdb"), "velocity", "vec3s");
     vpm::write_vdb_test_grid(dir.file("int.vdb"), "flags", "int32");
     expect_clean_failure(dir, "vec.toml", scene_text("", grid_medium("vec.vdb", "velocity")), {"vec.toml:", "media.0.grid", "vec3s"});
@@ -207,7 +195,7 @@ TEST(BadInput, WrongGridType) {
 
 // Documented rule (vdb_io.h): non-finite or negative voxels are rejected, not clamped.
 TEST(BadInput, NonFiniteAndNegativeVoxelsRejected) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     vpm::write_vdb_density(dir.file("nan.vdb"), "density", small_grid(std::numeric_limits<float>::quiet_NaN()));
     vpm::write_vdb_density(dir.file("inf.vdb"), "density", small_grid(std::numeric_limits<float>::infinity()));
     vpm::write_vdb_density(dir.file("neg.vdb"), "density", small_grid(-0.25f));
@@ -217,13 +205,13 @@ TEST(BadInput, NonFiniteAndNegativeVoxelsRejected) {
 }
 
 TEST(BadInput, EmptyGrid) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     vpm::write_vdb_test_grid(dir.file("empty.vdb"), "density", "empty_float");
     expect_clean_failure(dir, "empty.toml", scene_text("", grid_medium("empty.vdb")), {"empty.toml:", "media.0.file", "empty.vdb"});
 }
 
 TEST(BadInput, MalformedMeshes) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     write(dir.path / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
     write(dir.path / "bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0\n");
     const std::string mesh = "\n[[shapes]]\ntype = \"mesh\"\nfile = \"";
@@ -232,14 +220,14 @@ TEST(BadInput, MalformedMeshes) {
 }
 
 TEST(BadInput, OutputFolderNotWritable) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     write(dir.path / "plain_file", "x");   // as root chmod does not help: a path under a regular file
     const std::string out = (dir.path / "plain_file" / "sub" / "render.exr").string();
     expect_clean_failure(dir, "ok.toml", scene_text(), {"plain_file"}, out);
 }
 
 TEST(BadInput, ImageTooBigForMemory) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     expect_clean_failure(dir, "huge.toml", scene_text("", "", "width = 65536\nheight = 65536\n"),
                          {"huge.toml:", "render.width", "GB"});
 }
@@ -255,7 +243,7 @@ TEST(FuzzRegression, VdbWithGarbageBloscSize) {
     // under ASan this input aborts inside OpenVDB whatever vpm does.
     GTEST_SKIP() << "aborts under ASan inside OpenVDB (unchecked blosc size); checked in normal builds";
 #endif
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     fs::copy_file(fs::path(VPM_TEST_DATA_DIR) / "fuzz" / "vdb_blosc_garbage_size.vdb", dir.path / "garbage.vdb");
     expect_clean_failure(dir, "garbage.toml", scene_text("", grid_medium("garbage.vdb")),
                          {"garbage.toml:", "media.0.file", "garbage.vdb"});

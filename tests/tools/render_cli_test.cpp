@@ -10,21 +10,12 @@
 #include <nlohmann/json.hpp>
 
 #include "render/image_io.h"
+#include "../support/scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() /
-               ("vpm_render_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-};
 
 // Runs the vpm binary; returns the exit code, stderr in `err`.
 int run_vpm(const std::string& args, const fs::path& dir, std::string& err) {
@@ -49,7 +40,7 @@ const std::string kSmall = " --set render.width=24 --set render.height=16 --set 
 }  // namespace
 
 TEST(RenderCli, WritesExrPngAndSidecarWithPhaseTimings) {
-    TempDir t;
+    const vpm::test::ScratchDir t;
     std::string err;
     const fs::path out = t.path / "img.exr";
     ASSERT_EQ(run_vpm("render " + kConfig + kSmall + " -o " + out.string(), t.path, err), 0) << err;
@@ -76,7 +67,7 @@ TEST(RenderCli, WritesExrPngAndSidecarWithPhaseTimings) {
 }
 
 TEST(RenderCli, SameImageForOneAndTwoThreads) {
-    TempDir t;
+    const vpm::test::ScratchDir t;
     std::string err;
     for (const char* threads : {"1", "2"}) {
         const std::string out = (t.path / (std::string("t") + threads + ".exr")).string();
@@ -90,7 +81,7 @@ TEST(RenderCli, SameImageForOneAndTwoThreads) {
 }
 
 TEST(RenderCli, PhotonMapRunRecordsItsPhasesAndEnergy) {
-    TempDir t;
+    const vpm::test::ScratchDir t;
     std::string err;
     const fs::path out = t.path / "pm.exr";
     ASSERT_EQ(run_vpm("render " + kConfig + kSmall + " --set render.integrator=photon_map --set photons.count=20000 -o " +
@@ -104,7 +95,7 @@ TEST(RenderCli, PhotonMapRunRecordsItsPhasesAndEnergy) {
 }
 
 TEST(RenderCli, PathTracerRunsNoPhotonPass) {
-    TempDir t;
+    const vpm::test::ScratchDir t;
     std::string err;
     ASSERT_EQ(run_vpm("render " + kConfig + kSmall + " -o " + (t.path / "pt.exr").string(), t.path, err), 0) << err;
     EXPECT_FALSE(read_json(t.path / "pt.json")["phases"].contains("trace"));
@@ -112,7 +103,7 @@ TEST(RenderCli, PathTracerRunsNoPhotonPass) {
 }
 
 TEST(RenderCli, BadConfigFailsWithOneLineAndNoOutput) {
-    TempDir t;
+    const vpm::test::ScratchDir t;
     std::string err;
     const fs::path out = t.path / "bad.exr";
     EXPECT_EQ(run_vpm("render " + kConfig + " --set media.0.g=1.5 -o " + out.string(), t.path, err), 1);
@@ -123,7 +114,7 @@ TEST(RenderCli, BadConfigFailsWithOneLineAndNoOutput) {
 }
 
 TEST(RenderCli, HelpOnEverySubcommand) {
-    TempDir t;
+    const vpm::test::ScratchDir t;
     std::string err;
     for (const char* cmd : {"render", "study", "make-media", "make-sky"})
         EXPECT_EQ(run_vpm(std::string(cmd) + " --help", t.path, err), 0) << cmd << ": " << err;
@@ -132,7 +123,7 @@ TEST(RenderCli, HelpOnEverySubcommand) {
 }
 
 TEST(RenderCli, PhotonMapWithoutMediaBuildsNoVolumeMap) {
-    TempDir t;
+    const vpm::test::ScratchDir t;
     std::ofstream(t.path / "walls.toml") << R"(
 [render]
 width = 16
@@ -169,7 +160,7 @@ v = [0, 0, -2]
 // point gathered the whole map). Now a warning names k and the stored count, the map is never
 // queried and camera paths continue instead: a run of well under a second.
 TEST(RenderCli, KAboveTheStoredCountWarnsAndIsBounded) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     std::string err;
     const int rc = run_vpm("render " + std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml --threads 1 "
                            "--set render.width=16 --set render.height=16 --set render.spp=4 "
@@ -193,7 +184,7 @@ TEST(RenderCli, KAboveTheStoredCountWarnsAndIsBounded) {
 // Issue 24: a light of zero power (here a black sky) was blamed on reachability ("none of its light
 // can reach the scene's media or shapes"); the warning now says its power is zero and why it can be.
 TEST(RenderCli, ZeroPowerLightIsNotBlamedOnReachability) {
-    TempDir dir;
+    const vpm::test::ScratchDir dir;
     std::ofstream(dir.path / "dark.toml") << "[render]\nwidth = 4\nheight = 4\nspp = 1\nintegrator = \"photon_map\"\n"
                                              "[photons]\ncount = 2000\n"
                                              "[[lights]]\ntype = \"environment\"\nradiance = 0\n"

@@ -2,8 +2,6 @@
 // OUT.passes.csv and the sidecar.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -15,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/image_io.h"
+#include "../support/scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -47,9 +46,8 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
 }  // namespace
 
 TEST(RenderPassesCli, ReferenceErrorAfterEveryPass) {
-    const fs::path dir = fs::temp_directory_path() / ("vpm_render_passes_cli_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const vpm::test::ScratchDir scratch;
+    const fs::path& dir = scratch.path;
     const std::string config = std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml";
     const std::string small = " -q --set render.width=16 --set render.height=16 ";
     ASSERT_EQ(run_vpm("render " + config + small + "--set render.spp=64 -o " + (dir / "ref.exr").string(), dir), 0);
@@ -82,14 +80,12 @@ TEST(RenderPassesCli, ReferenceErrorAfterEveryPass) {
                       dir),
               0);
     EXPECT_FALSE(fs::exists(dir / "bad.exr"));
-    fs::remove_all(dir);
 }
 
 // Issue 24: a NaN or zero-mean reference is refused before the first pass, naming the file.
 TEST(RenderPassesCli, BadReferenceIsRefusedBeforeTheWork) {
-    const fs::path dir = fs::temp_directory_path() / ("vpm_render_passes_cli_bad_ref_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const vpm::test::ScratchDir scratch;
+    const fs::path& dir = scratch.path;
     const std::string config = std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml";
     vpm::Image ref(8, 8);
     vpm::write_exr(dir / "zero.exr", ref);
@@ -108,7 +104,6 @@ TEST(RenderPassesCli, BadReferenceIsRefusedBeforeTheWork) {
         EXPECT_FALSE(fs::exists(dir / "bad.exr"));
         EXPECT_FALSE(fs::exists(dir / "bad.passes.csv"));
     }
-    fs::remove_all(dir);
 }
 
 // Issue 24: render.time_limit made a sidecar entry, a log line and a record per pass without bound
@@ -116,9 +111,8 @@ TEST(RenderPassesCli, BadReferenceIsRefusedBeforeTheWork) {
 // tracer's passes go in groups of at least 65536 camera samples, the sidecar keeps the first 256
 // passes and a summary, the log a line per power of two, and OUT.passes.csv a row per group.
 TEST(RenderPassesCli, TimeLimitKeepsRecordsBounded) {
-    const fs::path dir = fs::temp_directory_path() / ("vpm_render_passes_cli_time_limit_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const vpm::test::ScratchDir scratch;
+    const fs::path& dir = scratch.path;
     const std::string config = std::string(VPM_SOURCE_DIR) + "/configs/homogeneous.toml";
     ASSERT_EQ(run_vpm("render " + config + " --threads 2 --set render.width=8 --set render.height=8 "
                       "--set render.spp=1 --set render.time_limit=1 -o " + (dir / "t.exr").string(),
@@ -150,5 +144,4 @@ TEST(RenderPassesCli, TimeLimitKeepsRecordsBounded) {
     EXPECT_EQ(rows[1][4], "1");   // the configured pass alone, then groups of up to 1024
     EXPECT_EQ(largest, 1024u);
     EXPECT_EQ(std::stoull(rows.back()[1]), passes);   // 1 spp per pass
-    fs::remove_all(dir);
 }
