@@ -17,12 +17,15 @@ double luminance_of(const Rgb& l) { return all_finite(l) ? 0.2126 * l[0] + 0.715
 
 constexpr int kPixels = kPilotSide * kPilotSide;
 constexpr uint64_t kLongPilotSalt = 0x6c6f6e6770696c6fULL;   // streams of samples past kPilotSamples
-constexpr int kSpreadSide = kPilotSpreadSide;
-constexpr int kSpreadPixels = kSpreadSide * kSpreadSide;
-constexpr int kSpreadSamples = kPilotSpreadSamples;
+constexpr int kSpreadPixels = kPilotSpreadSide * kPilotSpreadSide;
 constexpr uint64_t kSpreadSalt = 0x7370726561647063ULL;   // the spread samples' streams
 // A sample's slot: fixed whatever n is (`most`: the candidate's largest n; kPilotSamples with halves).
 size_t at(int j, int s, int most) { return size_t(j) * size_t(most) + size_t(s); }
+
+// The pixel at the centre of block j of a side x side grid over a width x height image.
+std::pair<int, int> block_centre(int j, int side, int width, int height) {
+    return {std::min(width - 1, int((j % side + 0.5) / side * width)), std::min(height - 1, int((j / side + 0.5) / side * height))};
+}
 
 // Per pixel: the mean of a's first n samples minus b's, squared, less the samples' share Var(a - b) / n.
 // Averaged over the pixels: E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b); `se` its
@@ -71,6 +74,11 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
     std::vector<GatherMeasurement> out;
     bool one_fits = false;   // an earlier candidate's one-sample pass fits the cap (render/pilot_budget.h)
     const double work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
+    // One camera sample's luminance, jittered within pixel (px, py).
+    auto sample = [&](int px, int py, Rng& rng) {
+        const double jx = rng.uniform(), jy = rng.uniform();
+        return luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
+    };
     for (size_t c = 0; c < candidates.size(); ++c) {
         const bool may_use_halves = candidates[c].uses_map;
         // Share the budget as if the halves were traced (render/pilot_budget.h), whether or not they are.
@@ -81,16 +89,14 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         // Samples s0 .. s1 - 1 of every pilot pixel with map m.
         auto trace = [&](size_t m, int s0, int s1) {
             tbb::parallel_for(0, kPixels, [&](int j) {
-                const int px = std::min(width - 1, int((j % kPilotSide + 0.5) / kPilotSide * width));
-                const int py = std::min(height - 1, int((j / kPilotSide + 0.5) / kPilotSide * height));
+                const auto [px, py] = block_centre(j, kPilotSide, width, height);
                 for (int s = s0; s < s1; ++s) {
                     // The same numbers for every map and candidate: the differences are the maps'.
                     // Samples past kPilotSamples (a candidate without a map) draw from streams of their own.
                     Rng rng = s < kPilotSamples
                                   ? Rng(seed, stream * uint64_t(kPixels * kPilotSamples) + uint64_t(j * kPilotSamples + s))
                                   : Rng(mix64(seed ^ kLongPilotSalt), stream * uint64_t(kPixels * kNoMapPilotSamples) + at(j, s, most));
-                    const double jx = rng.uniform(), jy = rng.uniform();
-                    values[m][at(j, s, most)] = luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
+                    values[m][at(j, s, most)] = sample(px, py, rng);
                 }
             });
         };
@@ -156,19 +162,18 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             // 8 x 8 centres alone missed where the march's camera noise lives in a sphere lit from the
             // side (1% of the pixels, on its lit rim, held 75% of it: 2.0e-5 read, 1.4e-4 true).
             hooks.use(int(c), maps[0]);   // the full map again (the halves were in force last)
-            std::vector<double> spread_values(size_t(kSpreadPixels) * kSpreadSamples);
+            std::vector<double> spread_values(size_t(kSpreadPixels) * kPilotSpreadSamples);
             tbb::parallel_for(0, kSpreadPixels, [&](int j) {
-                const int px = std::min(width - 1, int((j % kSpreadSide + 0.5) / kSpreadSide * width));
-                const int py = std::min(height - 1, int((j / kSpreadSide + 0.5) / kSpreadSide * height));
-                for (int s = 0; s < kSpreadSamples; ++s) {
-                    Rng rng(mix64(seed ^ kSpreadSalt), stream * uint64_t(kSpreadPixels * kSpreadSamples) + uint64_t(j * kSpreadSamples + s));
-                    const double jx = rng.uniform(), jy = rng.uniform();
-                    spread_values[size_t(j * kSpreadSamples + s)] = luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
+                const auto [px, py] = block_centre(j, kPilotSpreadSide, width, height);
+                for (int s = 0; s < kPilotSpreadSamples; ++s) {
+                    Rng rng(mix64(seed ^ kSpreadSalt), stream * uint64_t(kSpreadPixels * kPilotSpreadSamples) + uint64_t(j * kPilotSpreadSamples + s));
+                    spread_values[at(j, s, kPilotSpreadSamples)] = sample(px, py, rng);
                 }
             });
+            static_assert(kPilotSpreadSamples == 2, "the spread's variance below is that of two samples");
             double vs = 0.0;
             for (int j = 0; j < kSpreadPixels; ++j) {
-                const double a = spread_values[size_t(j * kSpreadSamples)], b = spread_values[size_t(j * kSpreadSamples + 1)];
+                const double a = spread_values[at(j, 0, kPilotSpreadSamples)], b = spread_values[at(j, 1, kPilotSpreadSamples)];
                 vs += 0.5 * (a - b) * (a - b);   // the unbiased variance of two samples
             }
             g.v_camera = (v + vs) / (kPixels + kSpreadPixels);
