@@ -180,6 +180,7 @@ double EnergyBalance::relative_imbalance() const {
 }
 
 PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s) {
+    scene.prepare_photon_emission();   // the lights' guides, once per scene (scene/emission_guides.h)
     PhotonTraceResult result;
     const Timer timer;
     const LightPicker picker(scene, s.light_weights, s.single_light);

@@ -12,6 +12,8 @@ void report_photon_lights(const Scene& scene, const char* allocation_rule, const
     if (log)
         *log << "photons: " << stored << " stored per " << traced.paths << " emitted (" << stats.stored_per_emitted
              << " per photon); allocation " << allocation_rule << ": " << allocation.to_string() << "\n";
+    if (log)
+        for (const std::string& line : scene.prepare_photon_emission()) *log << "photons: " << line << "\n";
     stats.lights.clear();
     for (size_t l = 0; l < scene.lights.size(); ++l) {
         LightPhotonReport r;

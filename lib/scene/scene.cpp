@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "scene/camera_region.h"
+#include "scene/emission_guides.h"
 #include "scene/lights/light_registry.h"
 #include "scene/media/medium_registry.h"
 
@@ -108,6 +109,11 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
     focus_lights_at_infinity(*scene);
     scene->build_log.push_back("camera: " + scene->camera.describe());
     return scene;
+}
+
+const std::vector<std::string>& Scene::prepare_photon_emission() const {
+    std::call_once(emission_guides_once_, [this] { emission_guides_log_ = guide_photon_emission(*this); });
+    return emission_guides_log_;
 }
 
 MediumEvent Scene::sample_medium(const Ray& ray, double tmax, Rng& rng) const {

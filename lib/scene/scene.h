@@ -11,6 +11,7 @@
 // Tables read here: [camera] [[lights]] [[media]] [[shapes]].
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -80,8 +81,16 @@ public:
 
     const std::vector<const Light*>& area_lights() const { return area_lights_; }
 
+    // Builds the lights' emission guides (scene/emission_guides.h) on the first call, from any
+    // thread; later calls return at once. Photon tracers call it: a scene rendered without photons
+    // traces no guide rays. Returns one line per guided light.
+    const std::vector<std::string>& prepare_photon_emission() const;
+
 private:
     int openvdb_media_ = 0;
+    // Lazily built state of the photon emission (the guides live in the lights).
+    mutable std::once_flag emission_guides_once_;
+    mutable std::vector<std::string> emission_guides_log_;
     std::vector<const Light*> area_lights_;   // the lights that are geometry (non-empty bounds())
 };
 

@@ -6,6 +6,7 @@
 
 #include "core/math.h"
 #include "core/rng.h"
+#include "scene/lights/direction_guide.h"
 
 namespace vpm {
 
@@ -56,6 +57,18 @@ public:
     // is much smaller than those bounds (returns whether it does); other lights ignore it. Call
     // after set_scene_bounds.
     virtual bool set_emission_focus(const Bounds3& focus) { return false; }
+    // Lights that emit from about one point over wide directions (a point light, a sphere light near
+    // what it lights) can draw part of their photons from a guide over directions built from what
+    // each direction reaches (scene/emission_guides.h). guide_origin gives that point and the distance
+    // from it where photons start (the sphere's radius); false: this light takes no guide. Call after
+    // set_scene_bounds.
+    virtual bool guide_origin(Vec3& origin, double& start) const { return false; }
+    // The solid-angle density of the light's own photon directions as seen from guide_origin
+    // (0 where it sends none): the guide's weights are this times what a direction reaches.
+    virtual double emission_direction_pdf(const Vec3& w) const { return 0.0; }
+    // Emit `share` of the photons from `guide` (one-sample mixture with the light's own emission,
+    // every photon weighted by the mixture's density: unbiased). An empty guide restores the default.
+    virtual void set_emission_guide(std::shared_ptr<const DirectionGuide> guide, double share) {}
     // Area lights (quad, sphere) are opaque black geometry that emits: camera rays, scattered paths,
     // shadow rays to other lights and photons all stop on them (Scene::intersect, Scene::transmittance).
     // Closest hit in (epsilon, tmax), the epsilon keeping rays that leave the light from meeting it.

@@ -1,7 +1,9 @@
 // type = "point": position, intensity (W/sr, rgb); shines uniformly in all directions and emits
 // photons only toward what can be lit: uniformly over the scene box's silhouette from outside it
 // (scene/lights/box_silhouette.h), in the cone around the box's sphere where the box is too small
-// a speck for that (scene/lights/emission_cone.h), over the whole sphere from inside the box.
+// a speck for that (scene/lights/emission_cone.h), over the whole sphere from inside the box; where
+// most of those directions reach nothing, half of the photons follow a guide instead
+// (scene/emission_guides.h).
 #include <sstream>
 
 #include "core/sampling.h"
@@ -28,18 +30,42 @@ public:
         return true;
     }
     EmissionSample sample_emission(Rng& rng) const override {
-        if (silhouette_.valid()) {
-            const double u_face = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-            return {Ray{position_, silhouette_.sample(u_face, u1, u2)}, power()};
+        if (!guide_) return {Ray{position_, own_direction(rng)}, power()};
+        // One-sample mixture with the guide: I over the mixture's density, I * solid angle on average.
+        const bool guided = rng.uniform() < guide_share_;
+        Vec3 dir;
+        if (guided) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            dir = guide_->sample(u1, u2);
+        } else {
+            dir = own_direction(rng);
         }
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        return {Ray{position_, cone_.sample(u1, u2)}, power()};
+        const double pdf = (1.0 - guide_share_) * emission_direction_pdf(dir) + guide_share_ * guide_->pdf(dir);
+        return {Ray{position_, dir}, pdf > 0.0 ? Rgb(intensity_ / pdf) : Rgb::Zero()};
+    }
+    bool guide_origin(Vec3& origin, double& start) const override {
+        if (!silhouette_.valid() && !cone_.full_sphere) return false;   // a narrow cone already: nothing to guide
+        origin = position_;
+        start = 0.0;
+        return true;
+    }
+    double emission_direction_pdf(const Vec3& w) const override {
+        if (silhouette_.valid()) {
+            double t0 = 0.0, t1 = 0.0;
+            return box_.intersect(Ray{position_, w}, kInfinity, t0, t1) ? 1.0 / silhouette_.solid_angle() : 0.0;
+        }
+        return cone_.contains(w) ? 1.0 / cone_.solid_angle() : 0.0;
+    }
+    void set_emission_guide(std::shared_ptr<const DirectionGuide> guide, double share) override {
+        guide_ = guide && !guide->empty() ? std::move(guide) : nullptr;
+        guide_share_ = share;
     }
     // The power that can reach the scene's box (all of it from inside the box).
     Rgb power() const override {
         return intensity_ * (silhouette_.valid() ? silhouette_.solid_angle() : cone_.solid_angle());
     }
     void set_scene_bounds(const Bounds3& b) override {
+        box_ = b;
         silhouette_ = BoxSilhouette(position_, b);
         cone_ = EmissionCone::towards(position_, b);
     }
@@ -50,10 +76,23 @@ public:
     }
 
 private:
+    // A direction of the light's own emission (the box's silhouette, or the cone / sphere around it).
+    Vec3 own_direction(Rng& rng) const {
+        if (silhouette_.valid()) {
+            const double u_face = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+            return silhouette_.sample(u_face, u1, u2);
+        }
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        return cone_.sample(u1, u2);
+    }
+
     Vec3 position_;
     Rgb intensity_;
+    Bounds3 box_;
     BoxSilhouette silhouette_{Vec3::Zero(), Bounds3{}};
     EmissionCone cone_;
+    std::shared_ptr<const DirectionGuide> guide_;   // null: the light's own emission only
+    double guide_share_ = 0.0;
 };
 
 }  // namespace
