@@ -173,7 +173,11 @@ radiance = 2
         const PhotonTraceResult r = trace_photons(*scene, s);
         EXPECT_LT(r.energy.relative_imbalance(), 1e-6) << "albedo " << albedo;
         const double lum = luminance(scene->total_light_power());
-        EXPECT_NEAR(luminance(r.energy.emitted), lum, 1e-9 * lum);
+        // The sphere light beside the medium is guided (scene/emission_guides.h): its photons' powers
+        // vary, by up to 2x about its mean, so the total is exact only in expectation (one standard
+        // error is about 0.4% at 20000 photons; measured 0.3-0.5%); the other lights' are exact.
+        ASSERT_EQ(scene->prepare_photon_emission().size(), 1u);
+        EXPECT_NEAR(luminance(r.energy.emitted), lum, 0.02 * lum);
         // Each light emits its power share of the photons (binomial standard error).
         const double total = lum;
         for (size_t l = 0; l < scene->lights.size(); ++l) {
