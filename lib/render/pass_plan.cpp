@@ -49,7 +49,6 @@ PassPlan plan_passes(const PlanInputs& in) {
         int64_t cand_n = in.count;
         int cand_s = in.spp;
         const int doublings = in.size_photons && m.uses_map ? kPlanMaxPhotonDoublings : 0;
-        const int halvings = in.size_photons && m.uses_map ? kPlanMaxPhotonHalvings : 0;
         const int s_hi = in.size_samples ? kPlanMaxSpp : in.spp;
         // Without a map every sample count has the same variance x cost and ties went to 1 sample per
         // pass, whose fixed cost per pass (not counted) then dominated: the box at 1000 optical depths
@@ -58,8 +57,8 @@ PassPlan plan_passes(const PlanInputs& in) {
         int s_lo = in.size_samples ? 1 : in.spp;
         if (in.size_samples && !m.uses_map)
             while (s_lo < s_hi && double(s_lo) * in.pixels < kNoMapPassSamples) s_lo *= 2;
-        for (int i = -halvings; i <= doublings; ++i) {
-            const double n = std::max(1.0, std::ldexp(double(in.count), i));
+        for (int i = 0; i <= doublings; ++i) {
+            const double n = double(in.count) * double(int64_t(1) << i);
             const double v_map = v_map_half * std::pow(0.5 * double(in.count) / n, beta);
             const double bias2 = bias2_n0 * std::pow(double(in.count) / n, 4.0 / 3.0);
             for (int s = s_lo; s <= s_hi; s *= 2) {

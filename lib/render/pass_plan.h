@@ -14,8 +14,8 @@
 // With a budget T (render.time_limit, in work units) P = floor(T / C) whole passes fit, and the bias,
 // which does not average out, enters: error^2 x time = ((V_map(N) + V_camera / S) / P + bias(N)^2) T for C <= T,
 // (V_map + V_camera / S + bias^2) C for a pass longer than the budget (one pass is still made);
-// bias(N)^2 = bias(N0)^2 (N0 / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N goes
-// down to N0 / 4 (kPlanMaxPhotonHalvings) only where N0 is the default, not the user's photons.count. Every input is a count, a variance or a config value: the
+// bias(N)^2 = bias(N0)^2 (N0 / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N never
+// goes below the configured count N0. Every input is a count, a variance or a config value: the
 // plan is the same on any machine and thread count, and scale-invariant.
 #include <cstdint>
 #include <string>
@@ -83,11 +83,6 @@ struct PassPlan {
 
 // Largest factors over the configured sizes the plan considers (powers of two up to these).
 constexpr int kPlanMaxPhotonDoublings = 6;
-// And below the default photon count (only sized where photons.count is not set): N0 / 2 is where
-// the pilot measured V_map, N0 / 4 one step of its N^-beta beyond. Where guided emission (scene/
-// emission_guides.h) lands 10x the photons per emitted one, each costing ~7x more, passes of N0 held
-// the plan to 14 passes where 149 of a 10x smaller map had averaged the same map noise (BENCHMARKS.md 26).
-constexpr int kPlanMaxPhotonHalvings = 2;
 constexpr int kPlanMaxSpp = 256;
 // Camera samples a pass without a map holds at least (render/no_map_candidate.h), the path tracer's
 // group size (render/run.cpp): a pass's fixed cost is not in the counted work.
