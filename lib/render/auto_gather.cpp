@@ -128,8 +128,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     if (context.log) {
         std::ostream& log = *context.log;
         log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
-            << "up to " << kPilotSamples << " samples with the map and its halves and " << kPilotCameraSamples
-            << " with the map alone, up to " << kNoMapPilotSamples << " without a map";
+            << "up to " << kPilotSamples << " samples with the map and its halves, up to " << kNoMapPilotSamples << " without a map";
         if (map->size() == 0) log << "; the volume map is empty, nothing to measure";
         for (const auto& m : measured) {
             log << "; " << m.name << ": ";
@@ -138,9 +137,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                     << " work units, exceeds half the budget), work " << m.sample_cost << " per sample";
                 continue;
             }
-            log << m.samples << " samples";
-            if (m.uses_map) log << " (" << m.camera_samples << " with the map alone)";
-            log << ", per-sample variance " << m.v_camera << ", map variance at N/2 " << m.v_map_half
+            log << m.samples << " samples, per-sample variance " << m.v_camera << ", map variance at N/2 " << m.v_map_half
                 << ", bias " << m.bias_mean << " +- " << m.bias_se << " (squared, charged: " << m.bias2 << "), mean " << m.mean << " +- " << m.mean_se
                 << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
                 << ", work " << m.sample_cost << " per sample, map estimates used " << m.per_sample.map_used << " per sample";

@@ -30,12 +30,12 @@ std::pair<int, int> block_centre(int j, int side, int width, int height) {
 // Per pixel: the mean of a's first n samples minus b's, squared, less the samples' share Var(a - b) / n.
 // Averaged over the pixels: E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b); `se` its
 // standard error from the pixels' spread.
-double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n, int stride, double& se) {
+double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n, double& se) {
     double mean_t = 0.0, m2_t = 0.0;
     for (int j = 0; j < kPixels; ++j) {
         double mean = 0.0, m2 = 0.0;
         for (int s = 0; s < n; ++s) {
-            const double d = a[at(j, s, stride)] - b[at(j, s, stride)];
+            const double d = a[at(j, s, kPilotSamples)] - b[at(j, s, kPilotSamples)];
             const double delta = d - mean;
             mean += delta / (s + 1);
             m2 += delta * (d - mean);
@@ -84,7 +84,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         // Share the budget as if the halves were traced (render/pilot_budget.h), whether or not they are.
         const int budget_maps = may_use_halves ? 3 : 1;
         std::vector<const PhotonMap*> maps = {&map};
-        const int most = may_use_halves ? kPilotCameraSamples : kNoMapPilotSamples;
+        const int most = may_use_halves ? kPilotSamples : kNoMapPilotSamples;
         std::vector<std::vector<double>> values(may_use_halves ? 3 : 1, std::vector<double>(size_t(kPixels) * size_t(most)));
         // Samples s0 .. s1 - 1 of every pilot pixel with map m.
         auto trace = [&](size_t m, int s0, int s1) {
@@ -92,11 +92,10 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
                 const auto [px, py] = block_centre(j, kPilotSide, width, height);
                 for (int s = s0; s < s1; ++s) {
                     // The same numbers for every map and candidate: the differences are the maps'.
-                    // Samples past kPilotSamples (a candidate without a map, or the full map alone) draw from
-                    // streams of their own, the same for every candidate.
+                    // Samples past kPilotSamples (a candidate without a map) draw from streams of their own.
                     Rng rng = s < kPilotSamples
                                   ? Rng(seed, stream * uint64_t(kPixels * kPilotSamples) + uint64_t(j * kPilotSamples + s))
-                                  : Rng(mix64(seed ^ kLongPilotSalt), stream * uint64_t(kPixels * kNoMapPilotSamples) + at(j, s, kNoMapPilotSamples));
+                                  : Rng(mix64(seed ^ kLongPilotSalt), stream * uint64_t(kPixels * kNoMapPilotSamples) + at(j, s, most));
                     values[m][at(j, s, most)] = sample(px, py, rng);
                 }
             });
@@ -144,31 +143,17 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             hooks.use(int(c), maps[m]);
             trace(m, 0, n);
         }
-        // V_camera, the mean and the tail also from the full map's samples n .. n_camera - 1 (above).
-        int n_camera = n;
-        if (may_use_halves) {
-            const double spent = hooks.work(hooks.counts()) - hooks.work(before);
-            const double share = budget.per_candidate > 0.0 ? budget.per_candidate - spent : kPilotCameraWorkRatio * spent;
-            const double affordable = g.sample_cost > 0.0 ? std::floor(share / (double(kPixels) * g.sample_cost)) : 0.0;
-            const int extra = int(std::clamp(affordable, 0.0, double(kPilotCameraSamples - n)));
-            if (extra > 0) {
-                hooks.use(int(c), maps[0]);
-                trace(0, n, n + extra);
-                n_camera = n + extra;
-            }
-        }
         g.samples = n;
-        g.camera_samples = n_camera;
         g.max_weight = hooks.counts().march_weight_max;   // over this candidate's traces (and the earlier ones')
         double v = 0.0;
         for (int j = 0; j < kPixels; ++j) {
             double mean = 0.0, m2 = 0.0;
-            for (int s = 0; s < n_camera; ++s) {
+            for (int s = 0; s < n; ++s) {
                 const double x = values[0][at(j, s, most)], delta = x - mean;
                 mean += delta / (s + 1);
                 m2 += delta * (x - mean);
             }
-            v += m2 / (n_camera - 1);
+            v += m2 / (n - 1);
         }
         g.v_camera = v / kPixels;
         if (may_use_halves) {
@@ -195,21 +180,21 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         }
         double sum = 0.0;
         for (int j = 0; j < kPixels; ++j)
-            for (int s = 0; s < n_camera; ++s) sum += values[0][at(j, s, most)];
-        g.mean = sum / double(kPixels * n_camera);
+            for (int s = 0; s < n; ++s) sum += values[0][at(j, s, most)];
+        g.mean = sum / double(kPixels * n);
         // Pixels differ in mean, so the SE comes from the spread of the pixel means (each of n samples).
         std::vector<double> pixel_mean(kPixels, 0.0);
         double spread = 0.0;
         for (int j = 0; j < kPixels; ++j) {
-            for (int s = 0; s < n_camera; ++s) pixel_mean[size_t(j)] += values[0][at(j, s, most)] / n_camera;
+            for (int s = 0; s < n; ++s) pixel_mean[size_t(j)] += values[0][at(j, s, most)] / n;
             spread += (pixel_mean[size_t(j)] - g.mean) * (pixel_mean[size_t(j)] - g.mean);
         }
         g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
         // The share of the variance in the largest samples (render/pilot_tail.h), about each pixel's mean.
         std::vector<double> squares;
-        squares.reserve(size_t(kPixels * n_camera));
+        squares.reserve(size_t(kPixels * n));
         for (int j = 0; j < kPixels; ++j)
-            for (int s = 0; s < n_camera; ++s) {
+            for (int s = 0; s < n; ++s) {
                 const double d = values[0][at(j, s, most)] - pixel_mean[size_t(j)];
                 squares.push_back(d * d);
             }
@@ -220,9 +205,9 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
             // whose map noise then set the image's error (BENCHMARKS.md section 17).
             double se = 0.0;
-            const double v = map_variance_of_difference(values[1], values[2], n, most, se);
+            const double v = map_variance_of_difference(values[1], values[2], n, se);
             g.v_map_half = 0.5 * std::max(v, se);
-            const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, most);
+            const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
             g.bias2 = bias.bias2;
             g.bias_mean = bias.mean;
             g.bias_se = bias.se;

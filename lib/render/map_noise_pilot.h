@@ -45,15 +45,6 @@ struct MapNoisePilotHooks {
 
 constexpr int kPilotSide = 8;       // pilot pixels: the centres of an 8 x 8 grid of image blocks
 constexpr int kPilotSamples = 8;    // samples per pilot pixel and map, at most (render/pilot_budget.h)
-// A map candidate's full map then takes up to kPilotCameraSamples per pilot pixel for V_camera, the
-// mean and the tail (the halves stay at kPilotSamples): within its budget share, or without a budget
-// within kPilotCameraWorkRatio times the work it spent before. In smoke beside a sphere light (h6,
-// BENCHMARKS.md 26) the collision gather's camera variance sits in samples rarer than 1 in 1000 that
-// 8 per pixel did not see: the pilot read 5.2e-6 against 7.6e-5 in the image, the march 1.5e-6
-// against 2.8e-5, and the plan took them over the path tracer's estimator (4.2e-5 read over 1024
-// samples per pixel, 5.1e-5 in the image) at 5-11x its time to equal error.
-constexpr int kPilotCameraSamples = 64;
-constexpr double kPilotCameraWorkRatio = 2.0;
 // V_camera's second grid (above): its centres, kPilotSpreadSamples each with the full map, for a
 // candidate that may use the map and was not dropped (outside the budget share: 1/3 more samples).
 constexpr int kPilotSpreadSide = 16;

@@ -46,7 +46,6 @@ struct GatherMeasurement {
     double tail_share = 0.0;      // share of its squared deviations in its largest 1/1024 samples (render/pilot_tail.h)
     CountedOperations per_sample; // the operations behind it
     int samples = 0;              // pilot samples per pixel and map (render/pilot_budget.h)
-    int camera_samples = 0;       // of those with the full map behind v_camera, mean and tail (render/map_noise_pilot.h)
     bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap
     bool uses_map = true;         // false: no photon pass is paid for (render/no_map_candidate.h)
     bool excluded = false;        // not a choice (render/no_map_candidate.h: the map is used)

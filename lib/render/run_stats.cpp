@@ -205,7 +205,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
         std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, bias_mean, bias_se, weights, means, mean_ses, tails, cost, queries, rays, lookups, used, steps;
-        std::vector<int> samples, camera_samples;
+        std::vector<int> samples;
         std::vector<bool> dropped, excluded;
         for (const auto& c : a->candidates) {
             names.push_back(c.name);
@@ -226,7 +226,6 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             used.push_back(c.per_sample.map_used);
             steps.push_back(c.per_sample.steps);
             samples.push_back(c.samples);
-            camera_samples.push_back(c.camera_samples);
             dropped.push_back(c.dropped);
             excluded.push_back(c.excluded);
         }
@@ -248,7 +247,6 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.map_used_per_sample", nlohmann::json(used));
         record.set("photons.auto_gather.steps_per_sample", nlohmann::json(steps));
         record.set("photons.auto_gather.pilot_samples", nlohmann::json(samples));
-        record.set("photons.auto_gather.pilot_camera_samples", nlohmann::json(camera_samples));
         record.set("photons.auto_gather.dropped", nlohmann::json(dropped));
         record.set("photons.auto_gather.excluded", nlohmann::json(excluded));
         record.set("photons.auto_gather.photon_pass", a->photon_pass);
