@@ -221,6 +221,9 @@ struct TrilinearRayField {
             const int ci[3] = {s.lo[0] + c[0], s.lo[1] + c[1], s.lo[2] + c[2]};
             double v[8];
             DensityGrid::stencil(w, c[0], c[1], c[2], v);
+            // A cell of zeros adds no piece (OpticalDepthProfile::add drops depth 0): skip its cubic.
+            if (v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0 && v[3] == 0.0 && v[4] == 0.0 && v[5] == 0.0 && v[6] == 0.0 && v[7] == 0.0)
+                return true;
             double fa[3], fb[3];
             for (int k = 0; k < 3; ++k) {   // local coordinates; the clamp only undoes rounding
                 fa[k] = std::min(std::max(o[k] + a * d[k] - ci[k], 0.0), 1.0);
