@@ -11,7 +11,7 @@ namespace {
 // The query's price (BENCHMARKS.md section 25): user CPU per camera sample of the forced collision
 // gather and march (288 - 32 spp, 1 thread) on blob tau 1, 3, 10, box tau 1 and plume tau 1 at
 // photons.count 1e4 .. 8e6 (116 .. 1.2e6 stored), less the other counted terms at their prices,
-// per used query: fitted as knn x factor x (1 + kQueryDoubling log2(stored / 16384)); rms log
+// per used query (scripts/query_price_fit.py): fitted as knn x factor x (1 + kQueryDoubling log2(stored / 16384)); rms log
 // (counted / real) over those 27 runs 0.250 with the flat 0.75 / 0.5 x knn, 0.134 with this. The
 // growth is small in a render, whose queries are coherent (a pixel's samples, its neighbours):
 // random queries over the blob (bench/bench_query_price.cpp) grow ~10% per doubling, mostly past
