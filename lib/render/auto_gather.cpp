@@ -81,9 +81,12 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             c.steps = double(steps.load());
             return c;
         };
+        // A query over the pilot's map (pass 0's); the plan adds the price's growth for larger maps.
+        const double query = query_price(w, double(map->size()));
+        in.query_doubling = w.query_doubling;
         hooks.work = [&](const CountedOperations& c) {
             const double wide = std::max(0.0, c.queries - c.map_used);   // searches whose estimate was not used
-            return w.query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps;
+            return query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps;
         };
         with_fresh_counters([&] {
             measured = measure_gathers(scene_.camera, *map, candidates, hooks,

@@ -49,6 +49,8 @@ PassPlan plan_passes(const PlanInputs& in) {
         int64_t cand_n = in.count;
         int cand_s = in.spp;
         const int doublings = in.size_photons && m.uses_map ? kPlanMaxPhotonDoublings : 0;
+        // Per doubling of the photons, each used query's price grows (the stored photons double with them).
+        const double query_growth = in.query_doubling * std::min(m.per_sample.queries, m.per_sample.map_used);
         const int s_hi = in.size_samples ? kPlanMaxSpp : in.spp;
         // Without a map every sample count has the same variance x cost and ties went to 1 sample per
         // pass, whose fixed cost per pass (not counted) then dominated: the box at 1000 optical depths
@@ -62,7 +64,7 @@ PassPlan plan_passes(const PlanInputs& in) {
             const double v_map = v_map_half * std::pow(0.5 * double(in.count) / n, beta);
             const double bias2 = bias2_n0 * std::pow(double(in.count) / n, 4.0 / 3.0);
             for (int s = s_lo; s <= s_hi; s *= 2) {
-                const double cost = photon_cost * n + in.pixels * double(s) * m.sample_cost;
+                const double cost = photon_cost * n + in.pixels * double(s) * (m.sample_cost + double(i) * query_growth);
                 // Over the cap only passes no larger than the configured one (N0, S0) count: the
                 // plan never makes a pass longer than the budget that the configuration did not.
                 if (cost > cap && !(i == 0 && s <= in.spp)) continue;

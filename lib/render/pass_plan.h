@@ -64,6 +64,9 @@ struct PlanInputs {
     // render.time_limit in work units (kWorkUnitsPerSecond per second: one core); 0: no budget,
     // the bias term is left out and error^2 x work per pass is minimised.
     double budget = 0.0;
+    // Work units a used kNN query costs more per doubling of the photons (render/work_units.h's
+    // query_price): a pass of 2^i N0 photons prices each sample's used queries i times this higher.
+    double query_doubling = 0.0;
 };
 
 // Work units per second of render.time_limit: a nominal single core (units are nanoseconds of one

@@ -251,9 +251,17 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
             // weighed by the exact transmittance, not found by the free flight's trial
             // (render/seen_through.h). The light is black: the path ends here either way.
             auto& local = threads_->local.local();
+            const bool gathers = !(max_depth >= 0 && depth + 1 > max_depth);
+            if (march && gathers) {
+                // The march's profiles give the segment's optical depth: one walk, not two.
+                double tau = 0.0;
+                const Rgb in = march_in_scattering(ray, t_end, depth, rng, &tau);
+                radiance += throughput * seen_through_depth(scene_, ray, v.on_surface, hit, emission, tau, local.rays);
+                radiance += throughput * in;
+                break;
+            }
             radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, local.profile, local.rays);
-            if (!(max_depth >= 0 && depth + 1 > max_depth))
-                radiance += throughput * (march ? march_in_scattering(ray, t_end, depth, rng) : beam_in_scattering(ray, t_end, rng));
+            if (gathers) radiance += throughput * beam_in_scattering(ray, t_end, rng);
             break;
         }
         if (v.escaped()) {
@@ -431,7 +439,7 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
     return true;
 }
 
-Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const {
+Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng, double* optical_depth) const {
     // Per medium, m stratified points with the free-flight density of its exact extinction
     // (transport/march_points.h): each weighs albedo P / m times the other media's transmittance,
     // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field; m = n or fewer where
@@ -449,7 +457,8 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int d
                              const Vec3 x = ray.at(t);
                              const Rgb weight = (others * mass.mass / mass.divisor) * medium.albedo();
                              sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, rng);
-                         });
+                         },
+                         optical_depth);
     return sum;
 }
 

@@ -136,7 +136,8 @@ private:
     // from gather_queries stratified points, each weighted by a ratio-tracked transmittance.
     // A point whose kNN ball is wider than max_radius_mfp mean free paths gets NEE and a continued
     // path (scattering event number depth + 1) instead of its biased estimate.
-    Rgb march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng) const;
+    // depth: as for_each_march_point's (transport/march_points.h), when non-null.
+    Rgb march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng, double* optical_depth = nullptr) const;
     // The volume estimate s at x (gathered into buffers) divided by sigma_t as photons.extinction says.
     // w_o, g, max_radius: the query's, for the leave-group-out gather (photons.clustering).
     // photons.clustering = "leave_group_out" applies (corrected, constant kernel, ball or linear), and

@@ -21,4 +21,12 @@ Rgb seen_through(const Scene& scene, const Ray& ray, bool on_surface, const Surf
     return e * exact_transmittance(scene, ray, on_surface ? hit.t : kInfinity, profile);
 }
 
+Rgb seen_through_depth(const Scene& scene, const Ray& ray, bool on_surface, const SurfaceHit& hit,
+                       const EmissionWeighting& emission, double depth, uint64_t& rays) {
+    const Rgb e = on_surface ? emitted_radiance(scene, ray, hit, emission) : escaped_radiance(scene, ray.dir, emission);
+    if ((e == 0.0).all()) return e;
+    ++rays;
+    return e * std::exp(-depth);
+}
+
 }  // namespace vpm

@@ -25,5 +25,9 @@ double exact_transmittance(const Scene& scene, const Ray& ray, double t_end, Opt
 // counts, render/work_units.h, stay those of scenes without a sky or area light).
 Rgb seen_through(const Scene& scene, const Ray& ray, bool on_surface, const SurfaceHit& hit, const EmissionWeighting& emission,
                  OpticalDepthProfile& profile, uint64_t& rays);
+// The same with the media's optical depth over the segment already summed (the march's profiles:
+// transport/march_points.h's for_each_march_point), the same value exact_transmittance gives.
+Rgb seen_through_depth(const Scene& scene, const Ray& ray, bool on_surface, const SurfaceHit& hit,
+                       const EmissionWeighting& emission, double depth, uint64_t& rays);
 
 }  // namespace vpm

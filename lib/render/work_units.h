@@ -9,7 +9,8 @@
 namespace vpm {
 
 struct WorkUnits {
-    double query = 0.0;       // a kNN query whose estimate is used (grows with k)
+    double query = 0.0;       // a kNN query whose estimate is used (grows with k), over kQueryReferenceStored photons
+    double query_doubling = 0.0;  // added to query per doubling of the map's stored photons (query_price)
     double query_wide = 0.0;  // one whose ball exceeds max_radius_mfp: the path continues (a bounded search)
     double ray = 0.0;         // a tracked segment: free flight, shadow ray or march transmittance
     double lookup = 0.0;      // a sigma_t lookup of the ball quadrature
@@ -20,5 +21,12 @@ struct WorkUnits {
 };
 
 WorkUnits work_units(const Scene& scene, int k);
+
+// The map size at which WorkUnits::query is the price of a query.
+constexpr double kQueryReferenceStored = 16384.0;
+
+// A used query's price over a map of `stored` photons (at least 1): the kd-tree's depth grows as
+// log2 of it, so query + query_doubling x log2(stored / kQueryReferenceStored).
+double query_price(const WorkUnits& w, double stored);
 
 }  // namespace vpm

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace vpm {
 
@@ -29,6 +30,21 @@ double segment_mass(const Medium& medium, const Ray& ray, double tmax, int n, Op
 }
 
 }  // namespace
+
+namespace {
+// The thread's slots, and how many of them its active calls hold.
+thread_local std::vector<std::unique_ptr<MarchScratch::Slot>> t_slots;
+thread_local size_t t_held = 0;
+}  // namespace
+
+MarchScratch::Slot& MarchScratch::take() {
+    if (t_held == t_slots.size()) t_slots.push_back(std::make_unique<Slot>());
+    return *t_slots[t_held++];
+}
+
+MarchScratch::MarchScratch(Slot& slot) : profile(slot.profile), ts(slot.ts) {}
+MarchScratch::MarchScratch() : MarchScratch(take()) {}
+MarchScratch::~MarchScratch() { --t_held; }
 
 double place_march_points(const Medium& medium, const Ray& ray, double tmax, int n, Rng& rng,
                           OpticalDepthProfile& profile, std::vector<double>& ts) {

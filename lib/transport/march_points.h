@@ -36,19 +36,52 @@ struct MarchMass {
 MarchMass place_counted_march_points(const Medium& medium, const Ray& ray, double tmax, int n, MarchCount count,
                                      Rng& rng, OpticalDepthProfile& profile, std::vector<double>& ts);
 
+// Scratch space of one for_each_march_point call, kept by the thread for its later calls (a profile
+// holds a piece per voxel cell crossed: growing a fresh one per camera segment was 1.5% of the thin
+// blob's march). A visit may trace a path that marches again: a nested call takes the next slot.
+class MarchScratch {
+public:
+    MarchScratch();
+    ~MarchScratch();
+    MarchScratch(const MarchScratch&) = delete;
+    MarchScratch& operator=(const MarchScratch&) = delete;
+    OpticalDepthProfile& profile;
+    std::vector<double>& ts;
+
+    struct Slot {
+        OpticalDepthProfile profile;
+        std::vector<double> ts;
+    };
+
+private:
+    explicit MarchScratch(Slot& slot);
+    static Slot& take();
+};
+
 // The march's points on every medium the segment crosses, in the order above: per point, the other
 // media's transmittance from the previous point (a product of independent ratio-tracking
 // estimates), `tracked` += per_point, and, while that product is non-zero,
 // visit(medium, t, others, m) with the point's weight others x m.mass / m.divisor (times the albedo),
 // m from place_counted_march_points. The march gather and the beam gather's single scattering share it.
+// With `depth`, adds every medium's optical depth over (0, t_end) to *depth in the scene's order, as
+// render/seen_through.h's exact_transmittance sums it (from the profiles the points were placed on:
+// the segment is not walked twice where a light is seen behind it).
 template <class Visit>
 void for_each_march_point(const Scene& scene, const Ray& ray, double t_end, int n, MarchCount count, Rng& rng,
-                          uint64_t per_point, uint64_t& tracked, Visit&& visit) {
-    OpticalDepthProfile profile;   // per call, not thread-local: a visit may trace a path that marches
-    std::vector<double> ts;
+                          uint64_t per_point, uint64_t& tracked, Visit&& visit, double* depth = nullptr) {
+    MarchScratch scratch;
+    OpticalDepthProfile& profile = scratch.profile;
+    std::vector<double>& ts = scratch.ts;
     for (const auto& medium : scene.media) {
-        if ((medium->albedo() == 0.0).all()) continue;
+        if ((medium->albedo() == 0.0).all()) {
+            if (depth) {
+                medium->optical_depth_profile(ray, t_end, profile);
+                if (!profile.empty()) *depth += profile.total();
+            }
+            continue;
+        }
         const MarchMass mass = place_counted_march_points(*medium, ray, t_end, n, count, rng, profile, ts);
+        if (depth && !profile.empty()) *depth += profile.total();
         double others = 1.0, t_prev = 0.0;   // the other media's transmittance to the point
         for (const double t : ts) {
             for (const auto& m : scene.media)

@@ -177,3 +177,33 @@ TEST(DensityGrid, HugeBoundingBoxIsRefused) {
     const DensityGrid ok(Vec3i(0, 0, 0), Vec3i(63, 63, 63));
     EXPECT_EQ(ok.block_total(), 9u * 9u * 9u);   // 8 blocks + 1 padding block per axis
 }
+
+TEST(DensityGrid, BlockWindowStencilsAreTheCellsVoxels) {
+    // Every cell of every block (and of the blocks just outside the grid's range, whose windows
+    // are all background), faces, edges and corners included: the window's stencil is the eight
+    // voxels the reference holds, as stencil() reads them.
+    const DenseRef ref = random_ref(11);
+    const DensityGrid g = DensityGrid::from_dense(ref.origin, ref.dims, ref.v);
+    int checked = 0, across = 0;
+    for (int bx = g.block_lo().x() - 1; bx <= g.block_lo().x() + g.block_count().x(); ++bx)
+        for (int by = g.block_lo().y() - 1; by <= g.block_lo().y() + g.block_count().y(); ++by)
+            for (int bz = g.block_lo().z() - 1; bz <= g.block_lo().z() + g.block_count().z(); ++bz) {
+                DensityGrid::BlockWindow w;
+                g.block_window(bx * 8, by * 8, bz * 8, w);
+                for (int c = 0; c < 512; ++c) {
+                    const int cx = c >> 6, cy = (c >> 3) & 7, cz = c & 7;
+                    const int x = bx * 8 + cx, y = by * 8 + cy, z = bz * 8 + cz;
+                    double v[8], s[8];
+                    DensityGrid::stencil(w, cx, cy, cz, v);
+                    g.stencil(x, y, z, s);
+                    for (int i = 0; i < 8; ++i) {
+                        const double expected = ref.at(x + (i >> 2), y + ((i >> 1) & 1), z + (i & 1));
+                        ASSERT_EQ(v[i], expected) << "cell " << x << " " << y << " " << z << " corner " << i;
+                        ASSERT_EQ(s[i], expected);
+                    }
+                    ++checked;
+                    across += cx == 7 || cy == 7 || cz == 7;
+                }
+            }
+    EXPECT_GT(across, checked / 4);   // the cells whose stencils reach into the next blocks
+}

@@ -215,3 +215,22 @@ TEST(PassPlan, WithoutTheMapThePassIsTheSmallestTheRunLoopGroups) {
         EXPECT_EQ(p.spp, 16) << budget;   // 16 x 4096 = kNoMapPassSamples
     }
 }
+
+TEST(PassPlan, LargerMapsPriceTheirQueriesHigher) {
+    // query_doubling: each used query of a sample costs that much more per doubling of the photons.
+    // The plan's score at every (N, S) is the one with the grown price, and a price that grows
+    // steeply makes the plan buy fewer photons than a flat one would.
+    PlanInputs flat = inputs(/*v_camera*/ 1.0, /*v_half*/ 0.5, /*v_quarter*/ 1.0, /*sample*/ 100.0, /*photon*/ 1.0);
+    flat.candidates[0].per_sample.queries = 2.0;
+    flat.candidates[0].per_sample.map_used = 1.5;   // 1.5 used queries per sample
+    PlanInputs grows = flat;
+    grows.query_doubling = 40.0;
+    const PassPlan a = plan_passes(flat), b = plan_passes(grows);
+    const GatherMeasurement& m = grows.candidates[0];
+    const int i = int(std::lround(std::log2(double(b.count) / 1000.0)));
+    const double v = m.v_map_half * (0.5 * 1000.0 / double(b.count)) + m.v_camera / b.spp;
+    const double cost = double(b.count) + 1000.0 * b.spp * (100.0 + i * 40.0 * 1.5);
+    EXPECT_NEAR(b.score[0], v * cost, 1e-9 * v * cost);
+    EXPECT_GT(a.count, 1000);   // the flat price buys photons here
+    EXPECT_LT(b.count, a.count);
+}

@@ -9,6 +9,7 @@
 #include "config/params.h"
 #include "core/math.h"
 #include "render/seen_through.h"
+#include "transport/march_points.h"
 #include "scene/scene.h"
 #include "../support/sample_statistics.h"
 #include "../support/scene_from_config.h"
@@ -64,4 +65,39 @@ TEST(SeenThrough, GridAndSphereMatchTheMeanOfRatioTracking) {
         EXPECT_LT(exact, 0.99);   // the ray really crosses a medium
         EXPECT_NEAR(exact, tracked.mean(), 4.0 * tracked.se() + 1e-9);
     }
+}
+
+TEST(SeenThrough, TheMarchsDepthIsTheExactTransmittancesToTheBit) {
+    // The march gather weighs the light behind a segment by exp(-depth) from its own profiles
+    // (for_each_march_point's depth; render/photon_map_integrator.cpp): the same sum in the same
+    // order as exact_transmittance, an absorbing medium (albedo 0, no march points) included.
+    const std::string absorbing = "[[media]]\ntype = 'homogeneous'\nshape = 'sphere'\ncenter = [-0.3, 0.1, 0]\nradius = 0.5\n"
+                                  "sigma_t_scale = 1.5\nalbedo = 0\n";
+    const auto scene = scene_from(kSky + kBlob + kSphere + absorbing);
+    OpticalDepthProfile profile;
+    Rng rng(5, 7);
+    const Ray rays[] = {{Vec3(0, 0, 4), Vec3(0, 0, -1)},
+                        {Vec3(0.2, 0.3, 4), Vec3(-0.1, -0.05, -1).normalized()},
+                        {Vec3(-3, 0.1, 0.05), Vec3(1, -0.02, 0).normalized()}};
+    for (const Ray& ray : rays)
+        for (const double t_end : {kInfinity, 3.9}) {
+            double depth = 0.0;
+            uint64_t tracked = 0;
+            int points = 0;
+            for_each_march_point(*scene, ray, t_end, 4, MarchCount::mass, rng, 1, tracked,
+                                 [&](const Medium&, double, double, MarchMass) { ++points; }, &depth);
+            const double exact = exact_transmittance(*scene, ray, t_end, profile);
+            EXPECT_LT(exact, 0.95);
+            EXPECT_GT(points, 0);
+            EXPECT_EQ(std::exp(-depth), exact);
+            SurfaceHit none;
+            uint64_t r1 = 0, r2 = 0;
+            const Rgb a = seen_through(*scene, ray, false, none, EmissionWeighting::camera(), profile, r1);
+            double whole = 0.0;
+            for_each_march_point(*scene, ray, kInfinity, 4, MarchCount::mass, rng, 1, tracked,
+                                 [](const Medium&, double, double, MarchMass) {}, &whole);
+            const Rgb b = seen_through_depth(*scene, ray, false, none, EmissionWeighting::camera(), whole, r2);
+            EXPECT_EQ(a[1], b[1]);
+            EXPECT_EQ(r1, r2);
+        }
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/rng.h"
 #include "io/vdb_io.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"
@@ -47,6 +48,42 @@ TEST(OpticalDepthProfile, PlumeTotalAndInverseMatchQuadrature) {
         ASSERT_GT(t, 0.0);
         ASSERT_LT(t, L);
         EXPECT_NEAR(quadrature_depth(m, ray, t), f * p.total(), 1e-6 * tau) << "fraction " << f;
+    }
+}
+
+TEST(OpticalDepthProfile, GridPiecesAreTheVoxelCellsCrossed) {
+    // The profile walks each 8^3 block's voxel cells in one DDA (GridMedium::optical_depth_profile):
+    // its total and inverse against midpoint quadrature on random chords of the blob, with the
+    // identity transform and a rotated, scaled one (the walk's faces and stencils off the axes).
+    for (const bool rotated : {false, true}) {
+        Eigen::Affine3d xf = Eigen::Affine3d::Identity();
+        if (rotated) xf.rotate(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())).scale(1.3);
+        const GridMedium m(load_vdb_density(VPM_SOURCE_DIR "/media/blob.vdb"), 3.0, Rgb::Constant(0.9), 0.0, xf);
+        const Bounds3 b = m.bounds();
+        Rng rng(22, rotated);
+        for (int r = 0; r < 20; ++r) {
+            // Chords through the middle half of the box, where the blob's density lies.
+            const Vec3 c = 0.5 * (b.lo + b.hi), h = 0.25 * (b.hi - b.lo);
+            const Vec3 from(b.lo.x() - 1.0, c.y() + (2 * rng.uniform() - 1) * h.y(), c.z() + (2 * rng.uniform() - 1) * h.z());
+            const Vec3 to(b.hi.x() + 1.0, c.y() + (2 * rng.uniform() - 1) * h.y(), c.z() + (2 * rng.uniform() - 1) * h.z());
+            double L;
+            const Ray ray = ray_through(from, to, L);
+            OpticalDepthProfile p;
+            m.optical_depth_profile(ray, L, p);
+            const double tau = quadrature_depth(m, ray, L, 100000);
+            ASSERT_GT(tau, 0.05);
+            ASSERT_FALSE(p.empty());
+            EXPECT_NEAR(p.total(), tau, 1e-6 * tau + 1e-12);
+            // The inverse is monotone and lands where quadrature reaches each depth.
+            double t_prev = 0.0;
+            size_t cursor = 0;
+            for (double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {
+                const double t = p.invert(f * p.total(), cursor);
+                EXPECT_GE(t, t_prev);
+                t_prev = t;
+                EXPECT_NEAR(quadrature_depth(m, ray, t, 100000), f * p.total(), 1e-6 * tau + 1e-12);
+            }
+        }
     }
 }
 

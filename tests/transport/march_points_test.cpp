@@ -168,3 +168,24 @@ TEST(MarchPoints, FixedCountKeepsThePointsOfTheMarch) {
         EXPECT_EQ(a, c);
     }
 }
+
+TEST(MarchScratch, NestedCallsTakeTheirOwnSlotAndReturnIt) {
+    // for_each_march_point's scratch is the thread's: a visit that marches again (nested) must not
+    // get the profile its caller is still inverting, and a finished call's slot is reused.
+    const OpticalDepthProfile* outer = nullptr;
+    const OpticalDepthProfile* inner = nullptr;
+    {
+        MarchScratch a;
+        outer = &a.profile;
+        {
+            MarchScratch b;
+            inner = &b.profile;
+            EXPECT_NE(inner, outer);
+            EXPECT_NE(&b.ts, &a.ts);
+        }
+        MarchScratch c;   // the nested slot again
+        EXPECT_EQ(&c.profile, inner);
+    }
+    MarchScratch d;
+    EXPECT_EQ(&d.profile, outer);
+}

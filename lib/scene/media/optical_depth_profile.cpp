@@ -5,16 +5,6 @@
 
 namespace vpm {
 
-bool OpticalDepthProfile::add(double ta, double tb, const tracking::CubicBernstein& cubic) {
-    if (!(tb > ta)) return total_ < kEnoughDepth;
-    const double depth = scale_ * (cubic.integral() * (tb - ta));
-    if (depth > 0.0) {
-        pieces_.push_back(Piece{ta, tb - ta, total_, depth, cubic});
-        total_ += depth;
-    }
-    return total_ < kEnoughDepth;
-}
-
 double OpticalDepthProfile::invert(double tau, size_t& cursor) const {
     // Skip the pieces that end at or before tau; the last piece takes any rounding at the end.
     while (cursor + 1 < pieces_.size() && !(tau < pieces_[cursor].before + pieces_[cursor].depth)) ++cursor;

@@ -28,7 +28,16 @@ public:
     }
     // Appends [ta, tb] (after every piece so far) with the density `cubic` in u = (t - ta) / (tb - ta).
     // Returns false once the total depth has reached kEnoughDepth (the builder may stop).
-    bool add(double ta, double tb, const tracking::CubicBernstein& cubic);
+    // (Inline: it runs once per voxel cell of every camera segment the march gathers.)
+    bool add(double ta, double tb, const tracking::CubicBernstein& cubic) {
+        if (!(tb > ta)) return total_ < kEnoughDepth;
+        const double depth = scale_ * (cubic.integral() * (tb - ta));
+        if (depth > 0.0) {
+            pieces_.push_back(Piece{ta, tb - ta, total_, depth, cubic});
+            total_ += depth;
+        }
+        return total_ < kEnoughDepth;
+    }
     // A piece of constant density.
     bool add_constant(double ta, double tb, double density) {
         return add(ta, tb, tracking::CubicBernstein{{density, density, density, density}});
