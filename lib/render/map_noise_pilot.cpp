@@ -7,6 +7,7 @@
 
 #include "photon/walk_group_split.h"
 #include "render/pilot_bias.h"
+#include "render/pilot_pixels.h"
 #include "render/pilot_tail.h"
 
 namespace vpm {
@@ -22,10 +23,7 @@ constexpr uint64_t kSpreadSalt = 0x7370726561647063ULL;   // the spread samples'
 // A sample's slot: fixed whatever n is (`most`: the candidate's largest n; kPilotSamples with halves).
 size_t at(int j, int s, int most) { return size_t(j) * size_t(most) + size_t(s); }
 
-// The pixel at the centre of block j of a side x side grid over a width x height image.
-std::pair<int, int> block_centre(int j, int side, int width, int height) {
-    return {std::min(width - 1, int((j % side + 0.5) / side * width)), std::min(height - 1, int((j / side + 0.5) / side * height))};
-}
+constexpr uint64_t kBackgroundSalt = 0x6261636b67726e64ULL;   // the background cost samples' streams
 
 // Per pixel: the mean of a's first n samples minus b's, squared, less the samples' share Var(a - b) / n.
 // Averaged over the pixels: E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b); `se` its
@@ -47,6 +45,17 @@ double map_variance_of_difference(const std::vector<double>& a, const std::vecto
     }
     se = std::sqrt(m2_t / (kPixels - 1) / kPixels);
     return mean_t;
+}
+
+// f x a + (1 - f) x b, field by field (the largest march weight is a maximum, kept from a).
+CountedOperations mixed(double f, const CountedOperations& a, const CountedOperations& b) {
+    CountedOperations o = a;
+    o.queries = f * a.queries + (1.0 - f) * b.queries;
+    o.rays = f * a.rays + (1.0 - f) * b.rays;
+    o.lookups = f * a.lookups + (1.0 - f) * b.lookups;
+    o.map_used = f * a.map_used + (1.0 - f) * b.map_used;
+    o.steps = f * a.steps + (1.0 - f) * b.steps;
+    return o;
 }
 
 CountedOperations per_sample(const CountedOperations& before, const CountedOperations& after, double samples) {
@@ -73,6 +82,24 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
     const int width = camera.width(), height = camera.height();
     std::vector<GatherMeasurement> out;
     bool one_fits = false;   // an earlier candidate's one-sample pass fits the cap (render/pilot_budget.h)
+    // The pixels that can vary (render/pilot_pixels.h): the figures are theirs times f, their share.
+    const PilotPixels where = choose_pilot_pixels(width, height, kPilotSide, kPilotSpreadSide, [&](int x, int y) {
+        return !hooks.sees || hooks.sees(camera.generate_ray(x + 0.5, y + 0.5));
+    });
+    const double f = where.seen_fraction;
+    // A background sample's counted work (the same for every candidate: it meets nothing to gather).
+    CountedOperations background;
+    if (!where.background.empty()) {
+        hooks.use(0, &map);
+        const CountedOperations before = hooks.counts();
+        const int n = int(where.background.size());
+        tbb::parallel_for(0, n, [&](int j) {
+            Rng rng(mix64(seed ^ kBackgroundSalt), stream * uint64_t(kPixels) + uint64_t(j));
+            const double jx = rng.uniform(), jy = rng.uniform();
+            hooks.trace(camera.generate_ray(where.background[size_t(j)].first + jx, where.background[size_t(j)].second + jy), rng);
+        });
+        background = per_sample(before, hooks.counts(), double(n));
+    }
     const double work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
     // One camera sample's luminance, jittered within pixel (px, py).
     auto sample = [&](int px, int py, Rng& rng) {
@@ -89,7 +116,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         // Samples s0 .. s1 - 1 of every pilot pixel with map m.
         auto trace = [&](size_t m, int s0, int s1) {
             tbb::parallel_for(0, kPixels, [&](int j) {
-                const auto [px, py] = block_centre(j, kPilotSide, width, height);
+                const auto [px, py] = where.pixels[size_t(j)];
                 for (int s = s0; s < s1; ++s) {
                     // The same numbers for every map and candidate: the differences are the maps'.
                     // Samples past kPilotSamples (a candidate without a map) draw from streams of their own.
@@ -108,17 +135,18 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         const CountedOperations before = hooks.counts();
         trace(0, 0, 1);
         const CountedOperations probe = per_sample(before, hooks.counts(), double(kPixels));
-        const double probe_cost = hooks.work(probe);
-        if (budget.per_candidate > 0.0 && one_fits && image_pixels * probe_cost > budget.max_pass_cost) {
+        const double probe_cost = hooks.work(probe);   // at the pilot's pixels: what its samples cost
+        const double image_probe_cost = hooks.work(mixed(f, probe, background));   // over the image
+        if (budget.per_candidate > 0.0 && one_fits && image_pixels * image_probe_cost > budget.max_pass_cost) {
             g.dropped = true;
             g.samples = 1;
-            g.per_sample = probe;
-            g.sample_cost = probe_cost;
+            g.per_sample = mixed(f, probe, background);
+            g.sample_cost = image_probe_cost;
             g.max_weight = hooks.counts().march_weight_max;
             out.push_back(g);
             continue;
         }
-        one_fits = one_fits || !(image_pixels * probe_cost > budget.max_pass_cost);
+        one_fits = one_fits || !(image_pixels * image_probe_cost > budget.max_pass_cost);
         int n = budget.per_candidate > 0.0
                     ? pilot_samples(budget.per_candidate, probe_cost, kPixels, budget_maps, kPilotSamples)
                     : kPilotSamples;
@@ -131,7 +159,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             if (share > 0.0) n = std::max(n, pilot_samples(share, probe_cost, kPixels, 1, kNoMapPilotSamples));
         }
         trace(0, 1, n);
-        g.per_sample = per_sample(before, hooks.counts(), double(kPixels * n));
+        g.per_sample = mixed(f, per_sample(before, hooks.counts(), double(kPixels * n)), background);
         g.sample_cost = hooks.work(g.per_sample);
         const bool halves_too = may_use_halves && g.per_sample.map_used > 0.0;
         if (halves_too) {
@@ -164,7 +192,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             hooks.use(int(c), maps[0]);   // the full map again (the halves were in force last)
             std::vector<double> spread_values(size_t(kSpreadPixels) * kPilotSpreadSamples);
             tbb::parallel_for(0, kSpreadPixels, [&](int j) {
-                const auto [px, py] = block_centre(j, kPilotSpreadSide, width, height);
+                const auto [px, py] = where.spread[size_t(j)];
                 for (int s = 0; s < kPilotSpreadSamples; ++s) {
                     Rng rng(mix64(seed ^ kSpreadSalt), stream * uint64_t(kSpreadPixels * kPilotSpreadSamples) + uint64_t(j * kPilotSpreadSamples + s));
                     spread_values[at(j, s, kPilotSpreadSamples)] = sample(px, py, rng);
@@ -212,6 +240,9 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             g.bias_mean = bias.mean;
             g.bias_se = bias.se;
         }
+        // Averages over the image: the pixels that can vary, times their share (the rest add 0). The
+        // mean stays theirs (the background's radiance need not be 0): it only compares candidates.
+        for (double* x : {&g.v_camera, &g.v_map_half, &g.bias2, &g.bias_mean, &g.bias_se}) *x *= f;
         out.push_back(g);
     }
     return out;

@@ -41,6 +41,9 @@ struct MapNoisePilotHooks {
     std::function<Rgb(const Ray&, Rng&)> trace;   // one camera sample, thread-safe
     std::function<CountedOperations()> counts;    // operations counted so far, over all threads
     std::function<double(const CountedOperations&)> work;   // their work units
+    // Whether a camera ray meets a surface or a medium (render/pilot_pixels.h); unset: the pilot's
+    // pixels are the block centres, as if every pixel did.
+    std::function<bool(const Ray&)> sees;
 };
 
 constexpr int kPilotSide = 8;       // pilot pixels: the centres of an 8 x 8 grid of image blocks

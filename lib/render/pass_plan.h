@@ -41,7 +41,7 @@ struct GatherMeasurement {
     double bias2 = 0.0;           // squared bias of a pixel at N0 (>= 0; 0 where unresolved: render/pilot_bias.h), ~ N^-4/3
     double sample_cost = 0.0;     // counted work units per camera sample
     double max_weight = 0.0;      // largest march point weight relative to an exact majorant's (0: no march)
-    double mean = 0.0;            // the pilot's mean luminance over its pixels and samples
+    double mean = 0.0;            // the pilot's mean luminance over its pixels and samples (those that can vary: render/pilot_pixels.h)
     double mean_se = 0.0;         // its standard error
     double tail_share = 0.0;      // share of its squared deviations in its largest 1/1024 samples (render/pilot_tail.h)
     CountedOperations per_sample; // the operations behind it
