@@ -11,6 +11,7 @@
 #include "photon/photon_map.h"
 #include "render/map_noise_pilot.h"
 #include "scene/camera.h"
+#include "../support/synthetic_pilot_hooks.h"
 
 using namespace vpm;
 
@@ -27,15 +28,7 @@ TEST(MapNoisePilot, CameraVarianceSeesABandTheCoarsePixelsMiss) {
     // Column 27: no 8 x 8 pilot pixel (columns 2, 6, ..., 30) lies in it. Uniform samples of
     // variance 1 / 12 there, 1 elsewhere: the image's mean per-pixel variance is (1 / 12) / 32.
     constexpr int kBand = 27;
-    MapNoisePilotHooks hooks;
-    hooks.use = [](int, const PhotonMap*) {};
-    hooks.trace = [&](const Ray& r, Rng& rng) { return Rgb::Constant(column(r) == kBand ? 0.5 + rng.uniform() : 1.0); };
-    hooks.counts = [] {
-        CountedOperations c;
-        c.queries = c.map_used = c.rays = 1.0;
-        return c;
-    };
-    hooks.work = [](const CountedOperations& c) { return c.rays; };
+    MapNoisePilotHooks hooks = test::synthetic_pilot_hooks([&](const Ray& r, Rng& rng) { return Rgb::Constant(column(r) == kBand ? 0.5 + rng.uniform() : 1.0); });
     const PhotonMap map;
     const auto m = measure_gathers(camera, map, {{"collision", true}}, hooks, 5, 0);
     ASSERT_EQ(m.size(), 1u);

@@ -14,6 +14,7 @@
 #include "render/map_noise_pilot.h"
 #include "render/pilot_pixels.h"
 #include "scene/camera.h"
+#include "../support/synthetic_pilot_hooks.h"
 
 using namespace vpm;
 
@@ -55,15 +56,7 @@ TEST(PilotPixels, TheImageAverageVarianceIsKeptWhereMostPixelsAreEmpty) {
         const double u = r.dir.x() / -r.dir.z() / half, v = r.dir.y() / -r.dir.z() / half;   // -1 .. 1
         return (u - 0.3) * (u - 0.3) + (v + 0.2) * (v + 0.2) <= 0.3 * 0.3;
     };
-    MapNoisePilotHooks hooks;
-    hooks.use = [](int, const PhotonMap*) {};
-    hooks.trace = [&](const Ray& r, Rng& rng) { return Rgb::Constant(in_disc(r) ? 0.5 + rng.uniform() : 1.0); };
-    hooks.counts = [] {
-        CountedOperations c;
-        c.queries = c.map_used = c.rays = 1.0;
-        return c;
-    };
-    hooks.work = [](const CountedOperations& c) { return c.rays; };
+    MapNoisePilotHooks hooks = test::synthetic_pilot_hooks([&](const Ray& r, Rng& rng) { return Rgb::Constant(in_disc(r) ? 0.5 + rng.uniform() : 1.0); });
     const PhotonMap map;
     const double share = kPi * 0.3 * 0.3 / 4.0;   // of the [-1, 1]^2 image
     const double image = share / 12.0;
