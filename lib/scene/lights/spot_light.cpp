@@ -2,7 +2,8 @@
 // default 30); constant intensity inside the cone, zero outside (no falloff ring: keeps the
 // emitted power exact). Photons go toward what can be lit: when the cone around the scene's box
 // (scene/lights/emission_cone.h) lies inside the spot's cone, photons are emitted in it alone; when the
-// two do not meet, the light emits no photons (its power reaches nothing).
+// two do not meet, the light emits no photons (its power reaches nothing). Otherwise, where most of
+// its cone reaches nothing, half of its photons follow a guide (scene/emission_guides.h).
 #include <sstream>
 
 #include <algorithm>
@@ -34,10 +35,33 @@ public:
         return true;
     }
     EmissionSample sample_emission(Rng& rng) const override {
+        if (!guide_) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            return {Ray{position_, own_direction(u1, u2)}, power()};
+        }
+        // One-sample mixture with the guide: I over the mixture's density where the spot shines, 0
+        // outside its cone (a guide cell may straddle the cone's edge).
+        const bool guided = rng.uniform() < guide_share_;
         const double u1 = rng.uniform(), u2 = rng.uniform();
-        const Vec3 dir = emit_in_scene_cone_ ? scene_cone_.sample(u1, u2)
-                                             : frame_.to_world(sample_uniform_cone(u1, u2, cos_max_)).normalized();
-        return {Ray{position_, dir}, power()};
+        const Vec3 dir = guided ? guide_->sample(u1, u2) : own_direction(u1, u2);
+        const double own = emission_direction_pdf(dir);
+        const double pdf = (1.0 - guide_share_) * own + guide_share_ * guide_->pdf(dir);
+        const bool lit = dir.dot(frame_.n) >= cos_max_;
+        return {Ray{position_, dir}, lit && pdf > 0.0 ? Rgb(intensity_ / pdf) : Rgb::Zero()};
+    }
+    bool guide_origin(Vec3& origin, double& start) const override {
+        if (emit_in_scene_cone_ || misses_scene_) return false;   // aimed at the scene's cone already, or dark
+        origin = position_;
+        start = 0.0;
+        return true;
+    }
+    double emission_direction_pdf(const Vec3& w) const override {
+        if (misses_scene_ || emit_in_scene_cone_) return 0.0;
+        return w.dot(frame_.n) >= cos_max_ ? uniform_cone_pdf(cos_max_) : 0.0;
+    }
+    void set_emission_guide(std::shared_ptr<const DirectionGuide> guide, double share) override {
+        guide_ = guide && !guide->empty() ? std::move(guide) : nullptr;
+        guide_share_ = share;
     }
     // The power emitted toward what can be lit (see the file comment).
     Rgb power() const override {
@@ -62,6 +86,10 @@ public:
     }
 
 private:
+    Vec3 own_direction(double u1, double u2) const {
+        return emit_in_scene_cone_ ? scene_cone_.sample(u1, u2) : frame_.to_world(sample_uniform_cone(u1, u2, cos_max_)).normalized();
+    }
+
     Vec3 position_;
     Frame frame_;
     Rgb intensity_;
@@ -69,6 +97,8 @@ private:
     EmissionCone scene_cone_;
     bool emit_in_scene_cone_ = false;   // the scene's cone lies inside the spot's
     bool misses_scene_ = false;         // the two cones do not meet
+    std::shared_ptr<const DirectionGuide> guide_;   // null: the spot's own emission only
+    double guide_share_ = 0.0;
 };
 
 }  // namespace
