@@ -10,7 +10,6 @@
 #include "render/no_map_candidate.h"
 #include "render/photon_map_integrator.h"
 #include "render/work_units.h"
-#include "scene/media/optical_depth_profile.h"
 #include "scene/media/tracking_counter.h"
 
 namespace vpm {
@@ -85,13 +84,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         // Pixels whose rays meet nothing show the background and do not vary (render/pilot_pixels.h).
         hooks.sees = [&](const Ray& ray) {
             SurfaceHit hit;
-            if (scene_.intersect(ray, kInfinity, hit)) return true;
-            OpticalDepthProfile depth;
-            for (const auto& m : scene_.media) {
-                m->optical_depth_profile(ray, kInfinity, depth);
-                if (depth.total() > 0.0) return true;
-            }
-            return false;
+            return scene_.intersect(ray, kInfinity, hit) || scene_.optical_depth(ray, kInfinity) > 0.0;
         };
         // A query over the pilot's map (pass 0's); the plan adds the price's growth for larger maps.
         const double query = query_price(w, double(map->size()));

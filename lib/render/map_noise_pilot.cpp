@@ -20,10 +20,9 @@ constexpr int kPixels = kPilotSide * kPilotSide;
 constexpr uint64_t kLongPilotSalt = 0x6c6f6e6770696c6fULL;   // streams of samples past kPilotSamples
 constexpr int kSpreadPixels = kPilotSpreadSide * kPilotSpreadSide;
 constexpr uint64_t kSpreadSalt = 0x7370726561647063ULL;   // the spread samples' streams
+constexpr uint64_t kBackgroundSalt = 0x6261636b67726e64ULL;   // the background cost samples' streams
 // A sample's slot: fixed whatever n is (`most`: the candidate's largest n; kPilotSamples with halves).
 size_t at(int j, int s, int most) { return size_t(j) * size_t(most) + size_t(s); }
-
-constexpr uint64_t kBackgroundSalt = 0x6261636b67726e64ULL;   // the background cost samples' streams
 
 // Per pixel: the mean of a's first n samples minus b's, squared, less the samples' share Var(a - b) / n.
 // Averaged over the pixels: E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b); `se` its
@@ -87,6 +86,11 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         return !hooks.sees || hooks.sees(camera.generate_ray(x + 0.5, y + 0.5));
     });
     const double f = where.seen_fraction;
+    // One camera sample's luminance, jittered within pixel (px, py).
+    auto sample = [&](int px, int py, Rng& rng) {
+        const double jx = rng.uniform(), jy = rng.uniform();
+        return luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
+    };
     // A background sample's counted work (the same for every candidate: it meets nothing to gather).
     CountedOperations background;
     if (!where.background.empty()) {
@@ -95,17 +99,11 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         const int n = int(where.background.size());
         tbb::parallel_for(0, n, [&](int j) {
             Rng rng(mix64(seed ^ kBackgroundSalt), stream * uint64_t(kPixels) + uint64_t(j));
-            const double jx = rng.uniform(), jy = rng.uniform();
-            hooks.trace(camera.generate_ray(where.background[size_t(j)].first + jx, where.background[size_t(j)].second + jy), rng);
+            sample(where.background[size_t(j)].first, where.background[size_t(j)].second, rng);
         });
         background = per_sample(before, hooks.counts(), double(n));
     }
     const double work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
-    // One camera sample's luminance, jittered within pixel (px, py).
-    auto sample = [&](int px, int py, Rng& rng) {
-        const double jx = rng.uniform(), jy = rng.uniform();
-        return luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
-    };
     for (size_t c = 0; c < candidates.size(); ++c) {
         const bool may_use_halves = candidates[c].uses_map;
         // Share the budget as if the halves were traced (render/pilot_budget.h), whether or not they are.

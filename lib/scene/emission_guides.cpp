@@ -7,7 +7,6 @@
 #include <tbb/parallel_for.h>
 
 #include "core/rng.h"
-#include "scene/media/optical_depth_profile.h"
 #include "scene/scene.h"
 
 namespace vpm {
@@ -20,18 +19,9 @@ constexpr uint64_t kGuideSeed = 0x6775696465726179ULL;   // the guide rays' own 
 // surface at first flight.
 double reach_probability(const Scene& scene, const Vec3& origin, double start, const Vec3& w) {
     const Ray ray{origin + start * w, w};
-    double tmax = kInfinity;
     SurfaceHit hit;
-    const bool surface = scene.surfaces && scene.surfaces->intersect(ray, kInfinity, hit);
-    if (surface) return 1.0;
-    double depth = 0.0;
-    OpticalDepthProfile profile;
-    for (const auto& m : scene.media) {
-        m->optical_depth_profile(ray, tmax, profile);
-        depth += profile.total();
-        if (!(depth < OpticalDepthProfile::kEnoughDepth)) return 1.0;
-    }
-    return -std::expm1(-depth);
+    if (scene.surfaces && scene.surfaces->intersect(ray, kInfinity, hit)) return 1.0;
+    return -std::expm1(-scene.optical_depth(ray, kInfinity));
 }
 
 }  // namespace
@@ -44,7 +34,7 @@ EmissionGuideEstimate estimate_emission_guide(const Scene& scene, size_t index, 
     double start = 0.0;
     if (!light.guide_origin(origin, start)) return e;
     constexpr int kRays = kGuideRaysPerSide * kGuideRaysPerSide;
-    std::vector<double> mean_reach(weights.size(), 0.0), own(weights.size(), 0.0);
+    std::vector<double> mean_reach(weights.size(), 0.0);
     tbb::parallel_for(0, int(weights.size()), [&](int cell) {
         const int column = cell % DirectionGuide::kColumns, row = cell / DirectionGuide::kColumns;
         Rng rng(kGuideSeed, uint64_t(index) * weights.size() + uint64_t(cell));
@@ -56,7 +46,6 @@ EmissionGuideEstimate estimate_emission_guide(const Scene& scene, size_t index, 
             if (!(pdf > 0.0)) continue;
             const double reach = reach_probability(scene, origin, start, w);
             mean_reach[size_t(cell)] += reach / kRays;
-            own[size_t(cell)] += pdf / kRays;
             weights[size_t(cell)] += pdf * reach / kRays;
         }
     });

@@ -5,6 +5,7 @@
 #include "scene/camera_region.h"
 #include "scene/emission_guides.h"
 #include "scene/lights/light_registry.h"
+#include "scene/media/optical_depth_profile.h"
 #include "scene/media/medium_registry.h"
 
 namespace vpm {
@@ -114,6 +115,16 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
 const std::vector<std::string>& Scene::prepare_photon_emission() const {
     std::call_once(emission_guides_once_, [this] { emission_guides_log_ = guide_photon_emission(*this); });
     return emission_guides_log_;
+}
+
+double Scene::optical_depth(const Ray& ray, double tmax) const {
+    double depth = 0.0;
+    OpticalDepthProfile profile;
+    for (const auto& m : media) {
+        m->optical_depth_profile(ray, tmax, profile);
+        depth += profile.total();
+    }
+    return depth;
 }
 
 MediumEvent Scene::sample_medium(const Ray& ray, double tmax, Rng& rng) const {

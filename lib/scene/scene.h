@@ -75,6 +75,9 @@ public:
     // lights occlude, except `target`: the light a shadow ray was sent to, which it reaches at tmax,
     // and lights that meet the ray at that same point (coincident emitters).
     double transmittance(const Ray& ray, double tmax, Rng& rng, const Light* target = nullptr) const;
+    // The exact optical depth along ray over [0, tmax], summed over the media (each medium's part
+    // may stop at OpticalDepthProfile::kEnoughDepth, where 1 - exp(-depth) is 1 in double).
+    double optical_depth(const Ray& ray, double tmax) const;
     // Radiance of rays escaping the scene in direction dir (environment lights).
     Rgb escaped_radiance(const Vec3& dir) const;
     Rgb total_light_power() const;

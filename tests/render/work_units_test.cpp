@@ -28,6 +28,8 @@ TEST(WorkUnits, QueryPriceGrowsWithTheMapsSize) {
         // Linear in log2 of the size: a doubling adds query_doubling anywhere.
         EXPECT_NEAR(query_price(w, 2e6) - query_price(w, 1e6), w.query_doubling, 1e-9 * w.query);
         // The larger k, the dearer the query at any size.
-        if (k > 8) EXPECT_GT(query_price(w, 1e3), query_price(work_units(*scene, 8), 1e3));
+        if (k > 8) {
+            EXPECT_GT(query_price(w, 1e3), query_price(work_units(*scene, 8), 1e3));
+        }
     }
 }

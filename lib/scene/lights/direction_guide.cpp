@@ -7,9 +7,7 @@
 
 namespace vpm {
 
-DirectionGuide::DirectionGuide(const std::vector<double>& weights) : cells_(kColumns, kRows, weights) {
-    if (cells_.empty()) cells_ = PiecewiseConstant2D();
-}
+DirectionGuide::DirectionGuide(const std::vector<double>& weights) : cells_(kColumns, kRows, weights) {}
 
 Vec3 DirectionGuide::direction(int column, int row, double du, double dv) {
     const double u = (column + du) / kColumns, v = (row + dv) / kRows;

@@ -9,6 +9,7 @@
 #include "core/sampling.h"
 #include "scene/lights/box_silhouette.h"
 #include "scene/lights/emission_cone.h"
+#include "scene/lights/guided_emission.h"
 #include "scene/lights/light_registry.h"
 #include "config/params.h"
 
@@ -30,17 +31,11 @@ public:
         return true;
     }
     EmissionSample sample_emission(Rng& rng) const override {
-        if (!guide_) return {Ray{position_, own_direction(rng)}, power()};
+        auto own = [this](Rng& r) { return own_direction(r); };
+        if (!guided_.active()) return {Ray{position_, own(rng)}, power()};
         // One-sample mixture with the guide: I over the mixture's density, I * solid angle on average.
-        const bool guided = rng.uniform() < guide_share_;
-        Vec3 dir;
-        if (guided) {
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            dir = guide_->sample(u1, u2);
-        } else {
-            dir = own_direction(rng);
-        }
-        const double pdf = (1.0 - guide_share_) * emission_direction_pdf(dir) + guide_share_ * guide_->pdf(dir);
+        const Vec3 dir = guided_.sample(rng, own);
+        const double pdf = guided_.pdf(emission_direction_pdf(dir), dir);
         return {Ray{position_, dir}, pdf > 0.0 ? Rgb(intensity_ / pdf) : Rgb::Zero()};
     }
     bool guide_origin(Vec3& origin, double& start) const override {
@@ -57,8 +52,7 @@ public:
         return cone_.contains(w) ? 1.0 / cone_.solid_angle() : 0.0;
     }
     void set_emission_guide(std::shared_ptr<const DirectionGuide> guide, double share) override {
-        guide_ = guide && !guide->empty() ? std::move(guide) : nullptr;
-        guide_share_ = share;
+        guided_.set(std::move(guide), share);
     }
     // The power that can reach the scene's box (all of it from inside the box).
     Rgb power() const override {
@@ -91,8 +85,7 @@ private:
     Bounds3 box_;
     BoxSilhouette silhouette_{Vec3::Zero(), Bounds3{}};
     EmissionCone cone_;
-    std::shared_ptr<const DirectionGuide> guide_;   // null: the light's own emission only
-    double guide_share_ = 0.0;
+    GuidedEmission guided_;   // inactive: the light's own emission only
 };
 
 }  // namespace

@@ -18,6 +18,7 @@
 
 #include "core/sampling.h"
 #include "scene/lights/emission_cone.h"
+#include "scene/lights/guided_emission.h"
 #include "scene/lights/light_registry.h"
 #include "config/params.h"
 
@@ -80,7 +81,7 @@ public:
     // Uniform point on the sphere, cosine-distributed direction outwards: power L pi A.
     EmissionSample sample_emission(Rng& rng) const override {
         const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform();
-        if (guide_) return guided_emission(rng.uniform(), u1, u2, u3, u4);
+        if (guided_.active()) return guided_emission(rng.uniform(), u1, u2, u3, u4);
         const Vec3 n = sample_uniform_sphere(u1, u2);
         const Vec3 p = center_ + radius_ * n;
         if (!aimed_) {
@@ -105,8 +106,7 @@ public:
     // Cosine emission from uniform points of a sphere leaves it isotropically.
     double emission_direction_pdf(const Vec3&) const override { return kInv4Pi; }
     void set_emission_guide(std::shared_ptr<const DirectionGuide> guide, double share) override {
-        guide_ = guide && !guide->empty() ? std::move(guide) : nullptr;
-        guide_share_ = share;
+        guided_.set(std::move(guide), share);
     }
     Bounds3 bounds() const override {
         Bounds3 b;
@@ -128,9 +128,10 @@ private:
     // density 4 cos pdf_guide(w) / A. Over the mixture, L cos / p = L A / ((1 - s) / pi + 4 s pdf_guide(w)):
     // L pi A on average, as before.
     EmissionSample guided_emission(double choice, double u1, double u2, double u3, double u4) const {
+        const double share = guided_.share();
         Vec3 p, dir;
-        if (choice < guide_share_) {
-            dir = guide_->sample(u1, u2);
+        if (choice < share) {
+            dir = guided_.guide().sample(u1, u2);
             const Eigen::Vector2d d = sample_uniform_disc(u3, u4);
             const Frame f(dir);
             p = center_ + radius_ * (d.x() * f.s + d.y() * f.t + std::sqrt(std::max(0.0, 1.0 - d.squaredNorm())) * dir);
@@ -139,11 +140,10 @@ private:
             p = center_ + radius_ * n;
             dir = Frame(n).to_world(sample_cosine_hemisphere(u3, u4)).normalized();
         }
-        const double density = (1.0 - guide_share_) / kPi + 4.0 * guide_share_ * guide_->pdf(dir);
+        const double density = (1.0 - share) / kPi + 4.0 * share * guided_.guide().pdf(dir);
         return {Ray{p, dir}, radiance_ * (area() / density)};
     }
-    std::shared_ptr<const DirectionGuide> guide_;   // null: cosine (or aimed) emission only
-    double guide_share_ = 0.0;
+    GuidedEmission guided_;   // inactive: cosine (or aimed) emission only
     Bounds3 target_;       // what this light can light (set_scene_bounds)
     bool aimed_ = false;   // photons from the mixture with a cone towards target_ (sample_emission)
     static constexpr double kAimedShare = 0.5;

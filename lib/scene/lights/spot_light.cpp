@@ -10,6 +10,7 @@
 
 #include "core/sampling.h"
 #include "scene/lights/emission_cone.h"
+#include "scene/lights/guided_emission.h"
 #include "scene/lights/light_registry.h"
 #include "config/params.h"
 
@@ -35,17 +36,15 @@ public:
         return true;
     }
     EmissionSample sample_emission(Rng& rng) const override {
-        if (!guide_) {
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            return {Ray{position_, own_direction(u1, u2)}, power()};
-        }
+        auto own = [this](Rng& r) {
+            const double u1 = r.uniform(), u2 = r.uniform();
+            return own_direction(u1, u2);
+        };
+        if (!guided_.active()) return {Ray{position_, own(rng)}, power()};
         // One-sample mixture with the guide: I over the mixture's density where the spot shines, 0
         // outside its cone (a guide cell may straddle the cone's edge).
-        const bool guided = rng.uniform() < guide_share_;
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        const Vec3 dir = guided ? guide_->sample(u1, u2) : own_direction(u1, u2);
-        const double own = emission_direction_pdf(dir);
-        const double pdf = (1.0 - guide_share_) * own + guide_share_ * guide_->pdf(dir);
+        const Vec3 dir = guided_.sample(rng, own);
+        const double pdf = guided_.pdf(emission_direction_pdf(dir), dir);
         const bool lit = dir.dot(frame_.n) >= cos_max_;
         return {Ray{position_, dir}, lit && pdf > 0.0 ? Rgb(intensity_ / pdf) : Rgb::Zero()};
     }
@@ -60,8 +59,7 @@ public:
         return w.dot(frame_.n) >= cos_max_ ? uniform_cone_pdf(cos_max_) : 0.0;
     }
     void set_emission_guide(std::shared_ptr<const DirectionGuide> guide, double share) override {
-        guide_ = guide && !guide->empty() ? std::move(guide) : nullptr;
-        guide_share_ = share;
+        guided_.set(std::move(guide), share);
     }
     // The power emitted toward what can be lit (see the file comment).
     Rgb power() const override {
@@ -97,8 +95,7 @@ private:
     EmissionCone scene_cone_;
     bool emit_in_scene_cone_ = false;   // the scene's cone lies inside the spot's
     bool misses_scene_ = false;         // the two cones do not meet
-    std::shared_ptr<const DirectionGuide> guide_;   // null: the spot's own emission only
-    double guide_share_ = 0.0;
+    GuidedEmission guided_;   // inactive: the spot's own emission only
 };
 
 }  // namespace
