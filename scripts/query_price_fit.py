@@ -11,7 +11,9 @@ stored photons are left out of the fit.
 
   scripts/query_price_fit.py --matrix OUT [--vpm build/vpm] [--runs CELL=COUNT,COUNT ...] [--jsonl FILE]
 """
-import argparse, json, math, os, resource, subprocess, sys, tempfile
+import argparse, json, math, os, sys, tempfile
+
+from timed_render import timed_render
 
 ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
 ap.add_argument('--matrix', required=True, help='a vpm bench matrix --out folder (its scenes/)')
@@ -28,15 +30,7 @@ tmp = tempfile.mkdtemp(prefix='vpm-query-price-')
 
 
 def run(cell, sets):
-    out = os.path.join(tmp, 'run.exr')
-    cmd = [args.vpm, 'render', os.path.join(args.matrix, 'scenes', cell + '.toml'), '--threads', '1', '-q', '--set', f'render.output={out}']
-    for s in ['render.integrator="photon_map"', 'render.passes=1'] + sets:
-        cmd += ['--set', s]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime
-    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if r.returncode != 0:
-        sys.exit(f'query_price_fit: {cell}: vpm failed: {r.stderr.strip().splitlines()[-1]}')
-    return resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime - before, json.load(open(out[:-4] + '.json'))
+    return timed_render(args.vpm, os.path.join(args.matrix, 'scenes', cell + '.toml'), sets, tmp, 'query_price_fit', quiet=True)
 
 
 records = []

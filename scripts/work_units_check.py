@@ -10,7 +10,9 @@ one-photon map (every estimate then continues the path: the same estimator).
   scripts/work_units_check.py --matrix OUT [--cells CELL,CELL] [--vpm build/vpm] [--jsonl FILE]
 
 A ratio near 1 for every candidate of a cell is what the plan needs: its choice compares them."""
-import argparse, json, os, resource, statistics, subprocess, sys, tempfile
+import argparse, json, os, statistics, sys, tempfile
+
+from timed_render import timed_render
 
 ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
 ap.add_argument('--matrix', required=True, help='a vpm bench matrix --out folder (its scenes/)')
@@ -30,15 +32,7 @@ CANDIDATES = [('collision', ['photons.gather="collision"']), ('march', ['photons
 
 def run(cell, sets):
     """User CPU seconds of one render of the cell, and its sidecar."""
-    out = os.path.join(tmp, 'run.exr')
-    cmd = [args.vpm, 'render', os.path.join(scenes, cell + '.toml'), '--threads', '1', '--set', f'render.output={out}']
-    for s in ['render.integrator="photon_map"', 'render.passes=1'] + sets:
-        cmd += ['--set', s]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime
-    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if r.returncode != 0:
-        sys.exit(f'work_units_check: {cell}: vpm failed: {r.stderr.strip().splitlines()[-1]}')
-    return resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime - before, json.load(open(out[:-4] + '.json'))
+    return timed_render(args.vpm, os.path.join(scenes, cell + '.toml'), sets, tmp, 'work_units_check')
 
 
 ratios = {name: [] for name, _ in CANDIDATES}
