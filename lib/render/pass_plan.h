@@ -100,11 +100,14 @@ constexpr double kPlanMinPasses = 2.0;
 // and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.7:
 // the forced march lost 40-30000x to the collision gather wherever its largest weight passed 30).
 constexpr double kPlanMaxMarchWeight = 8.0;
-// Every candidate estimates the same image: one whose pilot mean differs from the first candidate's
-// (the collision gather: one bounded estimate per collision) by more than 2 standard errors and by
-// more than half the larger mean is missing a tail the pilot did not sample, and is not trusted
-// either (pass_plan.cpp; the march in the plume at 100: pilot mean 1.5e-5 against 0.020 +- 0.007,
-// weights below 0.06, while at equal time its error was 200x the collision gather's).
+// Every candidate estimates the same image: one whose pilot mean differs from the others' by more
+// than 2 standard errors and by more than half the larger mean is missing a tail the pilot did not
+// sample, and is not trusted either (pass_plan.cpp: a candidate is trusted where its mean agrees with
+// another's, both resolved; where no two agree, where it agrees with the collision gather's, one
+// bounded estimate per collision). The march in the plume at 100: pilot mean 1.5e-5 against
+// 0.020 +- 0.007, weights below 0.06, while at equal time its error was 200x the collision gather's;
+// the collision gather in the blob at 0.1: 0.00041 +- 0.00029 against 0.0014 from the march and
+// the continuation, and 9.4x the march's error at equal time.
 
 // The exponent beta from V_map at N0/2 and N0/4, within [1/3, 1]; `measured` false when either
 // variance is not positive (then 1).

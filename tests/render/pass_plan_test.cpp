@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "render/no_map_candidate.h"
 #include "render/pass_plan.h"
 
@@ -152,6 +153,49 @@ TEST(PassPlan, PassesStayWithinTheBudgetsShareAndHeavyTailedMarchesAreNotTrusted
     EXPECT_EQ(plan_passes(in).chosen, 0);
     in.candidates[1].mean = 0.97;   // within 4 SE: trusted
     EXPECT_EQ(plan_passes(in).chosen, 1);
+}
+
+TEST(PassPlan, ACandidateWhoseMeanAgreesWithNoOtherIsNotTrusted) {
+    // The thin blob's pilot (pass_plan.cpp): the collision gather scores best on a mean its few
+    // collisions left 3.5x low, while the march and the continuation agree. Both of those are trusted
+    // and the collision gather is not, though it is the first candidate.
+    PlanInputs in = inputs(/*v_camera*/ 4e-5, /*v_half*/ 0.0, /*v_quarter*/ -1.0, /*sample*/ 420.0, /*photon*/ 300.0);
+    in.candidates[0].mean = 0.00041;
+    in.candidates[0].mean_se = 0.00029;
+    GatherMeasurement march = in.candidates[0];
+    march.name = "march";
+    march.v_camera = 1.5e-7;
+    march.sample_cost = 14500.0;
+    march.mean = 0.00142;
+    march.mean_se = 0.00032;
+    GatherMeasurement none = march;
+    none.name = kNoMapCandidate;
+    none.uses_map = false;
+    none.v_camera = 8e-5;
+    none.sample_cost = 350.0;
+    none.mean = 0.00146;
+    in.candidates.push_back(march);
+    in.candidates.push_back(none);
+    PassPlan p = plan_passes(in);
+    EXPECT_EQ(p.chosen, 1);
+    EXPECT_EQ(p.score[0], kInfinity);
+    EXPECT_LT(p.score[1], p.score[2]);
+    // Its mean within 2 SE of theirs (and resolved): all three are trusted, and the march still wins
+    // on its score (variance x cost 0.0022 against 0.017).
+    in.candidates[0].mean = 0.0012;
+    in.candidates[0].mean_se = 0.0002;
+    p = plan_passes(in);
+    EXPECT_LT(p.score[0], kInfinity);
+    EXPECT_GT(p.score[0], p.score[1]);
+    EXPECT_EQ(p.chosen, 1);
+    // No two resolved means agree (the march far off, the continuation unresolved): the collision
+    // gather is the reference again, and the march, far from it, is not trusted.
+    in.candidates[1].mean = 0.0001;
+    in.candidates[1].mean_se = 0.00001;
+    in.candidates[2].mean_se = 0.001;
+    p = plan_passes(in);
+    EXPECT_EQ(p.score[1], kInfinity);
+    EXPECT_LT(p.score[2], kInfinity);
 }
 
 TEST(PassPlan, APassThatFillsTheBudgetTakesAllTheSamplesItHolds) {
