@@ -67,6 +67,8 @@ std::vector<std::string> stale_paths(const fs::path& file, bool comments_only, b
             line = line.substr(hash);
         }
         for (const std::string& w : path_words(line)) {
+            // /tmp/...: a session's scratch file named in a measurement's provenance, gone on a fresh machine.
+            if (w.rfind("/tmp/", 0) == 0) continue;
             if (w[0] == '$' || (w[0] == '.' && w.rfind("../", 0) != 0) || w.rfind("../shared/", 0) == 0 || w.rfind("out/", 0) == 0 || w.rfind("build/", 0) == 0 || kGenerated.count(w)) continue;
             if (!bare_names && w.find('/') == std::string::npos) continue;   // prose names a file by its name
             if (!exists_somewhere(w, file))
