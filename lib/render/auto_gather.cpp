@@ -62,7 +62,9 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     }
     if (map->size() > 0) {
         MapNoisePilotHooks hooks;
-        std::atomic<uint64_t> steps{0};   // grid tracking steps of the pilot's samples
+        // Grid tracking counts of the pilot's samples (scene/media/tracking_counter.h): sums, the
+        // same whatever the threads' order.
+        std::atomic<uint64_t> steps{0}, density_lookups{0}, cells{0};
         hooks.use = [&](int c, const PhotonMap* m) {
             gather_ = gathers[c];
             const bool uses_map = candidates[size_t(c)].uses_map;
@@ -70,15 +72,20 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             surface_map_ = uses_map ? run_surface : nullptr;
         };
         hooks.trace = [&](const Ray& ray, Rng& rng) {
-            // One sample runs on one thread: the thread's step count before and after is the sample's.
-            const uint64_t before = thread_tracking_steps();
+            // One sample runs on one thread: the thread's counts before and after are the sample's.
+            const TrackingCounts before = thread_tracking_counts();
             const Rgb l = trace(ray, 0, rng);
-            steps += thread_tracking_steps() - before;   // a sum: the same whatever the threads' order
+            const TrackingCounts& after = thread_tracking_counts();
+            steps += after.steps - before.steps;
+            density_lookups += after.lookups - before.lookups;
+            cells += after.cells - before.cells;
             return l;
         };
         hooks.counts = [&] {
             CountedOperations c = counted_operations();
             c.steps = double(steps.load());
+            c.density_lookups = double(density_lookups.load());
+            c.cells = double(cells.load());
             return c;
         };
         // Pixels whose rays meet nothing show the background and do not vary (render/pilot_pixels.h).
@@ -91,7 +98,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         in.query_doubling = w.query_doubling;
         hooks.work = [&](const CountedOperations& c) {
             const double wide = std::max(0.0, c.queries - c.map_used);   // searches whose estimate was not used
-            return query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps;
+            return query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps +
+                   w.density_lookup * c.density_lookups + w.cell * c.cells;
         };
         with_fresh_counters([&] {
             measured = measure_gathers(scene_.camera, *map, candidates, hooks,

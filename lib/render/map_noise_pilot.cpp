@@ -54,6 +54,8 @@ CountedOperations mixed(double f, const CountedOperations& a, const CountedOpera
     o.lookups = f * a.lookups + (1.0 - f) * b.lookups;
     o.map_used = f * a.map_used + (1.0 - f) * b.map_used;
     o.steps = f * a.steps + (1.0 - f) * b.steps;
+    o.density_lookups = f * a.density_lookups + (1.0 - f) * b.density_lookups;
+    o.cells = f * a.cells + (1.0 - f) * b.cells;
     return o;
 }
 
@@ -64,6 +66,8 @@ CountedOperations per_sample(const CountedOperations& before, const CountedOpera
     o.lookups = (after.lookups - before.lookups) / samples;
     o.map_used = (after.map_used - before.map_used) / samples;
     o.steps = (after.steps - before.steps) / samples;
+    o.density_lookups = (after.density_lookups - before.density_lookups) / samples;
+    o.cells = (after.cells - before.cells) / samples;
     return o;
 }
 

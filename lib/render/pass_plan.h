@@ -31,6 +31,8 @@ struct CountedOperations {
     double march_weight_max = 0.0;   // largest relative march point weight (not a count: a maximum)
     double map_used = 0.0;  // estimates taken from a photon map (volume or surface), not continued past
     double steps = 0.0;     // grid tracking steps: DDA cells and tentative collisions (scene/media/tracking_counter.h)
+    double density_lookups = 0.0;   // grid point density lookups of the tracking
+    double cells = 0.0;     // grid voxel cells integrated in closed form (tracking and the march's profile)
 };
 
 struct GatherMeasurement {

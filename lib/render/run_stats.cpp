@@ -204,7 +204,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, bias_mean, bias_se, weights, means, mean_ses, tails, cost, queries, rays, lookups, used, steps;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, bias_mean, bias_se, weights, means, mean_ses, tails, cost, queries, rays, lookups, used, steps, density_lookups, cells;
         std::vector<int> samples;
         std::vector<bool> dropped, excluded;
         for (const auto& c : a->candidates) {
@@ -225,6 +225,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             lookups.push_back(c.per_sample.lookups);
             used.push_back(c.per_sample.map_used);
             steps.push_back(c.per_sample.steps);
+            density_lookups.push_back(c.per_sample.density_lookups);
+            cells.push_back(c.per_sample.cells);
             samples.push_back(c.samples);
             dropped.push_back(c.dropped);
             excluded.push_back(c.excluded);
@@ -246,6 +248,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.lookups_per_sample", nlohmann::json(lookups));
         record.set("photons.auto_gather.map_used_per_sample", nlohmann::json(used));
         record.set("photons.auto_gather.steps_per_sample", nlohmann::json(steps));
+        record.set("photons.auto_gather.density_lookups_per_sample", nlohmann::json(density_lookups));
+        record.set("photons.auto_gather.cells_per_sample", nlohmann::json(cells));
         record.set("photons.auto_gather.pilot_samples", nlohmann::json(samples));
         record.set("photons.auto_gather.dropped", nlohmann::json(dropped));
         record.set("photons.auto_gather.excluded", nlohmann::json(excluded));

@@ -15,6 +15,8 @@ struct WorkUnits {
     double ray = 0.0;         // a tracked segment: free flight, shadow ray or march transmittance
     double lookup = 0.0;      // a sigma_t lookup of the ball quadrature
     double step = 0.0;        // a grid tracking step: DDA cell or tentative collision (scene/media/tracking_counter.h)
+    double density_lookup = 0.0;   // a grid point density lookup of the tracking
+    double cell = 0.0;        // a grid voxel cell integrated in closed form (tracking, the march's profile)
     double collision = 0.0;   // a real collision of the photon walk
     double path = 0.0;        // an emitted photon path
     double stored = 0.0;      // a stored photon (kd-tree build)

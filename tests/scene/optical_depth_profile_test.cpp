@@ -10,6 +10,7 @@
 #include "io/vdb_io.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"
+#include "scene/media/tracking_counter.h"
 
 using namespace vpm;
 
@@ -49,6 +50,25 @@ TEST(OpticalDepthProfile, PlumeTotalAndInverseMatchQuadrature) {
         ASSERT_LT(t, L);
         EXPECT_NEAR(quadrature_depth(m, ray, t), f * p.total(), 1e-6 * tau) << "fraction " << f;
     }
+}
+
+TEST(OpticalDepthProfile, TheWalkIsCountedForThePlansWork) {
+    // The auto plan prices the march by these counts (render/work_units.h): the profile's blocks as
+    // steps and its voxel cells as closed-form cells, on this thread. Uncounted, the march cost about
+    // 2x what the plan charged in grids (BENCHMARKS.md section 28).
+    const GridMedium m(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb", "density"), 8.0, Rgb::Constant(0.9), 0.0);
+    const Bounds3 b = m.bounds();
+    const Vec3 c = 0.5 * (b.lo + b.hi);
+    double L;
+    const Ray ray = ray_through(Vec3(b.lo.x() - 0.5, 0.4, c.z() - 0.1), Vec3(b.hi.x() + 0.5, 0.6, c.z() + 0.05), L);
+    const TrackingCounts before = thread_tracking_counts();
+    OpticalDepthProfile p;
+    m.optical_depth_profile(ray, L, p);
+    const TrackingCounts after = thread_tracking_counts();
+    EXPECT_GE(after.steps - before.steps, 1u);
+    EXPECT_GT(after.cells - before.cells, 20u);           // the voxel cells crossed, as the pieces
+    EXPECT_LE(after.cells - before.cells, uint64_t(p.size()));
+    EXPECT_EQ(after.lookups, before.lookups);              // closed forms, no point lookups
 }
 
 TEST(OpticalDepthProfile, GridPiecesAreTheVoxelCellsCrossed) {

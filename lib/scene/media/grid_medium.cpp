@@ -283,7 +283,7 @@ double GridMedium::sample_free_flight(const Ray& ray, double tmax, Rng& rng, Tra
     if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty() || misses_active(ray, tmax)) return kInfinity;
     TrackingStats st;   // counted per thread (scene/media/tracking_counter.h)
     const double t = tracking::sample_free_flight(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, &st);
-    count_tracking_steps(st);
+    count_tracking(st);
     if (stats) stats->add(st);
     return t;
 }
@@ -292,7 +292,7 @@ double GridMedium::transmittance(const Ray& ray, double tmax, Rng& rng, Tracking
     if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty() || misses_active(ray, tmax)) return 1.0;
     TrackingStats st;
     const double T = tracking::transmittance(TrilinearRayField(grid_, world_to_index_, ray), scale_, 0.0, tmax, rng, &st);
-    count_tracking_steps(st);
+    count_tracking(st);
     if (stats) stats->add(st);
     return T;
 }
@@ -308,11 +308,16 @@ void GridMedium::optical_depth_profile(const Ray& ray, double tmax, OpticalDepth
     out.reset(scale_);
     if (!(scale_ > 0.0) || !(tmax > 0.0) || grid_.empty()) return;
     const TrilinearRayField f(grid_, world_to_index_, ray);
-    TrackingStats st;
+    TrackingStats st;   // counted per thread (scene/media/tracking_counter.h): the march's cost
     f.walk(0.0, tmax, [&](const DensityGrid::Segment& s) {
+        ++st.blocks;
         if (s.uniform) return out.add_constant(s.ta, s.tb, s.majorant);
-        return f.flat_cells(s, [&](const tracking::CubicBernstein& cb, double a, double b) { return out.add(a, b, cb); });
+        return f.flat_cells(s, [&](const tracking::CubicBernstein& cb, double a, double b) {
+            ++st.cells;
+            return out.add(a, b, cb);
+        });
     });
+    count_tracking(st);
 }
 
 std::string GridMedium::describe() const {

@@ -2,9 +2,9 @@
 
 namespace vpm {
 
-uint64_t& thread_tracking_steps() {
-    thread_local uint64_t steps = 0;
-    return steps;
+TrackingCounts& thread_tracking_counts() {
+    thread_local TrackingCounts counts;
+    return counts;
 }
 
 }  // namespace vpm

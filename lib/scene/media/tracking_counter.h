@@ -1,21 +1,33 @@
 #pragma once
-// Tracking steps taken by this thread in grid media: majorant-walk steps (DDA cells) plus tentative
-// collisions, real and null, of delta and ratio tracking. A thread-local running count, read before
-// and after one camera sample on the same thread, gives that sample's steps: a count that does not
-// depend on the thread or the machine. The auto pilot's work units use it (render/work_units.h):
-// without it a grid ray's cost was one figure whatever its null collisions (the thin plume's
-// collision gather cost 4x less than counted, BENCHMARKS.md section 11.7).
+// Tracking work done by this thread in grid media, in three counts: steps (majorant-walk DDA cells
+// plus tentative collisions, real and null, of delta and ratio tracking), point density lookups, and
+// voxel cells integrated in closed form (the stiff tracking's exact segments and the march's optical-
+// depth profile). Thread-local running counts, read before and after one camera sample on the same
+// thread, give that sample's: counts that do not depend on the thread or the machine. The auto
+// pilot's work units use them (render/work_units.h): without the steps a grid ray's cost was one
+// figure whatever its null collisions (the thin plume's collision gather cost 4x less than counted,
+// BENCHMARKS.md section 11.7); with the steps alone the continuation in the blob at 1000 cost 3x its
+// count and the march 2x (its profile was not counted; BENCHMARKS.md section 28).
 #include <cstdint>
 
 #include "scene/media/majorant_tracking.h"
 
 namespace vpm {
 
-// This thread's steps so far (wraps after 2^64).
-uint64_t& thread_tracking_steps();
+struct TrackingCounts {
+    uint64_t steps = 0;     // DDA cells and tentative collisions
+    uint64_t lookups = 0;   // point density lookups
+    uint64_t cells = 0;     // voxel cells integrated in closed form
+};
 
-inline void count_tracking_steps(const TrackingStats& st) {
-    thread_tracking_steps() += uint64_t(st.blocks + st.tentative);
+// This thread's counts so far (each wraps after 2^64).
+TrackingCounts& thread_tracking_counts();
+
+inline void count_tracking(const TrackingStats& st) {
+    TrackingCounts& c = thread_tracking_counts();
+    c.steps += uint64_t(st.blocks + st.tentative);
+    c.lookups += uint64_t(st.lookups);
+    c.cells += uint64_t(st.cells);
 }
 
 }  // namespace vpm
