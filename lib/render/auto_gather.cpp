@@ -118,6 +118,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         }
     }
     exclude_no_map_where_the_map_is_used(measured);
+    exclude_maps_that_go_unused(measured);
     in.candidates = measured;
     PassPlan plan = plan_passes(in);
     if (!in.size_samples) plan.spp = 0;   // not the plan's: samples_per_pass keeps the configured value
@@ -157,6 +158,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                 << ", bias " << m.bias_mean << " +- " << m.bias_se << " (squared, charged: " << m.bias2 << "), mean " << m.mean << " +- " << m.mean_se
                 << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
                 << ", work " << m.sample_cost << " per sample, map estimates used " << m.per_sample.map_used << " per sample";
+            if (m.uses_map && m.excluded)
+                log << " (not a choice: it almost never used the map, so it is the continuation plus a photon pass, render/no_map_candidate.h)";
             if (!m.uses_map)
                 log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance"
                     << (!m.excluded ? ""

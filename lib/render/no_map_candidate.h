@@ -71,4 +71,21 @@ inline void exclude_no_map_where_the_map_is_used(std::vector<GatherMeasurement>&
     }
 }
 
+// The converse: a map candidate whose pilot queries almost never gave a used estimate (at most
+// kNoMapMaxUsedShare of them; every kNN ball wider than max_radius_mfp) continues the path at
+// nearly every collision. It is the continuation plus a photon pass that buys nothing, and its pilot
+// variance is the continuation's read from fewer samples; where a no-map candidate was measured and
+// is a choice, such a map candidate is not. In the box at optical thickness 1000 and albedo 0.99
+// (the march's pilot: 11.7 radius-bounded searches per sample, none used) seed 1 took the march on
+// 512 samples that missed the continued paths' tail, at 13x the path tracer's error^2 x time
+// (BENCHMARKS.md section 28).
+inline void exclude_maps_that_go_unused(std::vector<GatherMeasurement>& candidates) {
+    bool no_map_choice = false;
+    for (const GatherMeasurement& m : candidates) no_map_choice = no_map_choice || (!m.uses_map && !m.excluded);
+    if (!no_map_choice) return;
+    for (GatherMeasurement& m : candidates)
+        if (m.uses_map && m.per_sample.queries > 0.0 && m.per_sample.map_used <= kNoMapMaxUsedShare * m.per_sample.queries)
+            m.excluded = true;
+}
+
 }  // namespace vpm

@@ -50,7 +50,7 @@ struct GatherMeasurement {
     int samples = 0;              // pilot samples per pixel and map (render/pilot_budget.h)
     bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap
     bool uses_map = true;         // false: no photon pass is paid for (render/no_map_candidate.h)
-    bool excluded = false;        // not a choice (render/no_map_candidate.h: the map is used)
+    bool excluded = false;        // not a choice (render/no_map_candidate.h: without a map where the map is used, or a map that goes unused)
     double bias_mean = 0.0;       // the pilot's pooled, signed bias at N0 behind bias2
     double bias_se = 0.0;         // and its standard error
 };

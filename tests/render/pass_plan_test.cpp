@@ -240,6 +240,49 @@ TEST(PassPlan, ContinueIsAChoiceOnlyWhereTheMapIsNextToUnused) {
     }
 }
 
+TEST(PassPlan, AMapThatGoesUnusedIsNoChoiceBesideTheContinuation) {
+    // render/no_map_candidate.h: the box at 1000 optical depths and albedo 0.99, where every kNN ball
+    // is wider than max_radius_mfp. The march scores best on pilot samples that missed the continued
+    // paths' tail, but it is the continuation plus a photon pass: not a choice where "continue" is.
+    PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 0.0, /*v_quarter*/ -1.0, /*sample*/ 2000.0, /*photon*/ 9000.0);
+    in.candidates[0].per_sample.queries = 1.0;
+    GatherMeasurement march = in.candidates[0];
+    march.name = "march";
+    march.v_camera = 1e-5;
+    march.per_sample.queries = 11.7;
+    march.per_sample.map_used = 0.0;
+    GatherMeasurement none = in.candidates[0];
+    none.name = kNoMapCandidate;
+    none.uses_map = false;
+    none.v_camera = 1e-2;   // one tail sample in its pilot
+    none.sample_cost = 700.0;
+    in.candidates.push_back(march);
+    in.candidates.push_back(none);
+    std::vector<GatherMeasurement> c = in.candidates;
+    exclude_no_map_where_the_map_is_used(c);
+    exclude_maps_that_go_unused(c);
+    EXPECT_TRUE(c[0].excluded);    // no query used either
+    EXPECT_TRUE(c[1].excluded);
+    EXPECT_FALSE(c[2].excluded);
+    in.candidates = c;
+    EXPECT_EQ(plan_passes(in).chosen, 2);
+    // A map used in more than kNoMapMaxUsedShare of its queries stays a choice.
+    c[1] = march;
+    c[1].per_sample.map_used = 0.5;
+    c[1].excluded = false;
+    c[0].excluded = false;
+    exclude_maps_that_go_unused(c);
+    EXPECT_FALSE(c[1].excluded);
+    EXPECT_TRUE(c[0].excluded);
+    // Without the continuation as a choice the map candidates stay (nothing else would be left).
+    c = {in.candidates[0], march, none};
+    c[0].excluded = false;
+    c[2].excluded = true;
+    exclude_maps_that_go_unused(c);
+    EXPECT_FALSE(c[0].excluded);
+    EXPECT_FALSE(c[1].excluded);
+}
+
 TEST(PassPlan, WithoutTheMapThePassIsTheSmallestTheRunLoopGroups) {
     // Without a map every sample count scores alike; the plan takes the smallest pass of at least
     // kNoMapPassSamples camera samples (the run loop groups such passes, so a time limit cuts them
