@@ -28,14 +28,23 @@ Ray ray_through(const Vec3& from, const Vec3& to, double& length) {
     return Ray{from, (to - from) / length};
 }
 
+GridMedium plume() {
+    return GridMedium(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb", "density"), 8.0, Rgb::Constant(0.9), 0.0);
+}
+
+// A chord across the plume, through smoke and out again.
+Ray plume_chord(const GridMedium& m, double& length) {
+    const Bounds3 b = m.bounds();
+    const Vec3 c = 0.5 * (b.lo + b.hi);
+    return ray_through(Vec3(b.lo.x() - 0.5, 0.4, c.z() - 0.1), Vec3(b.hi.x() + 0.5, 0.6, c.z() + 0.05), length);
+}
+
 }  // namespace
 
 TEST(OpticalDepthProfile, PlumeTotalAndInverseMatchQuadrature) {
-    const GridMedium m(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb", "density"), 8.0, Rgb::Constant(0.9), 0.0);
-    const Bounds3 b = m.bounds();
-    const Vec3 c = 0.5 * (b.lo + b.hi);
+    const GridMedium m = plume();
     double L;
-    const Ray ray = ray_through(Vec3(b.lo.x() - 0.5, 0.4, c.z() - 0.1), Vec3(b.hi.x() + 0.5, 0.6, c.z() + 0.05), L);
+    const Ray ray = plume_chord(m, L);
     OpticalDepthProfile p;
     m.optical_depth_profile(ray, L, p);
     const double tau = quadrature_depth(m, ray, L);
@@ -56,11 +65,9 @@ TEST(OpticalDepthProfile, TheWalkIsCountedForThePlansWork) {
     // The auto plan prices the march by these counts (render/work_units.h): the profile's blocks as
     // steps and its voxel cells as closed-form cells, on this thread. Uncounted, the march cost about
     // 2x what the plan charged in grids (BENCHMARKS.md section 28).
-    const GridMedium m(load_vdb_density(VPM_SOURCE_DIR "/media/plume.vdb", "density"), 8.0, Rgb::Constant(0.9), 0.0);
-    const Bounds3 b = m.bounds();
-    const Vec3 c = 0.5 * (b.lo + b.hi);
+    const GridMedium m = plume();
     double L;
-    const Ray ray = ray_through(Vec3(b.lo.x() - 0.5, 0.4, c.z() - 0.1), Vec3(b.hi.x() + 0.5, 0.6, c.z() + 0.05), L);
+    const Ray ray = plume_chord(m, L);
     const TrackingCounts before = thread_tracking_counts();
     OpticalDepthProfile p;
     m.optical_depth_profile(ray, L, p);
