@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
-"""The photon map's defaults against the path tracer at equal time on any scene files: per scene and
+"""The photon map's defaults against the path tracer at equal time on any scene files (bench/heldout/):
+unlike `vpm bench equal-time`, which renders fixed photon and sample counts, each run here sets only
+render.integrator and render.time_limit, so the automatic plan is what is measured. Per scene and
 seed, `vpm render SCENE --set render.time_limit=BUDGET` with the path tracer and with the photon map
 (each binary of --vpm, interleaved), error against a long path-traced reference (rendered once with
 --reference-seconds on seed 99 and cached beside the outputs by scene file name), and the photon map's
 time to equal error over the path tracer's: (relative RMSE ratio)^2 x (wall time ratio), < 1 where the
 photon map wins. Prints the plan each photon-map run chose and its mean bias against the reference.
 
-  scripts/equal_time.py [--budget 8] [--seeds 1,2] [--vpm build/vpm | --vpm NAME=PATH,NAME=PATH]
+  scripts/heldout_check.py [--budget 8] [--seeds 1,2] [--vpm build/vpm | --vpm NAME=PATH,NAME=PATH]
                         [--reference-seconds 90] [--out out/equal_time] SCENE.toml...
 
 The error is over all RGB values, relative to the reference's mean."""
@@ -19,17 +21,17 @@ ap.add_argument('--seeds', default='1,2')
 ap.add_argument('--vpm', default='build/vpm', help='a binary, or NAME=PATH,... to compare binaries (the first also runs the path tracer)')
 ap.add_argument('--reference-seconds', type=float, default=90.0)
 ap.add_argument('--threads', type=int, default=2)
-ap.add_argument('--out', default='out/equal_time')
+ap.add_argument('--out', default='out/heldout')
 a = ap.parse_args()
 try:
     import numpy as np
 except ImportError:
-    sys.exit('equal_time: needs numpy (apt-get install python3-numpy)')
+    sys.exit('heldout_check: needs numpy (apt-get install python3-numpy)')
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(a.vpm.split(',')[0].split('=')[-1])), 'python'))
 try:
     import vpm
 except ImportError:
-    sys.exit('equal_time: needs the vpm Python module beside the binary (build/python, built with the project)')
+    sys.exit('heldout_check: needs the vpm Python module beside the binary (build/python, built with the project)')
 bins = [kv.split('=', 1) if '=' in kv else ['vpm', kv] for kv in a.vpm.split(',')]
 os.makedirs(a.out, exist_ok=True)
 
@@ -39,7 +41,7 @@ def render(binary, scene, integrator, seed, seconds, out):
     r = subprocess.run([binary, 'render', scene, '-q', '--threads', str(a.threads), '--set', f'render.integrator="{integrator}"',
                         '--set', f'render.seed={seed}', '--set', f'render.time_limit={seconds}', '-o', out], capture_output=True, text=True)
     if r.returncode != 0:
-        sys.exit(f'equal_time: {scene}: vpm failed: {r.stderr.strip().splitlines()[-1] if r.stderr.strip() else r.returncode}')
+        sys.exit(f'heldout_check: {scene}: vpm failed: {r.stderr.strip().splitlines()[-1] if r.stderr.strip() else r.returncode}')
     wall = time.monotonic() - t0
     ag = json.load(open(out[:-4] + '.json')).get('photons', {}).get('auto_gather')
     return np.asarray(vpm.read_exr(out), dtype=np.float64), wall, (f"{ag['chosen']} {ag['count']}x{ag['spp']}" if ag else '')
