@@ -9,7 +9,7 @@ time to equal error over the path tracer's: (relative RMSE ratio)^2 x (wall time
 photon map wins. Prints the plan each photon-map run chose and its mean bias against the reference.
 
   scripts/heldout_check.py [--budget 8] [--seeds 1,2] [--vpm build/vpm | --vpm NAME=PATH,NAME=PATH]
-                        [--reference-seconds 90] [--out out/equal_time] SCENE.toml...
+                        [--reference-seconds 90] [--out out/heldout] SCENE.toml...
 
 The error is over all RGB values, relative to the reference's mean."""
 import argparse, json, os, subprocess, sys, time
