@@ -54,6 +54,11 @@ constexpr double kNoMapShortPathRays = 12.0;   // tracked segments per sample: s
 constexpr double kNoMapMaxTailShare = 0.5;
 constexpr int kNoMapTailMinSamples = 128;
 
+// The share of a map candidate's kNN queries whose estimate was used (0 where it made none).
+inline double map_used_share(const GatherMeasurement& m) {
+    return m.per_sample.queries > 0.0 ? m.per_sample.map_used / m.per_sample.queries : 0.0;
+}
+
 // Where a map candidate used the map in more than kNoMapMaxUsedShare of its queries (queries 0:
 // unused), marks the no-map candidates excluded unless their own paths are short (at most
 // kNoMapShortPathRays tracked segments per sample) and light-tailed (at most kNoMapMaxTailShare of
@@ -61,7 +66,7 @@ constexpr int kNoMapTailMinSamples = 128;
 inline void exclude_no_map_where_the_map_is_used(std::vector<GatherMeasurement>& candidates) {
     double share = 0.0;
     for (const GatherMeasurement& m : candidates)
-        if (m.uses_map && m.per_sample.queries > 0.0) share = std::max(share, m.per_sample.map_used / m.per_sample.queries);
+        if (m.uses_map) share = std::max(share, map_used_share(m));
     if (share <= kNoMapMaxUsedShare) return;
     for (GatherMeasurement& m : candidates) {
         if (m.uses_map) continue;
@@ -84,7 +89,7 @@ inline void exclude_maps_that_go_unused(std::vector<GatherMeasurement>& candidat
     for (const GatherMeasurement& m : candidates) no_map_choice = no_map_choice || (!m.uses_map && !m.excluded);
     if (!no_map_choice) return;
     for (GatherMeasurement& m : candidates)
-        if (m.uses_map && m.per_sample.queries > 0.0 && m.per_sample.map_used <= kNoMapMaxUsedShare * m.per_sample.queries)
+        if (m.uses_map && m.per_sample.queries > 0.0 && map_used_share(m) <= kNoMapMaxUsedShare)
             m.excluded = true;
 }
 
