@@ -161,10 +161,9 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             if (m.uses_map && m.excluded)
                 log << " (not a choice: it almost never used the map, so it is the continuation plus a photon pass, render/no_map_candidate.h)";
             if (!m.uses_map)
-                log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance"
-                    << (!m.excluded ? ""
-                        : m.per_sample.rays > kNoMapShortPathRays ? " (not a choice: the map is used and its paths are long, render/no_map_candidate.h)"
-                                                                   : " (not a choice: the map is used and its samples are heavy-tailed, render/no_map_candidate.h)");
+                log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance, charged at "
+                    << 1.0 + kPlanVarianceSigmas * m.v_camera_rel_se << "x it (its upper bound)"
+                    << (m.excluded ? " (not a choice: the map is used and its paths are long, render/no_map_candidate.h)" : "");
         }
         log << "; work " << in.photon_cost << " per photon)\n";
         if (no_map_)

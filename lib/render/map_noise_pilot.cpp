@@ -228,6 +228,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
                 const double d = values[0][at(j, s, most)] - pixel_mean[size_t(j)];
                 squares.push_back(d * d);
             }
+        g.v_camera_rel_se = mean_of_squares_relative_se(squares);
         g.tail_share = largest_squares_share(std::move(squares), kPilotTailFraction);
         g.v_map_quarter = -1.0;
         if (halves_too) {

@@ -36,11 +36,14 @@
 // light: samples 1000-2400x the pixel mean, one in ~10^4 (BENCHMARKS.md section 16). With 8 samples
 // per pixel the pilot measured its variance 5-29x too low there and "continue" won the pilot but lost
 // the run 1.4-6.9x (matrix v6). Its samples are cheap, so it takes up to kNoMapPilotSamples per pixel
-// (render/map_noise_pilot.h), and where the map is used it is no choice when its largest 1/1024 samples
-// hold more than kNoMapMaxTailShare of its squared deviations: a variance carried by a few samples in
-// a thousand is one the pilot has not measured. Measured where paths are short: 0.84-0.96 in the g =
-// 0.8 cells, 0.05-0.35 at g = 0 (long paths, excluded anyway: up to 0.53 at albedo 0.99). Below kNoMapTailMinSamples per pixel (a share too small to pay for
-// them) the largest 1/1024 are a sample or two whatever the tail, and the test is not made.
+// (render/map_noise_pilot.h), and its variance is charged at its upper bound, kPlanVarianceSigmas
+// standard errors above the pilot's figure (render/pass_plan.h; the standard error from the samples
+// that hold the variance, render/pilot_tail.h: +2% to +14% where thousands to hundreds of samples hold
+// the variance, +45% to +160% where twenty to one or two do). At 1024 samples per pixel the continuation lost the g = 0.8 cells on its
+// own score in 12 of 12 cells and seeds (BENCHMARKS.md section 29). Until then it was no choice where
+// its largest 1/1024 samples held more than half its squared deviations; that also excluded it in a
+// thin fog under a spot light, whose rare collisions in the beam are a tail of every candidate's, where
+// it won the pilot 8-150x and the map lost the run 6-8x to the path tracer.
 #include <algorithm>
 #include <vector>
 
@@ -51,8 +54,6 @@ namespace vpm {
 constexpr const char* kNoMapCandidate = "continue";
 constexpr double kNoMapMaxUsedShare = 0.02;
 constexpr double kNoMapShortPathRays = 12.0;   // tracked segments per sample: see above
-constexpr double kNoMapMaxTailShare = 0.5;
-constexpr int kNoMapTailMinSamples = 128;
 
 // The share of a map candidate's kNN queries whose estimate was used (0 where it made none).
 inline double map_used_share(const GatherMeasurement& m) {
@@ -61,19 +62,14 @@ inline double map_used_share(const GatherMeasurement& m) {
 
 // Where a map candidate used the map in more than kNoMapMaxUsedShare of its queries (queries 0:
 // unused), marks the no-map candidates excluded unless their own paths are short (at most
-// kNoMapShortPathRays tracked segments per sample) and light-tailed (at most kNoMapMaxTailShare of
-// their squared deviations in their largest 1/1024 samples, measured over kNoMapTailMinSamples or more).
+// kNoMapShortPathRays tracked segments per sample).
 inline void exclude_no_map_where_the_map_is_used(std::vector<GatherMeasurement>& candidates) {
     double share = 0.0;
     for (const GatherMeasurement& m : candidates)
         if (m.uses_map) share = std::max(share, map_used_share(m));
     if (share <= kNoMapMaxUsedShare) return;
-    for (GatherMeasurement& m : candidates) {
-        if (m.uses_map) continue;
-        const bool long_paths = m.per_sample.rays > kNoMapShortPathRays;
-        const bool heavy_tail = m.samples >= kNoMapTailMinSamples && m.tail_share > kNoMapMaxTailShare;
-        if (long_paths || heavy_tail) m.excluded = true;
-    }
+    for (GatherMeasurement& m : candidates)
+        if (!m.uses_map && m.per_sample.rays > kNoMapShortPathRays) m.excluded = true;
 }
 
 // The converse: a map candidate whose pilot queries almost never gave a used estimate (at most

@@ -68,6 +68,8 @@ PassPlan plan_passes(const PlanInputs& in) {
         const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
         const double v_map_half = std::max(0.0, m.v_map_half);   // < 0: the map's noise is below the pilot's resolution
         const double bias2_n0 = std::max(0.0, m.bias2);
+        // Without a map the variance is charged at its upper bound (render/no_map_candidate.h).
+        const double v_camera = m.uses_map ? m.v_camera : m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se);
         const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees[c] && !m.dropped && !m.excluded;
         // Without the map (render/no_map_candidate.h) no photon pass is made: N does not matter.
         const double photon_cost = m.uses_map ? in.photon_cost : 0.0;
@@ -94,7 +96,7 @@ PassPlan plan_passes(const PlanInputs& in) {
                 // Over the cap only passes no larger than the configured one (N0, S0) count: the
                 // plan never makes a pass longer than the budget that the configuration did not.
                 if (cost > cap && !(i == 0 && s <= in.spp)) continue;
-                const double variance = v_map + m.v_camera / double(s);
+                const double variance = v_map + v_camera / double(s);
                 double score = variance * cost;
                 // Whole passes: P = floor(T / C) of them fit (one at least), so a pass that fills most of
                 // the budget is one pass, whose variance does not average down (a 1-sample pass whose

@@ -46,6 +46,7 @@ struct GatherMeasurement {
     double mean = 0.0;            // the pilot's mean luminance over its pixels and samples (those that can vary: render/pilot_pixels.h)
     double mean_se = 0.0;         // its standard error
     double tail_share = 0.0;      // share of its squared deviations in its largest 1/1024 samples (render/pilot_tail.h)
+    double v_camera_rel_se = 0.0; // relative standard error of the variance its pilot pixels read (render/pilot_tail.h)
     CountedOperations per_sample; // the operations behind it
     int samples = 0;              // pilot samples per pixel and map (render/pilot_budget.h)
     bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap
@@ -102,6 +103,9 @@ constexpr double kPlanMinPasses = 2.0;
 // and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.7:
 // the forced march lost 40-30000x to the collision gather wherever its largest weight passed 30).
 constexpr double kPlanMaxMarchWeight = 8.0;
+// A candidate without a map (render/no_map_candidate.h) is scored on its camera variance plus this
+// many of its standard errors (render/pilot_tail.h: large where a few samples hold the variance).
+constexpr double kPlanVarianceSigmas = 2.0;
 // Every candidate estimates the same image: one whose pilot mean differs from the others' by more
 // than 2 standard errors and by more than half the larger mean is missing a tail the pilot did not
 // sample, and is not trusted either (pass_plan.cpp: a candidate is trusted where its mean agrees with

@@ -22,4 +22,14 @@ double largest_squares_share(std::vector<double> squares, double fraction) {
     return total > 0.0 ? largest / total : 0.0;
 }
 
+double mean_of_squares_relative_se(const std::vector<double>& squares) {
+    double sum = 0.0, sum_sq = 0.0;
+    for (double q : squares) {
+        sum += q;
+        sum_sq += q * q;
+    }
+    if (!(sum > 0.0)) return 0.0;
+    return std::sqrt(std::max(0.0, sum_sq / (sum * sum) - 1.0 / double(squares.size())));
+}
+
 }  // namespace vpm

@@ -204,7 +204,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, bias_mean, bias_se, weights, means, mean_ses, tails, cost, queries, rays, lookups, used, steps, density_lookups, cells;
+        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, bias_mean, bias_se, weights, means, mean_ses, tails, v_camera_rel_se, cost, queries, rays, lookups, used, steps, density_lookups, cells;
         std::vector<int> samples;
         std::vector<bool> dropped, excluded;
         for (const auto& c : a->candidates) {
@@ -220,6 +220,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
             means.push_back(c.mean);
             mean_ses.push_back(c.mean_se);
             tails.push_back(c.tail_share);
+            v_camera_rel_se.push_back(c.v_camera_rel_se);
             queries.push_back(c.per_sample.queries);
             rays.push_back(c.per_sample.rays);
             lookups.push_back(c.per_sample.lookups);
@@ -243,6 +244,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.mean", nlohmann::json(means));
         record.set("photons.auto_gather.mean_se", nlohmann::json(mean_ses));
         record.set("photons.auto_gather.tail_share", nlohmann::json(tails));
+        record.set("photons.auto_gather.v_camera_rel_se", nlohmann::json(v_camera_rel_se));
         record.set("photons.auto_gather.queries_per_sample", nlohmann::json(queries));
         record.set("photons.auto_gather.rays_per_sample", nlohmann::json(rays));
         record.set("photons.auto_gather.lookups_per_sample", nlohmann::json(lookups));
