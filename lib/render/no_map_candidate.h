@@ -36,14 +36,15 @@
 // light: samples 1000-2400x the pixel mean, one in ~10^4 (BENCHMARKS.md section 16). With 8 samples
 // per pixel the pilot measured its variance 5-29x too low there and "continue" won the pilot but lost
 // the run 1.4-6.9x (matrix v6). Its samples are cheap, so it takes up to kNoMapPilotSamples per pixel
-// (render/map_noise_pilot.h), and its variance is charged at its upper bound, kPlanVarianceSigmas
-// standard errors above the pilot's figure (render/pass_plan.h; the standard error from the samples
-// that hold the variance, render/pilot_tail.h: +2% to +14% where thousands to hundreds of samples hold
-// the variance, +45% to +160% where twenty to one or two do). At 1024 samples per pixel the continuation lost the g = 0.8 cells on its
-// own score in 12 of 12 cells and seeds (BENCHMARKS.md section 29). Until then it was no choice where
-// its largest 1/1024 samples held more than half its squared deviations; that also excluded it in a
-// thin fog under a spot light, whose rare collisions in the beam are a tail of every candidate's, where
-// it won the pilot 8-150x and the map lost the run 6-8x to the path tracer.
+// (render/map_noise_pilot.h), and its variance, like every candidate's, is charged at its upper
+// bound, kPlanVarianceSigmas standard errors above the pilot's figure (render/pass_plan.h; the
+// standard error from the samples that hold the variance, render/pilot_tail.h: +2% to +14% where
+// thousands to hundreds of samples hold it, +45% to +160% where twenty to one or two do). At 1024
+// samples per pixel the continuation lost the g = 0.8 cells on its own score in 12 of 12 cells and
+// seeds (BENCHMARKS.md section 29). Until then it was no choice where its largest 1/1024 samples held
+// more than half its squared deviations; that also excluded it in a thin fog under a spot light,
+// whose rare collisions in the beam are a tail of every candidate's, where it won the pilot 8-150x
+// and the map lost the run 6-8x to the path tracer.
 #include <algorithm>
 #include <vector>
 

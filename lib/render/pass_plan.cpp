@@ -68,8 +68,8 @@ PassPlan plan_passes(const PlanInputs& in) {
         const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
         const double v_map_half = std::max(0.0, m.v_map_half);   // < 0: the map's noise is below the pilot's resolution
         const double bias2_n0 = std::max(0.0, m.bias2);
-        // Without a map the variance is charged at its upper bound (render/no_map_candidate.h).
-        const double v_camera = m.uses_map ? m.v_camera : m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se);
+        // The camera variance at its upper bound (pass_plan.h: kPlanVarianceSigmas).
+        const double v_camera = m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se);
         const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees[c] && !m.dropped && !m.excluded;
         // Without the map (render/no_map_candidate.h) no photon pass is made: N does not matter.
         const double photon_cost = m.uses_map ? in.photon_cost : 0.0;

@@ -103,8 +103,13 @@ constexpr double kPlanMinPasses = 2.0;
 // and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.7:
 // the forced march lost 40-30000x to the collision gather wherever its largest weight passed 30).
 constexpr double kPlanMaxMarchWeight = 8.0;
-// A candidate without a map (render/no_map_candidate.h) is scored on its camera variance plus this
-// many of its standard errors (render/pilot_tail.h: large where a few samples hold the variance).
+// Every candidate is scored on its camera variance plus this many of its standard errors (from
+// its pilot pixels' samples, render/pilot_tail.h): the figure read from 512 samples of a gather, or
+// from 65536 of the continuation (render/no_map_candidate.h) held by a few of them, is a lower one.
+// Charged to the continuation alone, its cheaper samples' bound (+2-14% where light-tailed) against
+// the gathers' bare figures (their bounds: +25% and more) took the march in 16 of 213 plans of the
+// matrix and held-out scenes where the continuation won 6 of the 9 cells at equal time
+// (BENCHMARKS.md section 29).
 constexpr double kPlanVarianceSigmas = 2.0;
 // Every candidate estimates the same image: one whose pilot mean differs from the others' by more
 // than 2 standard errors and by more than half the larger mean is missing a tail the pilot did not
