@@ -52,6 +52,75 @@ double map_variance_exponent(double v_half, double v_quarter, bool& measured) {
     return std::clamp(std::log2(v_quarter / v_half), 1.0 / 3.0, 1.0);
 }
 
+namespace {
+
+// One candidate's best pass sizes (N photons, S samples) and their score for camera variance
+// v_camera: least error^2 x time (with a budget) or variance x cost per pass.
+struct Sizing {
+    double score = kInfinity, cost = kInfinity;
+    int64_t count = 0;
+    int spp = 0;
+};
+
+Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_camera, double beta, bool trusted) {
+    const double cap = in.budget > 0.0 ? in.budget / kPlanMinPasses : kInfinity;
+    const double v_map_half = std::max(0.0, m.v_map_half);   // < 0: the map's noise is below the pilot's resolution
+    const double bias2_n0 = std::max(0.0, m.bias2);
+    // Without the map (render/no_map_candidate.h) no photon pass is made: N does not matter.
+    const double photon_cost = m.uses_map ? in.photon_cost : 0.0;
+    Sizing best;
+    best.count = in.count;
+    best.spp = in.spp;
+    const int doublings = in.size_photons && m.uses_map ? kPlanMaxPhotonDoublings : 0;
+    // Per doubling of the photons, each used query's price grows (the stored photons double with them).
+    const double query_growth = in.query_doubling * std::min(m.per_sample.queries, m.per_sample.map_used);
+    const int s_hi = in.size_samples ? kPlanMaxSpp : in.spp;
+    // Without a map every sample count has the same variance x cost and ties went to 1 sample per
+    // pass, whose fixed cost per pass (not counted) then dominated: the box at 1000 optical depths
+    // and albedo 0.99 rendered 1366 passes of 1 sample in 2 s, 5x the path tracer's error. Such
+    // passes hold at least kNoMapPassSamples camera samples, as the path tracer's groups do.
+    int s_lo = in.size_samples ? 1 : in.spp;
+    if (in.size_samples && !m.uses_map)
+        while (s_lo < s_hi && double(s_lo) * in.pixels < kNoMapPassSamples) s_lo *= 2;
+    for (int i = 0; i <= doublings; ++i) {
+        const double n = double(in.count) * double(int64_t(1) << i);
+        const double v_map = v_map_half * std::pow(0.5 * double(in.count) / n, beta);
+        const double bias2 = bias2_n0 * std::pow(double(in.count) / n, 4.0 / 3.0);
+        for (int s = s_lo; s <= s_hi; s *= 2) {
+            const double cost = photon_cost * n + in.pixels * double(s) * (m.sample_cost + double(i) * query_growth);
+            // Over the cap only passes no larger than the configured one (N0, S0) count: the
+            // plan never makes a pass longer than the budget that the configuration did not.
+            if (cost > cap && !(i == 0 && s <= in.spp)) continue;
+            const double variance = v_map + v_camera / double(s);
+            double score = variance * cost;
+            // Whole passes: P = floor(T / C) of them fit (one at least), so a pass that fills most of
+            // the budget is one pass, whose variance does not average down (a 1-sample pass whose
+            // photons took the budget won over 16 samples when P was taken as T / C).
+            if (in.budget > 0.0)
+                score = cost <= in.budget ? (variance / std::floor(in.budget / cost) + bias2) * in.budget
+                                          : (variance + bias2) * cost;
+            if (!trusted) score = kInfinity;
+            // Without the map every S scores alike (V_camera / S times S samples' cost, up to
+            // rounding): then the smallest pass, which the run loop groups (render/run.cpp: a
+            // stateless integrator's passes go in groups of at least kMinGroupSamples), so that a
+            // time limit cuts it finely. (The largest, as before, left 256-sample passes that
+            // ended up to a pass before the limit: 7.2 s of 8 in a 64x64 image.)
+            const bool tie = m.uses_map || !(best.score < kInfinity) ? score == best.score
+                                                                    : std::abs(score - best.score) <= 1e-9 * best.score;
+            if ((score < best.score && !tie) || (tie && cost < best.cost)) {
+                best.score = score;
+                best.cost = cost;
+                best.count = int64_t(n);
+                best.spp = s;
+            }
+            if (!in.size_samples) break;
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
 PassPlan plan_passes(const PlanInputs& in) {
     if (in.candidates.empty()) throw Error("plan_passes: no candidate gathers");
     if (!(in.count >= 1) || !(in.spp >= 1) || !(in.pixels > 0.0))
@@ -59,80 +128,32 @@ PassPlan plan_passes(const PlanInputs& in) {
     PassPlan plan;
     plan.count = in.count;
     plan.spp = in.spp;
-    const double cap = in.budget > 0.0 ? in.budget / kPlanMinPasses : kInfinity;
     double best = kInfinity, best_cost = kInfinity;
+    bool best_trusted = false;
     const std::vector<bool> agrees = means_trusted(in.candidates);
     for (size_t c = 0; c < in.candidates.size(); ++c) {
         const GatherMeasurement& m = in.candidates[c];
         bool measured = false;
         const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
-        const double v_map_half = std::max(0.0, m.v_map_half);   // < 0: the map's noise is below the pilot's resolution
-        const double bias2_n0 = std::max(0.0, m.bias2);
-        // The camera variance at its upper bound (pass_plan.h: kPlanVarianceSigmas).
-        const double v_camera = m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se);
         const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees[c] && !m.dropped && !m.excluded;
-        // Without the map (render/no_map_candidate.h) no photon pass is made: N does not matter.
-        const double photon_cost = m.uses_map ? in.photon_cost : 0.0;
-        double cand_best = kInfinity, cand_cost = kInfinity;
-        int64_t cand_n = in.count;
-        int cand_s = in.spp;
-        const int doublings = in.size_photons && m.uses_map ? kPlanMaxPhotonDoublings : 0;
-        // Per doubling of the photons, each used query's price grows (the stored photons double with them).
-        const double query_growth = in.query_doubling * std::min(m.per_sample.queries, m.per_sample.map_used);
-        const int s_hi = in.size_samples ? kPlanMaxSpp : in.spp;
-        // Without a map every sample count has the same variance x cost and ties went to 1 sample per
-        // pass, whose fixed cost per pass (not counted) then dominated: the box at 1000 optical depths
-        // and albedo 0.99 rendered 1366 passes of 1 sample in 2 s, 5x the path tracer's error. Such
-        // passes hold at least kNoMapPassSamples camera samples, as the path tracer's groups do.
-        int s_lo = in.size_samples ? 1 : in.spp;
-        if (in.size_samples && !m.uses_map)
-            while (s_lo < s_hi && double(s_lo) * in.pixels < kNoMapPassSamples) s_lo *= 2;
-        for (int i = 0; i <= doublings; ++i) {
-            const double n = double(in.count) * double(int64_t(1) << i);
-            const double v_map = v_map_half * std::pow(0.5 * double(in.count) / n, beta);
-            const double bias2 = bias2_n0 * std::pow(double(in.count) / n, 4.0 / 3.0);
-            for (int s = s_lo; s <= s_hi; s *= 2) {
-                const double cost = photon_cost * n + in.pixels * double(s) * (m.sample_cost + double(i) * query_growth);
-                // Over the cap only passes no larger than the configured one (N0, S0) count: the
-                // plan never makes a pass longer than the budget that the configuration did not.
-                if (cost > cap && !(i == 0 && s <= in.spp)) continue;
-                const double variance = v_map + v_camera / double(s);
-                double score = variance * cost;
-                // Whole passes: P = floor(T / C) of them fit (one at least), so a pass that fills most of
-                // the budget is one pass, whose variance does not average down (a 1-sample pass whose
-                // photons took the budget won over 16 samples when P was taken as T / C).
-                if (in.budget > 0.0)
-                    score = cost <= in.budget ? (variance / std::floor(in.budget / cost) + bias2) * in.budget
-                                              : (variance + bias2) * cost;
-                if (!trusted) score = kInfinity;
-                // Without the map every S scores alike (V_camera / S times S samples' cost, up to
-                // rounding): then the smallest pass, which the run loop groups (render/run.cpp: a
-                // stateless integrator's passes go in groups of at least kMinGroupSamples), so that a
-                // time limit cuts it finely. (The largest, as before, left 256-sample passes that
-                // ended up to a pass before the limit: 7.2 s of 8 in a 64x64 image.)
-                const bool tie = m.uses_map || !(cand_best < kInfinity) ? score == cand_best
-                                                                    : std::abs(score - cand_best) <= 1e-9 * cand_best;
-                if ((score < cand_best && !tie) || (tie && cost < cand_cost)) {
-                    cand_best = score;
-                    cand_cost = cost;
-                    cand_n = int64_t(n);
-                    cand_s = s;
-                }
-                if (!in.size_samples) break;
-            }
-        }
-        plan.score.push_back(cand_best);
+        // Chosen on the camera variance at its upper bound (pass_plan.h: kPlanVarianceSigmas).
+        const Sizing bound = size_passes(in, m, m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se), beta, trusted);
+        plan.score.push_back(bound.score);
         // Least score; equal scores (nothing lit: every variance 0; or no candidate trusted) go to the cheaper pass.
-        if (cand_best < best || (cand_best == best && cand_cost < best_cost)) {
-            best = cand_best;
-            best_cost = cand_cost;
+        if (bound.score < best || (bound.score == best && bound.cost < best_cost)) {
+            best = bound.score;
+            best_cost = bound.cost;
+            best_trusted = trusted;
             plan.chosen = int(c);
-            plan.count = cand_n;
-            plan.spp = cand_s;
             plan.beta = beta;
             plan.beta_measured = measured;
         }
     }
+    // Sized on the variance read: the bound only guards the choice between candidates.
+    const Sizing sized = size_passes(in, in.candidates[size_t(plan.chosen)], in.candidates[size_t(plan.chosen)].v_camera,
+                                     plan.beta, best_trusted);
+    plan.count = sized.count;
+    plan.spp = sized.spp;
     return plan;
 }
 

@@ -109,7 +109,9 @@ constexpr double kPlanMaxMarchWeight = 8.0;
 // Charged to the continuation alone, its cheaper samples' bound (+2-14% where light-tailed) against
 // the gathers' bare figures (their bounds: +25% and more) took the march in 16 of 213 plans of the
 // matrix and held-out scenes where the continuation won 6 of the 9 cells at equal time
-// (BENCHMARKS.md section 29).
+// (BENCHMARKS.md section 29). The bound chooses the candidate; its passes are sized on the figure
+// read (on the bound a thin sphere's march took 128 samples per pass for 32: 0.16 of the path
+// tracer's time to equal error for 0.10).
 constexpr double kPlanVarianceSigmas = 2.0;
 // Every candidate estimates the same image: one whose pilot mean differs from the others' by more
 // than 2 standard errors and by more than half the larger mean is missing a tail the pilot did not

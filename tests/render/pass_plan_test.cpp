@@ -321,3 +321,19 @@ TEST(PassPlan, LargerMapsPriceTheirQueriesHigher) {
     EXPECT_GT(a.count, 1000);   // the flat price buys photons here
     EXPECT_LT(b.count, a.count);
 }
+
+TEST(PassPlan, TheBoundChoosesAndTheFigureReadSizes) {
+    // A camera variance read from few samples (relative SE 1.5: bound 4x the figure) raises the
+    // candidate's score, not its samples per pass: those come from the figure read, as without it.
+    PlanInputs in = inputs(/*v_camera*/ 4.0, /*v_half*/ 0.02, /*v_quarter*/ 0.04, /*sample*/ 50.0, /*photon*/ 200.0);
+    const PassPlan read = plan_passes(in);
+    in.candidates[0].v_camera_rel_se = 1.5;
+    const PassPlan bound = plan_passes(in);
+    EXPECT_EQ(bound.spp, read.spp);
+    EXPECT_EQ(bound.count, read.count);
+    EXPECT_GT(bound.score[0], read.score[0]);
+    // At the bound's own optimum the samples per pass would double (S* ~ sqrt(V_camera)).
+    in.candidates[0].v_camera *= 1.0 + kPlanVarianceSigmas * 1.5;
+    in.candidates[0].v_camera_rel_se = 0.0;
+    EXPECT_GT(plan_passes(in).spp, read.spp);
+}
