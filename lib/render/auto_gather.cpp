@@ -154,15 +154,15 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                     << " work units, exceeds half the budget), work " << m.sample_cost << " per sample";
                 continue;
             }
-            log << m.samples << " samples, per-sample variance " << m.v_camera << ", map variance at N/2 " << m.v_map_half
+            log << m.samples << " samples, per-sample variance " << m.v_camera << " (charged at "
+                << 1.0 + kPlanVarianceSigmas * m.v_camera_rel_se << "x: its upper bound), map variance at N/2 " << m.v_map_half
                 << ", bias " << m.bias_mean << " +- " << m.bias_se << " (squared, charged: " << m.bias2 << "), mean " << m.mean << " +- " << m.mean_se
                 << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
                 << ", work " << m.sample_cost << " per sample, map estimates used " << m.per_sample.map_used << " per sample";
             if (m.uses_map && m.excluded)
                 log << " (not a choice: it almost never used the map, so it is the continuation plus a photon pass, render/no_map_candidate.h)";
             if (!m.uses_map)
-                log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance, charged at "
-                    << 1.0 + kPlanVarianceSigmas * m.v_camera_rel_se << "x it (its upper bound)"
+                log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance"
                     << (m.excluded ? " (not a choice: the map is used and its paths are long, render/no_map_candidate.h)" : "");
         }
         log << "; work " << in.photon_cost << " per photon)\n";

@@ -322,6 +322,26 @@ TEST(PassPlan, LargerMapsPriceTheirQueriesHigher) {
     EXPECT_LT(b.count, a.count);
 }
 
+TEST(PassPlan, EveryCandidatesVarianceIsChargedAtItsUpperBound) {
+    // A map gather and the continuation at the same cost: the continuation's variance read 0.8 of the
+    // map's. Read exactly it wins; read from a few samples (relative SE 0.2: charged 1.4x) it loses to
+    // an exact map, and wins again where the map's figure is as uncertain (0.25: 1.5x).
+    PlanInputs in = inputs(/*v_camera*/ 1.0, /*v_half*/ 0.0, /*v_quarter*/ -1.0, /*sample*/ 100.0, /*photon*/ 0.0);
+    in.size_photons = in.size_samples = false;
+    GatherMeasurement none = in.candidates[0];
+    none.name = kNoMapCandidate;
+    none.uses_map = false;
+    none.v_camera = 0.8;
+    in.candidates.push_back(none);
+    EXPECT_EQ(plan_passes(in).chosen, 1);
+    in.candidates[1].v_camera_rel_se = 0.2;
+    EXPECT_EQ(plan_passes(in).chosen, 0);
+    in.candidates[0].v_camera_rel_se = 0.25;
+    const PassPlan p = plan_passes(in);
+    EXPECT_EQ(p.chosen, 1);
+    EXPECT_NEAR(p.score[1] / p.score[0], 0.8 * (1.0 + kPlanVarianceSigmas * 0.2) / (1.0 + kPlanVarianceSigmas * 0.25), 1e-12);
+}
+
 TEST(PassPlan, TheBoundChoosesAndTheFigureReadSizes) {
     // A camera variance read from few samples (relative SE 1.5: bound 4x the figure) raises the
     // candidate's score, not its samples per pass: those come from the figure read, as without it.
