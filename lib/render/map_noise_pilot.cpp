@@ -24,26 +24,33 @@ constexpr uint64_t kBackgroundSalt = 0x6261636b67726e64ULL;   // the background 
 // A sample's slot: fixed whatever n is (`most`: the candidate's largest n; kPilotSamples with halves).
 size_t at(int j, int s, int most) { return size_t(j) * size_t(most) + size_t(s); }
 
-// Per pixel: the mean of a's first n samples minus b's, squared, less the samples' share Var(a - b) / n.
-// Averaged over the pixels: E[(mean_a - mean_b)^2] - Var(a - b) / n = V_map(a) + V_map(b); `se` its
-// standard error from the pixels' spread.
-double map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int n, double& se) {
-    double mean_t = 0.0, m2_t = 0.0;
-    for (int j = 0; j < kPixels; ++j) {
+// Per pixel of `pixels` (samples in slots of `most`): the mean of a's first n samples minus b's,
+// squared, less the samples' share Var(a - b) / n, an unbiased figure of V_map(a) + V_map(b) there.
+// Appended to `t`.
+void append_map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int pixels, int n,
+                                       int most, std::vector<double>& t) {
+    for (int j = 0; j < pixels; ++j) {
         double mean = 0.0, m2 = 0.0;
         for (int s = 0; s < n; ++s) {
-            const double d = a[at(j, s, kPilotSamples)] - b[at(j, s, kPilotSamples)];
+            const double d = a[at(j, s, most)] - b[at(j, s, most)];
             const double delta = d - mean;
             mean += delta / (s + 1);
             m2 += delta * (d - mean);
         }
-        const double t = mean * mean - m2 / (n - 1) / n;
-        const double delta = t - mean_t;
-        mean_t += delta / (j + 1);
-        m2_t += delta * (t - mean_t);
+        t.push_back(mean * mean - m2 / (n - 1) / n);
     }
-    se = std::sqrt(m2_t / (kPixels - 1) / kPixels);
-    return mean_t;
+}
+
+// The mean of the pixels' figures and (`se`) its standard error from their spread.
+double mean_with_standard_error(const std::vector<double>& t, double& se) {
+    double mean = 0.0, m2 = 0.0;
+    for (size_t j = 0; j < t.size(); ++j) {
+        const double delta = t[j] - mean;
+        mean += delta / double(j + 1);
+        m2 += delta * (t[j] - mean);
+    }
+    se = t.size() > 1 ? std::sqrt(m2 / double(t.size() - 1) / double(t.size())) : 0.0;
+    return mean;
 }
 
 // f x a + (1 - f) x b, field by field (the largest march weight is a maximum, kept from a).
@@ -186,24 +193,31 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             v += m2 / (n - 1);
         }
         g.v_camera = v / kPixels;
+        // The spread grid's samples with each map (the full map, then the halves where traced).
+        std::vector<std::vector<double>> spread_values;
         if (may_use_halves) {
-            // V_camera also at the centres of a 16 x 16 grid, kSpreadSamples each with the full map
-            // (no halves: V_map and the bias stay the 8 x 8 pixels'), weighted by pixel count. The
-            // 8 x 8 centres alone missed where the march's camera noise lives in a sphere lit from the
-            // side (1% of the pixels, on its lit rim, held 75% of it: 2.0e-5 read, 1.4e-4 true).
-            hooks.use(int(c), maps[0]);   // the full map again (the halves were in force last)
-            std::vector<double> spread_values(size_t(kSpreadPixels) * kPilotSpreadSamples);
-            tbb::parallel_for(0, kSpreadPixels, [&](int j) {
-                const auto [px, py] = where.spread[size_t(j)];
-                for (int s = 0; s < kPilotSpreadSamples; ++s) {
-                    Rng rng(mix64(seed ^ kSpreadSalt), stream * uint64_t(kSpreadPixels * kPilotSpreadSamples) + uint64_t(j * kPilotSpreadSamples + s));
-                    spread_values[at(j, s, kPilotSpreadSamples)] = sample(px, py, rng);
-                }
-            });
+            // V_camera and V_map also at the centres of a 16 x 16 grid, kSpreadSamples each with
+            // every map (the bias stays the 8 x 8 pixels'), weighted by pixel count. The 8 x 8 centres
+            // alone missed where the march's camera noise lives in a sphere lit from the side (1% of
+            // the pixels, on its lit rim, held 75% of it: 2.0e-5 read, 1.4e-4 true), and where a thin
+            // plume holds the map's noise in a tenth of them, V_map read from those few pixels ranged
+            // over 0.18-2.8x its mean at seeds 1-12 (BENCHMARKS.md section 30).
+            for (size_t m = 0; m < maps.size(); ++m) {
+                hooks.use(int(c), maps[m]);
+                std::vector<double>& out_m = spread_values.emplace_back(size_t(kSpreadPixels) * kPilotSpreadSamples);
+                tbb::parallel_for(0, kSpreadPixels, [&](int j) {
+                    const auto [px, py] = where.spread[size_t(j)];
+                    for (int s = 0; s < kPilotSpreadSamples; ++s) {
+                        // The same numbers for every map: the differences are the maps'.
+                        Rng rng(mix64(seed ^ kSpreadSalt), stream * uint64_t(kSpreadPixels * kPilotSpreadSamples) + uint64_t(j * kPilotSpreadSamples + s));
+                        out_m[at(j, s, kPilotSpreadSamples)] = sample(px, py, rng);
+                    }
+                });
+            }
             static_assert(kPilotSpreadSamples == 2, "the spread's variance below is that of two samples");
             double vs = 0.0;
             for (int j = 0; j < kSpreadPixels; ++j) {
-                const double a = spread_values[at(j, 0, kPilotSpreadSamples)], b = spread_values[at(j, 1, kPilotSpreadSamples)];
+                const double a = spread_values[0][at(j, 0, kPilotSpreadSamples)], b = spread_values[0][at(j, 1, kPilotSpreadSamples)];
                 vs += 0.5 * (a - b) * (a - b);   // the unbiased variance of two samples
             }
             g.v_camera = (v + vs) / (kPixels + kSpreadPixels);
@@ -235,9 +249,14 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             // A map variance the pilot does not resolve is charged at its standard error, not at 0 (or
             // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
             // whose map noise then set the image's error (BENCHMARKS.md section 17).
+            std::vector<double> t;
+            append_map_variance_of_difference(values[1], values[2], kPixels, n, kPilotSamples, t);
+            append_map_variance_of_difference(spread_values[1], spread_values[2], kSpreadPixels, kPilotSpreadSamples,
+                                              kPilotSpreadSamples, t);
             double se = 0.0;
-            const double v = map_variance_of_difference(values[1], values[2], n, se);
+            const double v = mean_with_standard_error(t, se);
             g.v_map_half = 0.5 * std::max(v, se);
+            g.v_map_half_se = 0.5 * se;
             const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
             g.bias2 = bias.bias2;
             g.bias_mean = bias.mean;
@@ -245,7 +264,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         }
         // Averages over the image: the pixels that can vary, times their share (the rest add 0). The
         // mean stays theirs (the background's radiance need not be 0): it only compares candidates.
-        for (double* x : {&g.v_camera, &g.v_map_half, &g.bias2, &g.bias_mean, &g.bias_se}) *x *= f;
+        for (double* x : {&g.v_camera, &g.v_map_half, &g.v_map_half_se, &g.bias2, &g.bias_mean, &g.bias_se}) *x *= f;
         out.push_back(g);
     }
     return out;

@@ -15,11 +15,13 @@
 // Each pilot pixel's samples jitter within that one pixel: spread over a block of the image, their
 // variance would count the image's own variation as noise (the "pilot" gather's error: it made the
 // march's variance look 10x larger in the box at optical thickness 1, BENCHMARKS.md section 11.7).
-// V_camera is also measured at the centres of a 16 x 16 grid, 2 samples each with the full map (a
-// map candidate's cost per sample is its 8 x 8 pixels'): on a sphere lit from the side the 8 x 8
-// centres missed its lit rim, 1% of the pixels with 75% of the march's camera noise, and read 1/7
-// of it; a pilot of 16 x 16 pixels for every figure instead was worse in 8 of 11 matrix cells at a
-// 2 s budget (fewer samples per pixel for V_map; BENCHMARKS.md section 23).
+// V_camera and V_map are also measured at the centres of a 16 x 16 grid, 2 samples each with the
+// full map and its halves (a map candidate's cost per sample is its 8 x 8 pixels'): on a sphere lit
+// from the side the 8 x 8 centres missed its lit rim, 1% of the pixels with 75% of the march's
+// camera noise, and read 1/7 of it; in a thin plume under a sun (bench/heldout/h16) a tenth of them
+// held the map's noise, and V_map read from them alone ranged over 0.18-2.8x its mean over seeds
+// (BENCHMARKS.md section 30). A pilot of 16 x 16 pixels at 8 samples for every figure instead was
+// worse in 8 of 11 matrix cells at a 2 s budget (fewer samples per pixel; section 23).
 // Quarter maps (V_map at N0/4, hence the exponent beta) doubled the pilot's cost and changed no
 // plan in the matrix cells tried (the map's share was below the camera's in all of them): not traced.
 #include <functional>
@@ -48,8 +50,9 @@ struct MapNoisePilotHooks {
 
 constexpr int kPilotSide = 8;       // pilot pixels: the centres of an 8 x 8 grid of image blocks
 constexpr int kPilotSamples = 8;    // samples per pilot pixel and map, at most (render/pilot_budget.h)
-// V_camera's second grid (above): its centres, kPilotSpreadSamples each with the full map, for a
-// candidate that may use the map and was not dropped (outside the budget share: 1/3 more samples).
+// The second grid (above): its centres, kPilotSpreadSamples each with the full map and (where traced)
+// its halves, for a candidate that may use the map and was not dropped (outside the budget share:
+// as many traces again as its 8 x 8 pixels' at kPilotSamples).
 constexpr int kPilotSpreadSide = 16;
 constexpr int kPilotSpreadSamples = 2;
 // A candidate without a map takes up to this many samples per pilot pixel: within its budget share,

@@ -62,9 +62,11 @@ struct Sizing {
     int spp = 0;
 };
 
-Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_camera, double beta, bool trusted) {
+// v_camera and v_map_half: the candidate's variances as read, or at their upper bounds.
+Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_camera, double v_map_half, double beta,
+                   bool trusted) {
     const double cap = in.budget > 0.0 ? in.budget / kPlanMinPasses : kInfinity;
-    const double v_map_half = std::max(0.0, m.v_map_half);   // < 0: the map's noise is below the pilot's resolution
+    v_map_half = std::max(0.0, v_map_half);   // < 0: the map's noise is below the pilot's resolution
     const double bias2_n0 = std::max(0.0, m.bias2);
     // Without the map (render/no_map_candidate.h) no photon pass is made: N does not matter.
     const double photon_cost = m.uses_map ? in.photon_cost : 0.0;
@@ -136,8 +138,9 @@ PassPlan plan_passes(const PlanInputs& in) {
         bool measured = false;
         const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
         const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees[c] && !m.dropped && !m.excluded;
-        // Chosen on the camera variance at its upper bound (pass_plan.h: kPlanVarianceSigmas).
-        const Sizing bound = size_passes(in, m, m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se), beta, trusted);
+        // Chosen on its variances at their upper bounds (pass_plan.h: kPlanVarianceSigmas).
+        const Sizing bound = size_passes(in, m, m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se),
+                                         std::max(0.0, m.v_map_half) + kPlanVarianceSigmas * m.v_map_half_se, beta, trusted);
         plan.score.push_back(bound.score);
         // Least score; equal scores (nothing lit: every variance 0; or no candidate trusted) go to the cheaper pass.
         if (bound.score < best || (bound.score == best && bound.cost < best_cost)) {
@@ -150,8 +153,8 @@ PassPlan plan_passes(const PlanInputs& in) {
         }
     }
     // Sized on the variance read: the bound only guards the choice between candidates.
-    const Sizing sized = size_passes(in, in.candidates[size_t(plan.chosen)], in.candidates[size_t(plan.chosen)].v_camera,
-                                     plan.beta, best_trusted);
+    const GatherMeasurement& chosen = in.candidates[size_t(plan.chosen)];
+    const Sizing sized = size_passes(in, chosen, chosen.v_camera, chosen.v_map_half, plan.beta, best_trusted);
     plan.count = sized.count;
     plan.spp = sized.spp;
     return plan;

@@ -47,6 +47,7 @@ struct GatherMeasurement {
     double mean_se = 0.0;         // its standard error
     double tail_share = 0.0;      // share of its squared deviations in its largest 1/1024 samples (render/pilot_tail.h)
     double v_camera_rel_se = 0.0; // relative standard error of the variance its pilot pixels read (render/pilot_tail.h)
+    double v_map_half_se = 0.0;   // standard error of v_map_half, from its pilot pixels' spread (0: not measured)
     CountedOperations per_sample; // the operations behind it
     int samples = 0;              // pilot samples per pixel and map (render/pilot_budget.h)
     bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap
@@ -106,6 +107,10 @@ constexpr double kPlanMaxMarchWeight = 8.0;
 // Every candidate is scored on its camera variance plus this many of its standard errors (from
 // its pilot pixels' samples, render/pilot_tail.h): the figure read from 512 samples of a gather, or
 // from 65536 of the continuation (render/no_map_candidate.h) held by a few of them, is a lower one.
+// The map's variance likewise, plus this many standard errors of its pixels' spread: read from the
+// few pixels that hold it (a thin plume under a sun, bench/heldout/h16), it came out 0.18x its mean
+// at one seed, where the march then took 2.9x the path tracer's time to equal error for the
+// continuation's 1.05 (BENCHMARKS.md section 30).
 // Charged to the continuation alone, its cheaper samples' bound (+2-14% where light-tailed) against
 // the gathers' bare figures (their bounds: +25% and more) took the march in 16 of 213 plans of the
 // matrix and held-out scenes where the continuation won 6 of the 9 cells at equal time

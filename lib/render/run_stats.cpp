@@ -204,13 +204,14 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& a = stats.auto_gather) {
         record.set("photons.auto_gather.chosen", a->chosen);
         std::vector<std::string> names;
-        std::vector<double> v_camera, v_map_half, v_map_quarter, bias2, bias_mean, bias_se, weights, means, mean_ses, tails, v_camera_rel_se, cost, queries, rays, lookups, used, steps, density_lookups, cells;
+        std::vector<double> v_camera, v_map_half, v_map_half_se, v_map_quarter, bias2, bias_mean, bias_se, weights, means, mean_ses, tails, v_camera_rel_se, cost, queries, rays, lookups, used, steps, density_lookups, cells;
         std::vector<int> samples;
         std::vector<bool> dropped, excluded;
         for (const auto& c : a->candidates) {
             names.push_back(c.name);
             v_camera.push_back(c.v_camera);
             v_map_half.push_back(c.v_map_half);
+            v_map_half_se.push_back(c.v_map_half_se);
             v_map_quarter.push_back(c.v_map_quarter);
             cost.push_back(c.sample_cost);
             bias2.push_back(c.bias2);
@@ -235,6 +236,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.candidates", nlohmann::json(names));
         record.set("photons.auto_gather.v_camera", nlohmann::json(v_camera));
         record.set("photons.auto_gather.v_map_half", nlohmann::json(v_map_half));
+        record.set("photons.auto_gather.v_map_half_se", nlohmann::json(v_map_half_se));
         record.set("photons.auto_gather.v_map_quarter", nlohmann::json(v_map_quarter));
         record.set("photons.auto_gather.sample_cost", nlohmann::json(cost));
         record.set("photons.auto_gather.bias2", nlohmann::json(bias2));

@@ -357,3 +357,30 @@ TEST(PassPlan, TheBoundChoosesAndTheFigureReadSizes) {
     in.candidates[0].v_camera_rel_se = 0.0;
     EXPECT_GT(plan_passes(in).spp, read.spp);
 }
+
+TEST(PassPlan, TheMapsVarianceIsChargedAtItsUpperBoundToo) {
+    // A map gather whose map variance, read as is, leaves it ahead of the continuation (0.005 + 1/16
+    // per pass against 1.2/16 at the same cost): read with a standard error of 0.01 at N0/2 (charged
+    // 0.03, 0.015 at N0) it falls behind, and where it still wins its passes come from the figure read.
+    PlanInputs in = inputs(/*v_camera*/ 1.0, /*v_half*/ 0.01, /*v_quarter*/ -1.0, /*sample*/ 100.0, /*photon*/ 0.0);
+    in.size_photons = in.size_samples = false;
+    GatherMeasurement none = in.candidates[0];
+    none.name = kNoMapCandidate;
+    none.uses_map = false;
+    none.v_camera = 1.2;
+    none.v_map_half = 0.0;
+    in.candidates.push_back(none);
+    EXPECT_EQ(plan_passes(in).chosen, 0);
+    in.candidates[0].v_map_half_se = 0.01;
+    const PassPlan p = plan_passes(in);
+    EXPECT_EQ(p.chosen, 1);
+    EXPECT_NEAR(p.score[0] / p.score[1], (0.015 + 1.0 / 16.0) / (1.2 / 16.0), 1e-12);
+
+    PlanInputs sized = inputs(/*v_camera*/ 4.0, /*v_half*/ 0.02, /*v_quarter*/ 0.04, /*sample*/ 50.0, /*photon*/ 200.0);
+    const PassPlan read = plan_passes(sized);
+    sized.candidates[0].v_map_half_se = 0.05;
+    const PassPlan bound = plan_passes(sized);
+    EXPECT_EQ(bound.count, read.count);
+    EXPECT_EQ(bound.spp, read.spp);
+    EXPECT_GT(bound.score[0], read.score[0]);
+}

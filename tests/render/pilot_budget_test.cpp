@@ -64,10 +64,10 @@ TEST(PilotBudget, SamplesFollowTheShareAndDearCandidatesStopAfterTheirProbe) {
     EXPECT_FALSE(m[2].uses_map);
     EXPECT_EQ(m[2].v_map_half, 0.0);
     EXPECT_GT(m[2].v_camera, 0.0);
-    // Counted work: the cheap candidate's 5 samples x 3 maps and its V_camera spread samples, the dear
+    // Counted work: the cheap candidate's 5 samples x 3 maps and its spread samples with the 3 maps, the dear
     // one's probe, the last one's 2 x 1 map.
     constexpr int kSpread = kPilotSpreadSide * kPilotSpreadSide * kPilotSpreadSamples;
-    EXPECT_EQ(run.rays.load(), int64_t(5 * 3 * kPixels * 1 + kSpread * 1 + kPixels * 1000 + 2 * kPixels * 10));
+    EXPECT_EQ(run.rays.load(), int64_t(5 * 3 * kPixels * 1 + 3 * kSpread * 1 + kPixels * 1000 + 2 * kPixels * 10));
 
     // No map estimate used: the halves are neither built nor traced (V_map and bias^2 exactly 0),
     // while the samples stay those the three-map share pays for.
