@@ -60,7 +60,12 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         budget.per_candidate = in.budget * kPilotBudgetFraction / double(candidates.size());
         budget.max_pass_cost = in.budget / kPlanMinPasses;
     }
-    if (map->size() > 0) {
+    // Measured also where the pilot's volume map is empty and no surface map was stored: the gathers'
+    // queries then find no photons and continue the path, so they are the continuation plus a photon
+    // pass that buys nothing, and the plan drops them (render/no_map_candidate.h). Planned with every
+    // figure 0 instead, a scene whose only medium was empty traced 1e5 photons per pass, 185 passes
+    // in 2 s, for a black image.
+    if (map->size() > 0 || !(run_surface && run_surface->size() > 0)) {
         MapNoisePilotHooks hooks;
         // Grid tracking counts of the pilot's samples (scene/media/tracking_counter.h): sums, the
         // same whatever the threads' order.
@@ -108,8 +113,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         map_ = run_map;
         surface_map_ = run_surface;
     } else {
-        // Nothing to measure: the gathers cost the same and "continue" is left out (an empty map
-        // costs nothing and a surface map, if any, keeps its use).
+        // An empty volume map beside a surface map: the gathers cost the same and "continue" is left
+        // out (the empty map costs nothing and the surface map keeps its use).
         for (size_t c = 0; c + 1 < candidates.size(); ++c) {
             GatherMeasurement g;
             g.name = candidates[c].name;
@@ -146,7 +151,9 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         std::ostream& log = *context.log;
         log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
             << "up to " << kPilotSamples << " samples with the map and its halves, up to " << kNoMapPilotSamples << " without a map";
-        if (map->size() == 0) log << "; the volume map is empty, nothing to measure";
+        if (map->size() == 0)
+            log << (measured.front().samples > 0 ? "; the volume map is empty: its queries continue the path"
+                                                  : "; the volume map is empty, nothing to measure");
         for (const auto& m : measured) {
             log << "; " << m.name << ": ";
             if (m.dropped) {
