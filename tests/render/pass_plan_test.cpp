@@ -30,6 +30,20 @@ double score(const PlanInputs& in, double n, double s, double beta) {
     return (v_map + m.v_camera / s) * (in.photon_cost * n + in.pixels * s * m.sample_cost);
 }
 
+// A map gather (V_camera 1, V_map at N0/2 v_half) and the continuation (V_camera v_none) at the same
+// cost per sample and no photon cost, at the configured sizes: only the choice is the plan's.
+PlanInputs map_and_continuation(double v_half, double v_none) {
+    PlanInputs in = inputs(/*v_camera*/ 1.0, v_half, /*v_quarter*/ -1.0, /*sample*/ 100.0, /*photon*/ 0.0);
+    in.size_photons = in.size_samples = false;
+    GatherMeasurement none = in.candidates[0];
+    none.name = kNoMapCandidate;
+    none.uses_map = false;
+    none.v_camera = v_none;
+    none.v_map_half = 0.0;
+    in.candidates.push_back(none);
+    return in;
+}
+
 }  // namespace
 
 TEST(PassPlan, ExponentFromHalfAndQuarterMaps) {
@@ -326,13 +340,7 @@ TEST(PassPlan, EveryCandidatesVarianceIsChargedAtItsUpperBound) {
     // A map gather and the continuation at the same cost: the continuation's variance read 0.8 of the
     // map's. Read exactly it wins; read from a few samples (relative SE 0.2: charged 1.4x) it loses to
     // an exact map, and wins again where the map's figure is as uncertain (0.25: 1.5x).
-    PlanInputs in = inputs(/*v_camera*/ 1.0, /*v_half*/ 0.0, /*v_quarter*/ -1.0, /*sample*/ 100.0, /*photon*/ 0.0);
-    in.size_photons = in.size_samples = false;
-    GatherMeasurement none = in.candidates[0];
-    none.name = kNoMapCandidate;
-    none.uses_map = false;
-    none.v_camera = 0.8;
-    in.candidates.push_back(none);
+    PlanInputs in = map_and_continuation(/*v_half*/ 0.0, /*v_none*/ 0.8);
     EXPECT_EQ(plan_passes(in).chosen, 1);
     in.candidates[1].v_camera_rel_se = 0.2;
     EXPECT_EQ(plan_passes(in).chosen, 0);
@@ -352,6 +360,13 @@ TEST(PassPlan, TheBoundChoosesAndTheFigureReadSizes) {
     EXPECT_EQ(bound.spp, read.spp);
     EXPECT_EQ(bound.count, read.count);
     EXPECT_GT(bound.score[0], read.score[0]);
+    // The map's variance read with a standard error (its bound 6x the figure at N0/2) likewise.
+    in.candidates[0].v_map_half_se = 0.05;
+    const PassPlan both = plan_passes(in);
+    EXPECT_EQ(both.spp, read.spp);
+    EXPECT_EQ(both.count, read.count);
+    EXPECT_GT(both.score[0], bound.score[0]);
+    in.candidates[0].v_map_half_se = 0.0;
     // At the bound's own optimum the samples per pass would double (S* ~ sqrt(V_camera)).
     in.candidates[0].v_camera *= 1.0 + kPlanVarianceSigmas * 1.5;
     in.candidates[0].v_camera_rel_se = 0.0;
@@ -361,26 +376,12 @@ TEST(PassPlan, TheBoundChoosesAndTheFigureReadSizes) {
 TEST(PassPlan, TheMapsVarianceIsChargedAtItsUpperBoundToo) {
     // A map gather whose map variance, read as is, leaves it ahead of the continuation (0.005 + 1/16
     // per pass against 1.2/16 at the same cost): read with a standard error of 0.01 at N0/2 (charged
-    // 0.03, 0.015 at N0) it falls behind, and where it still wins its passes come from the figure read.
-    PlanInputs in = inputs(/*v_camera*/ 1.0, /*v_half*/ 0.01, /*v_quarter*/ -1.0, /*sample*/ 100.0, /*photon*/ 0.0);
-    in.size_photons = in.size_samples = false;
-    GatherMeasurement none = in.candidates[0];
-    none.name = kNoMapCandidate;
-    none.uses_map = false;
-    none.v_camera = 1.2;
-    none.v_map_half = 0.0;
-    in.candidates.push_back(none);
+    // 0.03, 0.015 at N0) it falls behind (its passes come from the figure read: TheBoundChoosesAndTheFigureReadSizes).
+    PlanInputs in = map_and_continuation(/*v_half*/ 0.01, /*v_none*/ 1.2);
     EXPECT_EQ(plan_passes(in).chosen, 0);
     in.candidates[0].v_map_half_se = 0.01;
     const PassPlan p = plan_passes(in);
     EXPECT_EQ(p.chosen, 1);
     EXPECT_NEAR(p.score[0] / p.score[1], (0.015 + 1.0 / 16.0) / (1.2 / 16.0), 1e-12);
 
-    PlanInputs sized = inputs(/*v_camera*/ 4.0, /*v_half*/ 0.02, /*v_quarter*/ 0.04, /*sample*/ 50.0, /*photon*/ 200.0);
-    const PassPlan read = plan_passes(sized);
-    sized.candidates[0].v_map_half_se = 0.05;
-    const PassPlan bound = plan_passes(sized);
-    EXPECT_EQ(bound.count, read.count);
-    EXPECT_EQ(bound.spp, read.spp);
-    EXPECT_GT(bound.score[0], read.score[0]);
 }
