@@ -468,20 +468,27 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
     auto& local = threads_->local.local();
     const bool starved = volume_map_starved();
+    // The collision gather's bound and rule (photon/bounded_radius.h) here: a ball spanning many mean
+    // free paths averages the lit skin of a dense medium with its dark inside (biased low), so where
+    // fewer than k photons lie within the bound the point takes the light a path would find instead,
+    // NEE and one phase-sampled continuation, both unbiased for the same incident radiance; where
+    // exactly k - 1 do, it takes 0, whose mass the k-1 correction already counts on the kNN side.
+    // (Switching on r_k alone, with the unbounded ball, read P(N = k - 1) high near the bound, up to
+    // 7% at k = 32: BENCHMARKS.md section 30.) The choice depends on x and the map only; the query
+    // draws no random numbers, so NEE, weighted as render/single_scattering.h says, follows it.
+    const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
     Estimate<Rgb> s;
     if (!starved)
-        s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, max_radius_, local.buffers, &local.stats,
+        s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, radius, local.buffers, &local.stats,
                                    gather_count());
-    // The collision gather's bound (photon/bounded_radius.h) here: a ball spanning many mean free
-    // paths averages the lit skin of a dense medium with its dark inside (biased low), so such a
-    // point takes the light a path would find instead: NEE and one phase-sampled continuation,
-    // both unbiased for the same incident radiance (the choice depends on x and the map only; the
-    // query draws no random numbers, so NEE, weighted as render/single_scattering.h says, follows it).
-    const bool wide = starved || (settings_.max_radius_mfp > 0.0 && s.radius * sigma_t > settings_.max_radius_mfp);
+    BoundedQuery q = BoundedQuery::use_estimate;
+    if (starved || radius < max_radius_) q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
+    const bool wide = q == BoundedQuery::continue_path;
     if (nee) {
         in += single_scattering(x, dir, g, wide, rng);
         ++local.rays;
     }
+    if (q == BoundedQuery::zero) return in;
     if (wide) {
         ++local.march_wide;
         if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis);
@@ -496,7 +503,7 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         return in;
     }
     ++local.map_used;
-    return in + normalised(s, x, -dir, g, max_radius_, sigma_t, local.buffers, local.linear_weights);
+    return in + normalised(s, x, -dir, g, radius, sigma_t, local.buffers, local.linear_weights);
 }
 
 void PhotonMapIntegrator::retire_beam() {
