@@ -31,6 +31,17 @@ RunConfig dense_sphere(const std::string& scale) {
                             "photons.count=100000", "render.integrator=photon_map"});
 }
 
+// The photon pass's settings for a map of ps.count photons from `seed`, as run_photon_pass makes
+// them (with NEE, single scattering is rendered, not stored).
+PhotonTraceSettings trace_settings(const PhotonMapSettings& ps, uint64_t seed) {
+    PhotonTraceSettings ts;
+    ts.count = uint64_t(ps.count);
+    ts.seed = seed;
+    ts.progress = false;
+    ts.store_direct = ps.direct == DirectLighting::photon_map;
+    return ts;
+}
+
 struct Comparison {
     test::Sample pm, pt;
     double z() const { return (pm.mean() - pt.mean()) / std::sqrt(pm.se() * pm.se() + pt.se() * pt.se()); }
@@ -41,12 +52,7 @@ Comparison compare(const RunConfig& config, const PhotonMapSettings& ps, int rep
     Comparison c;
     const Scene& scene = *config.scene;
     for (int r = 0; r < repeats; ++r) {
-        PhotonTraceSettings ts;
-        ts.count = uint64_t(ps.count);
-        ts.seed = 500 + uint64_t(r);
-        ts.progress = false;
-        ts.store_direct = ps.direct == DirectLighting::photon_map;   // as run_photon_pass: NEE renders single scattering
-        const PhotonMap map(trace_photons(scene, ts).photons);
+        const PhotonMap map(trace_photons(scene, trace_settings(ps, 500 + uint64_t(r))).photons);
         c.pm.add(test::image_mean(config, PhotonMapIntegrator(scene, ps, map), 11 + uint64_t(r), 4));
         c.pt.add(test::image_mean(config, PathTracer(scene, ps.walk), 900 + uint64_t(r), 16));
     }
@@ -95,12 +101,7 @@ TEST(DenseMedium, KAboveTheStoredCountContinuesPathsInTheFurnace) {
         const double env = config.scene->escaped_radiance(Vec3::UnitZ())[1];
         test::Sample m;
         for (int r = 0; r < 8; ++r) {
-            PhotonTraceSettings ts;
-            ts.count = uint64_t(ps.count);
-            ts.seed = 40 + uint64_t(r);
-            ts.progress = false;
-            ts.store_direct = ps.direct == DirectLighting::photon_map;
-            const PhotonMap map(trace_photons(*config.scene, ts).photons);
+            const PhotonMap map(trace_photons(*config.scene, trace_settings(ps, 40 + uint64_t(r))).photons);
             ASSERT_LT(map.size(), size_t(ps.k));
             const PhotonMapIntegrator pm(*config.scene, ps, map);
             m.add(test::image_mean(config, pm, 3 + uint64_t(r), 1));
@@ -159,11 +160,7 @@ TEST(DenseMedium, TheMarchsBoundIsExactForIndependentPhotonsInTheFurnace) {
     test::Sample m;
     uint64_t wide = 0, used = 0;
     for (int r = 0; r < 24; ++r) {
-        PhotonTraceSettings ts;
-        ts.count = uint64_t(ps.count);
-        ts.seed = 70 + uint64_t(r);
-        ts.progress = false;
-        ts.store_direct = ps.direct == DirectLighting::photon_map;
+        PhotonTraceSettings ts = trace_settings(ps, 70 + uint64_t(r));
         ts.store_probability = 0.02;
         const PhotonMap map(trace_photons(*config.scene, ts).photons);
         // The bound at the k-th radius of a uniform density of map.size() photons in the sphere of radius 6:
