@@ -17,12 +17,13 @@
 //     N <= k - 2   continue the path: an unbiased estimate of the same light, weight P(N <= k-2)
 //
 // which sums to rho exactly: the k-1 correction stays exact where the kNN radius is used, and the
-// rest is path traced. Only for independent photons: where a walk stores many collisions close
-// together N is overdispersed, the band no longer balances, and the switch itself biases the image
-// (+7% in the dense plume of bench/heldout/h25, 18 photons per storing walk; thinned storage removes
-// it: BENCHMARKS.md section 30). A decision independent of the map it selects would be exact. (With classic or mse_optimal the first line is their own, biased, kNN
-// estimate; the split is the same.) The cost: where the map is too coarse for the medium the
-// camera path becomes a path-traced random walk (measured in docs/dense_media.md). When the map holds
+// rest is path traced. (With classic or mse_optimal the first line is their own, biased, kNN
+// estimate; the split is the same.) Exact only for independent photons: where a walk stores many
+// collisions close together N is overdispersed, the band no longer balances, and the switch itself
+// biases the image (+7% in the dense plume of bench/heldout/h25, 18 photons per storing walk; thinned
+// storage removes it: BENCHMARKS.md section 30). A decision independent of the map it selects would
+// be exact. The cost: where the map is too coarse for the medium the camera path becomes a
+// path-traced random walk (measured in docs/dense_media.md). When the map holds
 // fewer than k photons (empty, or starved by photons.store_probability or a tiny photons.count) no
 // ball holds k anywhere: the integrator continues the path without a query, bound or no bound, at
 // the collision and at march points alike (issue 24).

@@ -65,7 +65,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     // pass that buys nothing, and the plan drops them (render/no_map_candidate.h). Planned with every
     // figure 0 instead, a scene whose only medium was empty traced 1e5 photons per pass, 185 passes
     // in 2 s, for a black image.
-    if (map->size() > 0 || !(run_surface && run_surface->size() > 0)) {
+    const bool measured_by_pilot = map->size() > 0 || !(run_surface && run_surface->size() > 0);
+    if (measured_by_pilot) {
         MapNoisePilotHooks hooks;
         // Grid tracking counts of the pilot's samples (scene/media/tracking_counter.h): sums, the
         // same whatever the threads' order.
@@ -152,8 +153,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
             << "up to " << kPilotSamples << " samples with the map and its halves, up to " << kNoMapPilotSamples << " without a map";
         if (map->size() == 0)
-            log << (measured.front().samples > 0 ? "; the volume map is empty: its queries continue the path"
-                                                  : "; the volume map is empty, nothing to measure");
+            log << (measured_by_pilot ? "; the volume map is empty: its queries continue the path"
+                                      : "; the volume map is empty, nothing to measure");
         for (const auto& m : measured) {
             log << "; " << m.name << ": ";
             if (m.dropped) {

@@ -294,21 +294,14 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
             // The query draws no random numbers, so it runs first: a path that goes on from x
             // weighs its NEE against the bounce (render.mis) like the path tracer's
             // (render/single_scattering.h); one that ends on the map weighs it 1.
-            const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
-            const bool bounded = radius < max_radius_;   // the mean-free-path bound (photon/bounded_radius.h)
-            const bool starved = volume_map_starved();
-            Estimate<Rgb> s;
-            if (sigma_t > 0.0 && !starved)
-                s = estimate_in_scattering(*map_, x, -ray.dir, m.g(), settings_.estimator, k_, radius, local.buffers,
-                                           &local.stats, gather_count());
-            BoundedQuery q = BoundedQuery::use_estimate;
-            if (sigma_t > 0.0 && (bounded || starved)) q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
-            const bool goes_on = sigma_t > 0.0 && q == BoundedQuery::continue_path;
+            BoundedEstimate b;
+            if (sigma_t > 0.0) b = bounded_in_scattering(x, -ray.dir, m.g(), sigma_t, local.buffers, &local.stats);
+            const bool goes_on = b.rule == BoundedQuery::continue_path;
             if (nee) {
                 radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng);
                 ++local.rays;
             }
-            if (!(sigma_t > 0.0) || q == BoundedQuery::zero) break;
+            if (!(sigma_t > 0.0) || b.rule == BoundedQuery::zero) break;
             if (goes_on) {   // too few photons: scatter and go on
                 ++local.continued;
                 if (!nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, settings_.walk.mis);
@@ -320,7 +313,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
                 if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
                 continue;
             }
-            radiance += weight * normalised(s, x, -ray.dir, m.g(), radius, sigma_t, local.buffers, local.linear_weights);
+            radiance += weight * normalised(b.estimate, x, -ray.dir, m.g(), b.radius, sigma_t, local.buffers, local.linear_weights);
             ++local.map_used;
             break;
         }
@@ -407,6 +400,20 @@ bool PhotonMapIntegrator::leaves_half_out() const {
 
 size_t PhotonMapIntegrator::gather_count() const { return leaves_half_out() ? leave_half_out_gather(k_) : k_; }
 
+PhotonMapIntegrator::BoundedEstimate PhotonMapIntegrator::bounded_in_scattering(const Vec3& x, const Vec3& w_o, double g,
+                                                                             double sigma_t, GatherBuffers& buffers,
+                                                                             EstimatorStats* stats) const {
+    BoundedEstimate b;
+    b.radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
+    if (volume_map_starved()) {
+        b.rule = BoundedQuery::continue_path;
+        return b;
+    }
+    b.estimate = estimate_in_scattering(*map_, x, w_o, g, settings_.estimator, k_, b.radius, buffers, stats, gather_count());
+    if (b.radius < max_radius_) b.rule = bounded_query(b.estimate, k_);   // the mean-free-path bound is in force
+    return b;
+}
+
 bool PhotonMapIntegrator::volume_map_starved() const {
     // A query needs k photons: a map of fewer than k (empty, thinned by store_probability, a tiny
     // count, or k above the stored count) has no kNN ball anywhere, bound or no bound. Without the
@@ -467,28 +474,20 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     const bool nee = settings_.direct == DirectLighting::nee;
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
     auto& local = threads_->local.local();
-    const bool starved = volume_map_starved();
     // The collision gather's bound and rule (photon/bounded_radius.h) here: a ball spanning many mean
     // free paths averages the lit skin of a dense medium with its dark inside (biased low), so where
     // fewer than k photons lie within the bound the point takes the light a path would find instead,
     // NEE and one phase-sampled continuation, both unbiased for the same incident radiance; where
     // exactly k - 1 do, it takes 0, whose mass the k-1 correction already counts on the kNN side.
-    // (Switching on r_k alone, with the unbounded ball, read P(N = k - 1) high near the bound, up to
-    // 7% at k = 32: BENCHMARKS.md section 30.) The choice depends on x and the map only; the query
-    // draws no random numbers, so NEE, weighted as render/single_scattering.h says, follows it.
-    const double radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
-    Estimate<Rgb> s;
-    if (!starved)
-        s = estimate_in_scattering(*map_, x, -dir, g, settings_.estimator, k_, radius, local.buffers, &local.stats,
-                                   gather_count());
-    BoundedQuery q = BoundedQuery::use_estimate;
-    if (starved || radius < max_radius_) q = starved ? BoundedQuery::continue_path : bounded_query(s, k_);
-    const bool wide = q == BoundedQuery::continue_path;
+    // The choice depends on x and the map only; the query draws no random numbers, so NEE, weighted
+    // as render/single_scattering.h says, follows it.
+    const BoundedEstimate b = bounded_in_scattering(x, -dir, g, sigma_t, local.buffers, &local.stats);
+    const bool wide = b.rule == BoundedQuery::continue_path;
     if (nee) {
         in += single_scattering(x, dir, g, wide, rng);
         ++local.rays;
     }
-    if (q == BoundedQuery::zero) return in;
+    if (b.rule == BoundedQuery::zero) return in;
     if (wide) {
         ++local.march_wide;
         if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis);
@@ -503,7 +502,7 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         return in;
     }
     ++local.map_used;
-    return in + normalised(s, x, -dir, g, radius, sigma_t, local.buffers, local.linear_weights);
+    return in + normalised(b.estimate, x, -dir, g, b.radius, sigma_t, local.buffers, local.linear_weights);
 }
 
 void PhotonMapIntegrator::retire_beam() {

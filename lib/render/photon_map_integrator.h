@@ -51,6 +51,7 @@
 #include <memory>
 #include <optional>
 
+#include "photon/bounded_radius.h"
 #include "photon/estimators.h"
 #include "photon/photon_map.h"
 #include "render/integrator.h"
@@ -152,6 +153,17 @@ private:
     // Whether the volume map is too small for any estimate (photon/bounded_radius.h): then every
     // query, at a collision or a march point, continues the path instead (issue 24).
     bool volume_map_starved() const;
+    // The volume estimate at x (sigma_t > 0 there) gathered within photons.max_radius_mfp mean free
+    // paths, and what photon/bounded_radius.h's rule makes of it: the one query and rule of the
+    // collision gather and the march alike. (The march once switched on r_k alone, without the rule's
+    // zero at k - 1 photons, and read up to 7% high near the bound: BENCHMARKS.md section 30.)
+    struct BoundedEstimate {
+        Estimate<Rgb> estimate;
+        double radius = 0.0;                           // the ball's bound: max_radius_ or the mean-free-path one
+        BoundedQuery rule = BoundedQuery::use_estimate;
+    };
+    BoundedEstimate bounded_in_scattering(const Vec3& x, const Vec3& w_o, double g, double sigma_t, GatherBuffers& buffers,
+                                          EstimatorStats* stats) const;
     // Whether the camera segment `ray` up to t_end gathers by the march (gather_, below).
     bool marches(const Ray& ray, double t_end) const;
 
