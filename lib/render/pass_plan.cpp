@@ -54,8 +54,8 @@ double map_variance_exponent(double v_half, double v_quarter, bool& measured) {
 
 namespace {
 
-// One candidate's best pass sizes (N photons, S samples) and their score for camera variance
-// v_camera: least error^2 x time (with a budget) or variance x cost per pass.
+// One candidate's best pass sizes (N photons, S samples) and their score for the variances given:
+// least error^2 x time (with a budget) or variance x cost per pass.
 struct Sizing {
     double score = kInfinity, cost = kInfinity;
     int64_t count = 0;
@@ -131,22 +131,23 @@ PassPlan plan_passes(const PlanInputs& in) {
     plan.count = in.count;
     plan.spp = in.spp;
     double best = kInfinity, best_cost = kInfinity;
-    bool best_trusted = false;
     const std::vector<bool> agrees = means_trusted(in.candidates);
+    auto trusted = [&](size_t c) {
+        const GatherMeasurement& m = in.candidates[c];
+        return !(m.max_weight > kPlanMaxMarchWeight) && agrees[c] && !m.dropped && !m.excluded;
+    };
     for (size_t c = 0; c < in.candidates.size(); ++c) {
         const GatherMeasurement& m = in.candidates[c];
         bool measured = false;
         const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
-        const bool trusted = !(m.max_weight > kPlanMaxMarchWeight) && agrees[c] && !m.dropped && !m.excluded;
         // Chosen on its variances at their upper bounds (pass_plan.h: kPlanVarianceSigmas).
         const Sizing bound = size_passes(in, m, m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se),
-                                         std::max(0.0, m.v_map_half) + kPlanVarianceSigmas * m.v_map_half_se, beta, trusted);
+                                         std::max(0.0, m.v_map_half) + kPlanVarianceSigmas * m.v_map_half_se, beta, trusted(c));
         plan.score.push_back(bound.score);
         // Least score; equal scores (nothing lit: every variance 0; or no candidate trusted) go to the cheaper pass.
         if (bound.score < best || (bound.score == best && bound.cost < best_cost)) {
             best = bound.score;
             best_cost = bound.cost;
-            best_trusted = trusted;
             plan.chosen = int(c);
             plan.beta = beta;
             plan.beta_measured = measured;
@@ -154,7 +155,7 @@ PassPlan plan_passes(const PlanInputs& in) {
     }
     // Sized on the variance read: the bound only guards the choice between candidates.
     const GatherMeasurement& chosen = in.candidates[size_t(plan.chosen)];
-    const Sizing sized = size_passes(in, chosen, chosen.v_camera, chosen.v_map_half, plan.beta, best_trusted);
+    const Sizing sized = size_passes(in, chosen, chosen.v_camera, chosen.v_map_half, plan.beta, trusted(size_t(plan.chosen)));
     plan.count = sized.count;
     plan.spp = sized.spp;
     return plan;

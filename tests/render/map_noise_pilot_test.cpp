@@ -18,20 +18,29 @@
 
 using namespace vpm;
 
+namespace {
+
+constexpr int kSide = 32;
+// Column 27: no 8 x 8 pilot pixel (columns 2, 6, ..., 30) lies in it.
+constexpr int kBand = 27;
+
+Camera test_camera() { return Camera(Vec3(0, 0, 4), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, kSide, kSide); }
+
+// The pixel column a camera ray of test_camera() came from (its x in the image plane, either way round).
+int column(const Camera& camera, const Ray& r) {
+    const bool x_left = camera.generate_ray(0.5, 16.0).dir.x() < 0.0;
+    const double t = r.dir.x() / -r.dir.z() / std::tan(20.0 * kPi / 180.0);   // -1 .. 1 across the image
+    const int c = std::clamp(int((t + 1.0) * 0.5 * kSide), 0, kSide - 1);
+    return x_left ? c : kSide - 1 - c;
+}
+
+}  // namespace
+
 TEST(MapNoisePilot, CameraVarianceSeesABandTheCoarsePixelsMiss) {
-    constexpr int kSide = 32;
-    const Camera camera(Vec3(0, 0, 4), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, kSide, kSide);
-    // The pixel column a camera ray came from (its x in the image plane, either way round).
-    const double x_left = camera.generate_ray(0.5, 16.0).dir.x();
-    auto column = [&](const Ray& r) {
-        const double t = r.dir.x() / -r.dir.z() / std::tan(20.0 * kPi / 180.0);   // -1 .. 1 across the image
-        const int c = std::clamp(int((t + 1.0) * 0.5 * kSide), 0, kSide - 1);
-        return x_left < 0.0 ? c : kSide - 1 - c;
-    };
-    // Column 27: no 8 x 8 pilot pixel (columns 2, 6, ..., 30) lies in it. Uniform samples of
-    // variance 1 / 12 there, 1 elsewhere: the image's mean per-pixel variance is (1 / 12) / 32.
-    constexpr int kBand = 27;
-    MapNoisePilotHooks hooks = test::synthetic_pilot_hooks([&](const Ray& r, Rng& rng) { return Rgb::Constant(column(r) == kBand ? 0.5 + rng.uniform() : 1.0); });
+    const Camera camera = test_camera();
+    // Uniform samples of variance 1 / 12 in the band, 1 elsewhere: the image's mean per-pixel
+    // variance is (1 / 12) / 32.
+    MapNoisePilotHooks hooks = test::synthetic_pilot_hooks([&](const Ray& r, Rng& rng) { return Rgb::Constant(column(camera, r) == kBand ? 0.5 + rng.uniform() : 1.0); });
     const PhotonMap map;
     const auto m = measure_gathers(camera, map, {{"collision", true}}, hooks, 5, 0);
     ASSERT_EQ(m.size(), 1u);
@@ -48,15 +57,7 @@ TEST(MapNoisePilot, MapVarianceSeesABandTheCoarsePixelsMiss) {
     // none of it is the samples' own) and agree elsewhere. In a thin plume under a sun a tenth of the
     // 8 x 8 pixels held the map's noise and V_map read from them alone ranged over 0.18-2.8x its mean
     // over seeds (BENCHMARKS.md section 30); the 16 x 16 grid's halves read it too.
-    constexpr int kSide = 32;
-    const Camera camera(Vec3(0, 0, 4), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, kSide, kSide);
-    const double x_left = camera.generate_ray(0.5, 16.0).dir.x();
-    auto column = [&](const Ray& r) {
-        const double t = r.dir.x() / -r.dir.z() / std::tan(20.0 * kPi / 180.0);
-        const int c = std::clamp(int((t + 1.0) * 0.5 * kSide), 0, kSide - 1);
-        return x_left < 0.0 ? c : kSide - 1 - c;
-    };
-    constexpr int kBand = 27;
+    const Camera camera = test_camera();
     const PhotonMap map;
     const PhotonMap* in_force = nullptr;
     const PhotonMap* first_half = nullptr;
@@ -69,7 +70,7 @@ TEST(MapNoisePilot, MapVarianceSeesABandTheCoarsePixelsMiss) {
     hooks.trace = [&](const Ray& r, Rng&) {
         ++traces;
         const double half = in_force == &map ? 0.0 : in_force == first_half ? 0.5 : -0.5;
-        return Rgb::Constant(1.0 + (column(r) == kBand ? half : 0.0));
+        return Rgb::Constant(1.0 + (column(camera, r) == kBand ? half : 0.0));
     };
     hooks.counts = [&] {   // every sample one used query: the halves are built and traced
         CountedOperations c;
