@@ -18,12 +18,22 @@
 //
 // which sums to rho exactly: the k-1 correction stays exact where the kNN radius is used, and the
 // rest is path traced. (With classic or mse_optimal the first line is their own, biased, kNN
-// estimate; the split is the same.) Exact only for independent photons: where a walk stores many
-// collisions close together N is overdispersed, the band no longer balances, and the switch itself
-// biases the image (+7% in the dense plume of bench/heldout/h25, 18 photons per storing walk; thinned
-// storage removes it: BENCHMARKS.md section 30). A decision independent of the map it selects would
-// be exact. The cost: where the map is too coarse for the medium the camera path becomes a
-// path-traced random walk (measured in docs/dense_media.md). When the map holds
+// estimate; the split is the same.) Exact only for independent photons, and only where the path
+// continued past x does not meet the same photons again: where a walk stores many collisions close
+// together N is overdispersed and the band no longer balances (+7% in the dense plume of
+// bench/heldout/h25, 18 photons per storing walk), and a path continued because the map is sparse
+// near x queries the same sparse map at its next collision (the furnace at the bound read 7% low
+// with the decision split between walk halves of one map: BENCHMARKS.md section 31).
+//
+// The integrator therefore decides apart (render/photon_map_integrator.h): a decision map, traced
+// once per run with a seed of its own, holds k photons within the bound, scaled to its density
+// (R (N_map / N_decision)^(1/3), N the emitted photons), or the path goes on; where it does, the
+// estimate is the pass map's unbounded kNN estimate. Every vertex of a camera path, continued ones
+// too, decides on one map and estimates on the other, independent one, so the switch is exact
+// however the photons cluster (no zero band: given the decision map, each branch is unbiased). The
+// rule below, on the estimate's own list, stays for maps given from outside without a decision map.
+// The cost: one more kNN query per bounded query, and where the map is too coarse for the medium
+// the camera path becomes a path-traced random walk (measured in docs/dense_media.md). When the map holds
 // fewer than k photons (empty, or starved by photons.store_probability or a tiny photons.count) no
 // ball holds k anywhere: the integrator continues the path without a query, bound or no bound, at
 // the collision and at march points alike (issue 24).

@@ -46,7 +46,10 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         pilot_maps = run_photon_pass(scene_, settings_, c, false, pilot_stats, allocation_);
         map = &pilot_maps.volume;
         counts = pilot_stats.photons;
+        if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
     }
+    // The pilot's maps, full and halves, are decided on as the run's (photon/bounded_radius.h).
+    const double pilot_emitted = double(settings_.count);
     if (counts && counts->emitted > 0)
         in.photon_cost = (w.collision * double(counts->collisions) + w.path * double(counts->emitted) +
                           w.stored * double(counts->stored)) / double(counts->emitted);
@@ -55,6 +58,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     std::vector<GatherMeasurement> measured;
     const PhotonMap* run_map = map_;
     const PhotonMap* run_surface = surface_map_;
+    const double run_emitted = map_emitted_;
     PilotBudget budget;   // render/pilot_budget.h
     if (in.budget > 0.0) {
         budget.per_candidate = in.budget * kPilotBudgetFraction / double(candidates.size());
@@ -76,6 +80,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             const bool uses_map = candidates[size_t(c)].uses_map;
             map_ = uses_map ? m : &empty_map_;
             surface_map_ = uses_map ? run_surface : nullptr;
+            set_map_emitted(m == map ? pilot_emitted : pilot_emitted / 2.0);   // a half map: half the walks
         };
         hooks.trace = [&](const Ray& ray, Rng& rng) {
             // One sample runs on one thread: the thread's counts before and after are the sample's.
@@ -113,6 +118,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         });
         map_ = run_map;
         surface_map_ = run_surface;
+        set_map_emitted(run_emitted);
     } else {
         // An empty volume map beside a surface map: the gathers cost the same and "continue" is left
         // out (the empty map costs nothing and the surface map keeps its use).

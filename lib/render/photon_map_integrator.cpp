@@ -65,6 +65,7 @@ struct PhotonMapIntegrator::ThreadState {
         double march_weight_max = 0.0, march_weight_sum = 0.0;   // relative march point weights
         uint64_t march_points = 0;
         uint64_t map_used = 0;    // estimates taken from a map, not continued past (pilot: render/no_map_candidate.h)
+        uint64_t decisions = 0;   // queries of the bound's decision map
         std::vector<Rgb> linear_weights;   // photons.extinction = "linear"
         OpticalDepthProfile profile;       // render/seen_through.h (no path is traced while it is in use)
     };
@@ -108,6 +109,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     } else if (scene_.has_media() || surface) {
         // Pass 0 of an auto plan is first traced at photons.count: the pilot's map, which the plan is made on.
         trace_maps(context, plan_ ? plan_->count : settings_.count, surface, stats);
+        if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
         // k above the stored count: say so once per run (the maps are then not queried).
         const bool volume_short = scene_.has_media() && volume_map_starved();
         const bool surface_short = surface_map_ && surface_map_->size() < k_;
@@ -147,6 +149,52 @@ void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, 
     pass_settings.count = count;
     owned_ = run_photon_pass(scene_, pass_settings, context, surface, stats, allocation_);
     surface_map_ = surface ? &owned_.surface : nullptr;
+    set_map_emitted(double(count));
+}
+
+bool PhotonMapIntegrator::wants_decision_map() const {
+    return scene_.has_media() && settings_.max_radius_mfp > 0.0 && settings_.gather != GatherMode::beam;
+}
+
+void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStats& stats) {
+    // Its own seed, and the run's streams rather than the pass's: independent of every pass's map, and
+    // the same map on every machine rendering passes of the run (vpm merge).
+    PassContext c = context;
+    c.seed = mix64(context.seed ^ 0x646563697369ULL);
+    c.stream_offset = context.run_stream_offset;
+    c.first_of_run = false;
+    c.log = nullptr;
+    RunStats traced;   // its counts are not the run's photon passes'
+    // The run's photons per light (traced after its first map, which set them).
+    decision_owned_ = std::move(run_photon_pass(scene_, settings_, c, false, traced, allocation_).volume);
+    decision_map_ = &decision_owned_;
+    decision_emitted_ = double(settings_.count);
+    set_map_emitted(map_emitted_);
+    double seconds = 0.0;
+    for (const PhaseStats& phase : traced.phases) seconds += phase.seconds;
+    stats.phase("decision_map", seconds);
+    stats.decision_map_photons = decision_owned_.size();
+    if (context.log && context.first_of_run)
+        *context.log << "photons: decision map of " << settings_.count << " photons (" << decision_owned_.size()
+                     << " stored) in " << seconds << " s: photons.max_radius_mfp's switch is decided on it, apart from "
+                     << "the maps it selects (photon/bounded_radius.h)\n";
+}
+
+void PhotonMapIntegrator::set_map_emitted(double emitted) {
+    map_emitted_ = emitted;
+    if (decision_emitted_ > 0.0) decision_scale_ = std::cbrt(emitted / decision_emitted_);
+}
+
+void PhotonMapIntegrator::decide_bound_on(const PhotonMap* map, double emitted_ratio) {
+    decision_map_ = map;
+    decision_emitted_ = 0.0;   // not owned: the scale is given
+    decision_scale_ = std::cbrt(emitted_ratio);
+}
+
+uint64_t PhotonMapIntegrator::decision_queries() const {
+    uint64_t total = 0;
+    for (const auto& l : threads_->local) total += l.decisions;
+    return total;
 }
 
 void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
@@ -154,9 +202,11 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     if (pilot_) stats.gather_pilot = pilot_;
     if (auto_stats_) stats.auto_gather = auto_stats_;
     stats.continued_paths = continued_paths();
+    if (decision_map_) stats.decision_queries = decision_queries();
     if (log)
         *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
-             << "(fewer than k photons within photons.max_radius_mfp, or in the map): " << *stats.continued_paths << "\n";
+             << "(fewer than k photons within photons.max_radius_mfp, or in the map): " << *stats.continued_paths
+             << (decision_map_ ? "; decision map queries: " + std::to_string(*stats.decision_queries) : std::string()) << "\n";
     if (settings_.gather != GatherMode::collision) {
         uint64_t wide = 0, points = 0;
         double wmax = 0.0, wsum = 0.0;
@@ -384,7 +434,7 @@ void PhotonMapIntegrator::with_fresh_counters(const std::function<void()>& f) {
 CountedOperations PhotonMapIntegrator::counted_operations() const {
     CountedOperations c;
     for (const auto& l : threads_->local) {
-        c.queries += double(l.stats.queries + l.surface_stats.queries);
+        c.queries += double(l.stats.queries + l.surface_stats.queries + l.decisions);
         c.rays += double(l.rays);
         c.lookups += double(l.lookups);
         c.march_weight_max = std::max(c.march_weight_max, l.march_weight_max);
@@ -408,6 +458,16 @@ PhotonMapIntegrator::BoundedEstimate PhotonMapIntegrator::bounded_in_scattering(
     if (volume_map_starved()) {
         b.rule = BoundedQuery::continue_path;
         return b;
+    }
+    if (decision_map_ && b.radius < max_radius_) {
+        // Decided apart (photon/bounded_radius.h): k photons of the decision map within the bound,
+        // scaled to its density, and the estimate is the map's unbounded kNN estimate.
+        ++threads_->local.local().decisions;
+        if (decision_map_->knn(x, k_, b.radius * decision_scale_, buffers.list) < k_) {
+            b.rule = BoundedQuery::continue_path;
+            return b;
+        }
+        b.radius = max_radius_;
     }
     b.estimate = estimate_in_scattering(*map_, x, w_o, g, settings_.estimator, k_, b.radius, buffers, stats, gather_count());
     if (b.radius < max_radius_) b.rule = bounded_query(b.estimate, k_);   // the mean-free-path bound is in force

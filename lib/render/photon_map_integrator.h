@@ -101,6 +101,12 @@ public:
     uint64_t continued_paths() const;
     // The same for the surface map's queries.
     EstimatorStats surface_stats() const;
+    // The map photons.max_radius_mfp's switch is decided on (photon/bounded_radius.h): for maps built
+    // elsewhere, `map` (independent of the volume map, null for the switch on the volume map's own
+    // list) and the volume map's emitted photons per emitted photon of `map`. prepare() traces its own.
+    void decide_bound_on(const PhotonMap* map, double emitted_ratio);
+    // Queries made on the decision map so far.
+    uint64_t decision_queries() const;
 
 private:
     struct ThreadState;
@@ -111,6 +117,20 @@ private:
     std::optional<LightAllocation> allocation_;   // photons per light, from the run's first pass
     const PhotonMap* map_;
     const PhotonMap* surface_map_;
+    // The bound's decision map (photon/bounded_radius.h): traced once per run with a seed of its own
+    // at photons.count, so every pass and machine of a run decides alike; decision_scale_ =
+    // cbrt(emitted photons of map_ / of the decision map) scales the bound to the decision map's density.
+    PhotonMap decision_owned_;
+    const PhotonMap* decision_map_ = nullptr;
+    double decision_scale_ = 1.0;
+    double decision_emitted_ = 0.0;   // the decision map's emitted photons (owned)
+    double map_emitted_ = 0.0;        // map_'s emitted photons (owned maps)
+    // Whether this run's estimates need a decision map: media, the bound on, a gather that uses it.
+    bool wants_decision_map() const;
+    // Traces decision_owned_ (once per run) and logs it.
+    void trace_decision_map(const PassContext& context, RunStats& stats);
+    // decision_scale_ for a volume map of `emitted` photons.
+    void set_map_emitted(double emitted);
     double max_radius_;
     size_t k_;   // this pass's k (photons.schedule)
     bool warned_k_ = false;   // "k exceeds the stored count" is logged once per run
@@ -153,10 +173,12 @@ private:
     // Whether the volume map is too small for any estimate (photon/bounded_radius.h): then every
     // query, at a collision or a march point, continues the path instead (issue 24).
     bool volume_map_starved() const;
-    // The volume estimate at x (sigma_t > 0 there) gathered within photons.max_radius_mfp mean free
-    // paths, and what photon/bounded_radius.h's rule makes of it: the one query and rule of the
-    // collision gather and the march alike. (The march once switched on r_k alone, without the rule's
-    // zero at k - 1 photons, and read up to 7% high near the bound: BENCHMARKS.md section 30.)
+    // The volume estimate at x (sigma_t > 0 there) and what photon/bounded_radius.h's rule makes of
+    // it: decided on the decision map where there is one (then the estimate's ball is unbounded),
+    // else on the estimate's own list gathered within photons.max_radius_mfp mean free paths. The one
+    // query and rule of the collision gather and the march alike. (The march once switched on r_k
+    // alone, without the rule's zero at k - 1 photons, and read up to 7% high near the bound:
+    // BENCHMARKS.md section 30.)
     struct BoundedEstimate {
         Estimate<Rgb> estimate;
         double radius = 0.0;                           // the ball's bound: max_radius_ or the mean-free-path one

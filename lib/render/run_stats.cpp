@@ -178,6 +178,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         }
     }
     if (stats.continued_paths) record.set("photons.continued_paths", *stats.continued_paths);
+    if (stats.decision_queries) record.set("photons.decision_queries", *stats.decision_queries);
+    if (stats.decision_map_photons) record.set("photons.decision_map_photons", *stats.decision_map_photons);
     if (stats.march_wide_queries) record.set("photons.march_wide_queries", *stats.march_wide_queries);
     if (stats.march_weight_max) record.set("photons.march_weight_max", *stats.march_weight_max);
     if (stats.march_weight_mean) record.set("photons.march_weight_mean", *stats.march_weight_mean);
