@@ -23,7 +23,7 @@ TEST(Mis, PowerHeuristicWeightsSumToOne) {
 }
 
 // E[throughput after roulette] equals the throughput before it (0 when the path ends), for a
-// throughput below and above the 0.95 cap; before rr_depth every path survives untouched.
+// throughput below and above the survival cap; before rr_depth every path survives untouched.
 TEST(WalkSteps, RussianRouletteKeepsTheExpectation) {
     for (double t : {0.05, 0.4, 3.0}) {
         Rng rng(11, 5);
@@ -42,6 +42,31 @@ TEST(WalkSteps, RussianRouletteKeepsTheExpectation) {
     Rgb low = Rgb::Constant(1e-9);
     EXPECT_TRUE(survive_roulette(low, 4, 5, rng));
     EXPECT_EQ(low[0], 1e-9);
+}
+
+// A walk at albedo 0.99 with roulette at every collision: the throughput of a surviving walk stays
+// at most 1 / kRouletteMaxSurvival (the cap once was 0.95, and it grew as (0.99 / 0.95)^n: 1.04^n, an
+// estimator of unbounded variance), and its expectation after 300 collisions is 0.99^300 (4 SE).
+TEST(WalkSteps, RouletteKeepsDeepWalksBoundedInAHighAlbedoMedium) {
+    Rng rng(7, 3);
+    const int walks = 200000, steps = 300;
+    const double albedo = 0.99;
+    double s = 0.0, s2 = 0.0, largest = 0.0;
+    for (int i = 0; i < walks; ++i) {
+        Rgb throughput = Rgb::Ones();
+        bool alive = true;
+        for (int n = 1; n <= steps && alive; ++n) {
+            throughput *= albedo;
+            alive = survive_roulette(throughput, n, 1, rng);
+            if (alive) largest = std::max(largest, throughput.maxCoeff());
+        }
+        const double v = alive ? throughput[0] : 0.0;
+        s += v;
+        s2 += v * v;
+    }
+    const double mean = s / walks, se = std::sqrt((s2 / walks - mean * mean) / walks);
+    EXPECT_LE(largest, 1.0 / kRouletteMaxSurvival + 1e-12);
+    EXPECT_NEAR(mean, std::pow(albedo, steps), 4.0 * se);
 }
 
 // Cosine-weighted: E[cos] = 2/3 and E[cos^2] = 1/2 about the normal, never below the surface;
