@@ -1,5 +1,7 @@
 #include "photon/photon_map.h"
 
+#include "core/morton.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -108,17 +110,6 @@ private:
     bool heap_;
 };
 
-// Spreads the low 21 bits of v to every third bit.
-uint64_t spread_bits(uint64_t v) {
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
-}
-
 }  // namespace
 
 // nanoflann 1.4's buildIndex is serial. This builds the same tree (nanoflann's own middleSplit_,
@@ -226,13 +217,7 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
     const tbb::blocked_range<size_t> all(0, in.size(), 1 << 14);
     tbb::parallel_for(all, [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i < range.end(); ++i) {
-            const Vec3 t = ((in[i].position - bounds_.lo).array() / extent.array()).matrix();
-            uint64_t code = 0;
-            for (int a = 0; a < 3; ++a) {
-                const double q = std::min(std::max(t[a], 0.0), 1.0) * 2097151.0;
-                code |= spread_bits(static_cast<uint64_t>(q)) << a;
-            }
-            keys[i] = {code, static_cast<uint32_t>(i)};
+            keys[i] = {morton_code(in[i].position, bounds_.lo, extent), static_cast<uint32_t>(i)};
         }
     });
     tbb::parallel_sort(keys.begin(), keys.end());

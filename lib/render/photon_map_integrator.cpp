@@ -168,6 +168,7 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     // The run's photons per light (traced after its first map, which set them).
     decision_owned_ = std::move(run_photon_pass(scene_, settings_, c, false, traced, allocation_).volume);
     decision_map_ = &decision_owned_;
+    decision_cells_ = PhotonCellCounts(decision_owned_);
     decision_emitted_ = double(settings_.count);
     set_map_emitted(map_emitted_);
     double seconds = 0.0;
@@ -187,6 +188,7 @@ void PhotonMapIntegrator::set_map_emitted(double emitted) {
 
 void PhotonMapIntegrator::decide_bound_on(const PhotonMap* map, double emitted_ratio) {
     decision_map_ = map;
+    decision_cells_ = map ? PhotonCellCounts(*map) : PhotonCellCounts();
     decision_emitted_ = 0.0;   // not owned: the scale is given
     decision_scale_ = std::cbrt(emitted_ratio);
 }
@@ -462,10 +464,13 @@ PhotonMapIntegrator::BoundedEstimate PhotonMapIntegrator::bounded_in_scattering(
     if (decision_map_ && b.radius < max_radius_) {
         // Decided apart (photon/bounded_radius.h): k photons of the decision map within the bound,
         // scaled to its density, and the estimate is the map's unbounded kNN estimate.
-        ++threads_->local.local().decisions;
-        if (decision_map_->knn(x, k_, b.radius * decision_scale_, buffers.list) < k_) {
-            b.rule = BoundedQuery::continue_path;
-            return b;
+        const double r = b.radius * decision_scale_;
+        if (!decision_cells_.surely_holds(x, r, k_)) {
+            ++threads_->local.local().decisions;
+            if (decision_map_->knn(x, k_, r, buffers.list) < k_) {
+                b.rule = BoundedQuery::continue_path;
+                return b;
+            }
         }
         b.radius = max_radius_;
     }

@@ -53,6 +53,7 @@
 
 #include "photon/bounded_radius.h"
 #include "photon/estimators.h"
+#include "photon/photon_cell_counts.h"
 #include "photon/photon_map.h"
 #include "render/integrator.h"
 #include "photon/photon_map_settings.h"
@@ -105,7 +106,7 @@ public:
     // elsewhere, `map` (independent of the volume map, null for the switch on the volume map's own
     // list) and the volume map's emitted photons per emitted photon of `map`. prepare() traces its own.
     void decide_bound_on(const PhotonMap* map, double emitted_ratio);
-    // Queries made on the decision map so far.
+    // kNN queries made on the decision map so far (decisions its cell counts did not settle).
     uint64_t decision_queries() const;
 
 private:
@@ -122,6 +123,7 @@ private:
     // cbrt(emitted photons of map_ / of the decision map) scales the bound to the decision map's density.
     PhotonMap decision_owned_;
     const PhotonMap* decision_map_ = nullptr;
+    PhotonCellCounts decision_cells_;   // answers most decisions in thin media without a query
     double decision_scale_ = 1.0;
     double decision_emitted_ = 0.0;   // the decision map's emitted photons (owned)
     double map_emitted_ = 0.0;        // map_'s emitted photons (owned maps)
