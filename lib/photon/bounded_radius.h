@@ -26,9 +26,10 @@
 // with the decision split between walk halves of one map: BENCHMARKS.md section 31).
 //
 // The integrator therefore decides apart (render/photon_map_integrator.h): a decision map, traced
-// once per run with a seed of its own, holds k photons within the bound, scaled to its density
-// (R (N_map / N_decision)^(1/3), N the emitted photons), or the path goes on; where it does, the
-// estimate is the pass map's unbounded kNN estimate. Every vertex of a camera path, continued ones
+// once per run with a seed of its own and an eighth of photons.count, holds the photons the pass map
+// would hold within the bound, scaled to its density (k N_decision / N_map of them, at least 4,
+// within the ball that holds that many on average; N the emitted photons), or the path goes on;
+// where it does, the estimate is the pass map's unbounded kNN estimate. Every vertex of a camera path, continued ones
 // too, decides on one map and estimates on the other, independent one, so the switch is exact
 // however the photons cluster (no zero band: given the decision map, each branch is unbiased). The
 // rule below, on the estimate's own list, stays for maps given from outside without a decision map.

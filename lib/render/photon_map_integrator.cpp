@@ -165,32 +165,44 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     c.first_of_run = false;
     c.log = nullptr;
     RunStats traced;   // its counts are not the run's photon passes'
+    PhotonMapSettings decision_settings = settings_;
+    decision_settings.count = std::max<int64_t>(1, settings_.count / kDecisionMapShare);
     // The run's photons per light (traced after its first map, which set them).
-    decision_owned_ = std::move(run_photon_pass(scene_, settings_, c, false, traced, allocation_).volume);
+    decision_owned_ = std::move(run_photon_pass(scene_, decision_settings, c, false, traced, allocation_).volume);
     decision_map_ = &decision_owned_;
     decision_cells_ = PhotonCellCounts(decision_owned_);
-    decision_emitted_ = double(settings_.count);
+    decision_emitted_ = double(decision_settings.count);
     set_map_emitted(map_emitted_);
     double seconds = 0.0;
     for (const PhaseStats& phase : traced.phases) seconds += phase.seconds;
     stats.phase("decision_map", seconds);
     stats.decision_map_photons = decision_owned_.size();
     if (context.log && context.first_of_run)
-        *context.log << "photons: decision map of " << settings_.count << " photons (" << decision_owned_.size()
+        *context.log << "photons: decision map of " << decision_settings.count << " photons (" << decision_owned_.size()
                      << " stored) in " << seconds << " s: photons.max_radius_mfp's switch is decided on it, apart from "
                      << "the maps it selects (photon/bounded_radius.h)\n";
 }
 
 void PhotonMapIntegrator::set_map_emitted(double emitted) {
     map_emitted_ = emitted;
-    if (decision_emitted_ > 0.0) decision_scale_ = std::cbrt(emitted / decision_emitted_);
+    if (decision_emitted_ > 0.0) decision_ratio_ = emitted / decision_emitted_;
 }
 
 void PhotonMapIntegrator::decide_bound_on(const PhotonMap* map, double emitted_ratio) {
     decision_map_ = map;
     decision_cells_ = map ? PhotonCellCounts(*map) : PhotonCellCounts();
-    decision_emitted_ = 0.0;   // not owned: the scale is given
-    decision_scale_ = std::cbrt(emitted_ratio);
+    decision_emitted_ = 0.0;   // not owned: the ratio is given
+    decision_ratio_ = emitted_ratio;
+}
+
+PhotonMapIntegrator::DecisionBall PhotonMapIntegrator::decision_ball(double radius) const {
+    // The map's k photons within R, in the decision map's density: k N_d / N photons expected within
+    // R, at least kDecisionMinK of them (a smaller count decides by its noise), within the ball that
+    // holds that many on average.
+    DecisionBall d;
+    d.k = std::min(k_, std::max(kDecisionMinK, size_t(std::lround(double(k_) / decision_ratio_))));
+    d.radius = radius * std::cbrt(double(d.k) / double(k_) * decision_ratio_);
+    return d;
 }
 
 uint64_t PhotonMapIntegrator::decision_queries() const {
@@ -464,10 +476,10 @@ PhotonMapIntegrator::BoundedEstimate PhotonMapIntegrator::bounded_in_scattering(
     if (decision_map_ && b.radius < max_radius_) {
         // Decided apart (photon/bounded_radius.h): k photons of the decision map within the bound,
         // scaled to its density, and the estimate is the map's unbounded kNN estimate.
-        const double r = b.radius * decision_scale_;
-        if (!decision_cells_.surely_holds(x, r, k_)) {
+        const DecisionBall d = decision_ball(b.radius);
+        if (!decision_cells_.surely_holds(x, d.radius, d.k)) {
             ++threads_->local.local().decisions;
-            if (decision_map_->knn(x, k_, r, buffers.list) < k_) {
+            if (decision_map_->knn(x, d.k, d.radius, buffers.list) < d.k) {
                 b.rule = BoundedQuery::continue_path;
                 return b;
             }

@@ -119,19 +119,29 @@ private:
     const PhotonMap* map_;
     const PhotonMap* surface_map_;
     // The bound's decision map (photon/bounded_radius.h): traced once per run with a seed of its own
-    // at photons.count, so every pass and machine of a run decides alike; decision_scale_ =
-    // cbrt(emitted photons of map_ / of the decision map) scales the bound to the decision map's density.
+    // at photons.count / kDecisionMapShare photons, so every pass and machine of a run decides alike.
+    // decision_ratio_ = emitted photons of map_ / of the decision map. (At photons.count it cost the
+    // dense box of optical side 100 a second, as much as the pass's own photon pass: BENCHMARKS.md
+    // section 31.)
+    static constexpr int64_t kDecisionMapShare = 8;
+    static constexpr size_t kDecisionMinK = 4;
     PhotonMap decision_owned_;
     const PhotonMap* decision_map_ = nullptr;
     PhotonCellCounts decision_cells_;   // answers most decisions in thin media without a query
-    double decision_scale_ = 1.0;
+    double decision_ratio_ = 1.0;
+    struct DecisionBall {
+        size_t k = 0;        // photons of the decision map that must lie within
+        double radius = 0;   // this radius
+    };
+    // The decision map's test equivalent to "k photons of map_ within `radius`".
+    DecisionBall decision_ball(double radius) const;
     double decision_emitted_ = 0.0;   // the decision map's emitted photons (owned)
     double map_emitted_ = 0.0;        // map_'s emitted photons (owned maps)
     // Whether this run's estimates need a decision map: media, the bound on, a gather that uses it.
     bool wants_decision_map() const;
     // Traces decision_owned_ (once per run) and logs it.
     void trace_decision_map(const PassContext& context, RunStats& stats);
-    // decision_scale_ for a volume map of `emitted` photons.
+    // decision_ratio_ for a volume map of `emitted` photons.
     void set_map_emitted(double emitted);
     double max_radius_;
     size_t k_;   // this pass's k (photons.schedule)
