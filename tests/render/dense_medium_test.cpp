@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "core/math.h"
 #include "photon/photon_map.h"
@@ -33,6 +34,20 @@ RunConfig dense_sphere(const std::string& scale) {
 
 // The photon pass's settings for a map of ps.count photons from `seed`, as run_photon_pass makes
 // them (with NEE, single scattering is rendered, not stored).
+// configs/uniform_furnace.toml at 16x16 with these photons.count, photons.k and photons.gather.
+RunConfig furnace_16x16(const std::string& count, const std::string& k, const std::string& gather) {
+    return RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
+                           {"render.width=16", "render.height=16", "photons.count=" + count, "photons.k=" + k,
+                            "photons.gather=" + gather});
+}
+
+// The furnace's typical k-th radius in mean free paths (sigma_t 0.6): V(R) = k / rho for a uniform
+// density of map.size() photons in the sphere of radius 6.
+double furnace_kth_radius_mfp(const PhotonMap& map, int k) {
+    const double rho = double(map.size()) / (4.0 / 3.0 * kPi * 216.0);
+    return std::cbrt(3.0 * double(k) / (4.0 * kPi * rho)) * 0.6;
+}
+
 PhotonTraceSettings trace_settings(const PhotonMapSettings& ps, uint64_t seed) {
     PhotonTraceSettings ts;
     ts.count = uint64_t(ps.count);
@@ -152,9 +167,7 @@ TEST(DenseMedium, KAboveTheStoredCountInTheDefaultScene) {
 // errors high). With the collision gather's zero at N(R) = k - 1 the switch is exact, and the image
 // mean is the furnace's within 3 standard errors (0.488 +- 0.017).
 TEST(DenseMedium, TheMarchsBoundIsExactForIndependentPhotonsInTheFurnace) {
-    const RunConfig config = RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
-                                             {"render.width=16", "render.height=16", "photons.count=100000", "photons.k=4",
-                                              "photons.gather=march"});
+    const RunConfig config = furnace_16x16("100000", "4", "march");
     PhotonMapSettings ps = photon_map_settings(config);
     const double env = config.scene->escaped_radiance(Vec3::UnitZ())[1];
     test::Sample m;
@@ -163,10 +176,7 @@ TEST(DenseMedium, TheMarchsBoundIsExactForIndependentPhotonsInTheFurnace) {
         PhotonTraceSettings ts = trace_settings(ps, 70 + uint64_t(r));
         ts.store_probability = 0.02;
         const PhotonMap map(trace_photons(*config.scene, ts).photons);
-        // The bound at the k-th radius of a uniform density of map.size() photons in the sphere of radius 6:
-        // V(R) = k / rho, in mean free paths (sigma_t 0.6).
-        const double rho = double(map.size()) / (4.0 / 3.0 * kPi * 216.0);
-        ps.max_radius_mfp = std::cbrt(3.0 * double(ps.k) / (4.0 * kPi * rho)) * 0.6;
+        ps.max_radius_mfp = furnace_kth_radius_mfp(map, ps.k);
         const PhotonMapIntegrator pm(*config.scene, ps, map);
         m.add(test::image_mean(config, pm, 5 + uint64_t(r), 4));
         RunStats st;
@@ -188,9 +198,7 @@ TEST(DenseMedium, TheMarchsBoundIsExactForIndependentPhotonsInTheFurnace) {
 // vertex of the camera path, continued ones included, uses one map to decide and the other to
 // estimate, and the image mean is the furnace's within 3 standard errors.
 TEST(DenseMedium, TheBoundDecidedOnAnIndependentMapIsExactForClusteredPhotons) {
-    const RunConfig config = RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
-                                             {"render.width=16", "render.height=16", "photons.count=4000", "photons.k=8",
-                                              "photons.gather=collision"});
+    const RunConfig config = furnace_16x16("4000", "8", "collision");
     PhotonMapSettings ps = photon_map_settings(config);
     const double env = config.scene->escaped_radiance(Vec3::UnitZ())[1];
     test::Sample apart, own, shift;
@@ -200,8 +208,7 @@ TEST(DenseMedium, TheBoundDecidedOnAnIndependentMapIsExactForClusteredPhotons) {
         stored += traced.photons.size();
         walks += traced.storing_walks;
         const PhotonMap map(traced.photons), decision(trace_photons(*config.scene, trace_settings(ps, 900 + uint64_t(r))).photons);
-        const double rho = double(map.size()) / (4.0 / 3.0 * kPi * 216.0);
-        ps.max_radius_mfp = std::cbrt(3.0 * double(ps.k) / (4.0 * kPi * rho)) * 0.6;
+        ps.max_radius_mfp = furnace_kth_radius_mfp(map, ps.k);
         PhotonMapIntegrator decided_apart(*config.scene, ps, map);
         decided_apart.decide_bound_on(&decision, 1.0);
         const double a = test::image_mean(config, decided_apart, 5 + uint64_t(r), 4);
