@@ -23,7 +23,8 @@
 //   |                        |             | session: the default's measurement)                      |
 //   | max_radius_mfp         | 2           | kNN radius <= this many mean free paths at the query;    |
 //   |                        |             | fewer than k photons within: the camera path continues   |
-//   |                        |             | (photon/bounded_radius.h); 0: off                        |
+//   |                        |             | (photon/bounded_radius.h: decided on the run's decision  |
+//   |                        |             | map, count / 8 photons of a seed of its own); 0: off     |
 //   | allocation             | "importance"| photons per light: "importance" (pilot: power landing    |
 //   |                        |             | where the camera looks) | "power" (photon_allocation.h)  |
 //   | gather                 | "auto"      | camera side: "collision": one estimate where the camera  |
