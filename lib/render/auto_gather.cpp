@@ -129,7 +129,6 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             measured.push_back(g);
         }
     }
-    exclude_no_map_where_the_map_is_used(measured);
     exclude_maps_that_go_unused(measured);
     in.candidates = measured;
     PassPlan plan = plan_passes(in);
@@ -176,8 +175,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             if (m.uses_map && m.excluded)
                 log << " (not a choice: it almost never used the map, so it is the continuation plus a photon pass, render/no_map_candidate.h)";
             if (!m.uses_map)
-                log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance"
-                    << (m.excluded ? " (not a choice: the map is used and its paths are long, render/no_map_candidate.h)" : "");
+                log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance";
         }
         log << "; work " << in.photon_cost << " per photon)\n";
         if (no_map_)

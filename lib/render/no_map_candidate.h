@@ -12,25 +12,18 @@
 // and the photon pass (6000-21000 work units per photon) is what decides. The pilot also counts the
 // estimates that used a map per sample (CountedOperations::map_used), reported in the log and sidecar.
 //
-// "continue" is only a choice where the map is next to unused: at most kNoMapMaxUsedShare of the
-// map candidates' kNN queries gave an estimate that was used. Scored freely it won in 25 of 56
-// matrix cells where the map was used (BENCHMARKS.md section 11.8), the default scene among them,
-// and in the box at optical thickness 100 and albedo 0.99 it won on 512 pilot samples that do not
-// see the continued paths' heavy tail (2.27x the best forced gather): a photon-map integrator that
-// quietly path traces wherever the pilot is unsure is not the photon map a user asked for.
-// The pilot is sure where the continued paths are not long: at most kNoMapShortPathRays tracked
-// segments per sample (free flights and shadow rays) leave no long-path tail for its samples to
-// miss, and there "continue" competes freely. Under a sky (sphere and blob at thickness 1: 1.1-1.5
-// segments per sample) a kNN estimate costs 15-50 continued samples at the same or lower variance
-// (BENCHMARKS.md section 11.11). The bound was 2 segments until the plan costed homogeneous segments
-// at their time (render/work_units.cpp) and the run loop kept rendering after a plan without a map
-// (render/run.cpp); then, free, "continue" took the dense albedo-0.9 and -0.5 homogeneous cells
-// (3.4-10.7 segments per sample) from 2.6-42x the path tracer's time to equal error to 1.2-1.5x,
-// and lost only in the box at thickness 100 and albedo 0.99 (18.7 segments: 4.3x, the map wins
-// there). 12 keeps every measured win and that loss out (BENCHMARKS.md section 19); it is one losing
-// cell's bound, not a derived one.
+// "continue" competes freely with the gathers. Until the thirteenth session it was a choice where
+// its paths were long (more than 12 tracked segments per sample) only if the map was next to unused:
+// in the box at optical thickness 100 and albedo 0.99 it had won the pilot on samples that missed its
+// paths' heavy tail and lost the run 4.3x to the map (BENCHMARKS.md sections 11.8 and 19). That tail
+// was the roulette's: survival capped at 0.95 multiplied a deep path's weight by albedo / 0.95 per
+// collision (transport/walk_steps.h, cap 0.999 since). Against the path tracer with the bounded
+// roulette the map took 6.5-8.8x its time to equal error there, every gather forced, and the rule
+// kept the map: without it "continue" took that cell from 8.8x to 2.3x and a dense sphere (optical
+// diameter 300, albedo 0.999) from 6.6x to 1.4x, and changed no plan in the other 55 matrix cells
+// (BENCHMARKS.md section 32).
 //
-// Short paths are not enough where the continuation is heavy-tailed. Under a point light and a
+// Its pilot must see its own tail where it has one. Under a point light and a
 // forward-peaked phase function (g = 0.8) most of its variance comes from paths that bounce backwards
 // at their first vertex (rare under g = 0.8) and then take NEE through the forward lobe towards the
 // light: samples 1000-2400x the pixel mean, one in ~10^4 (BENCHMARKS.md section 16). With 8 samples
@@ -54,26 +47,13 @@ namespace vpm {
 
 constexpr const char* kNoMapCandidate = "continue";
 constexpr double kNoMapMaxUsedShare = 0.02;
-constexpr double kNoMapShortPathRays = 12.0;   // tracked segments per sample: see above
 
 // The share of a map candidate's kNN queries whose estimate was used (0 where it made none).
 inline double map_used_share(const GatherMeasurement& m) {
     return m.per_sample.queries > 0.0 ? m.per_sample.map_used / m.per_sample.queries : 0.0;
 }
 
-// Where a map candidate used the map in more than kNoMapMaxUsedShare of its queries (queries 0:
-// unused), marks the no-map candidates excluded unless their own paths are short (at most
-// kNoMapShortPathRays tracked segments per sample).
-inline void exclude_no_map_where_the_map_is_used(std::vector<GatherMeasurement>& candidates) {
-    double share = 0.0;
-    for (const GatherMeasurement& m : candidates)
-        if (m.uses_map) share = std::max(share, map_used_share(m));
-    if (share <= kNoMapMaxUsedShare) return;
-    for (GatherMeasurement& m : candidates)
-        if (!m.uses_map && m.per_sample.rays > kNoMapShortPathRays) m.excluded = true;
-}
-
-// The converse: a map candidate whose pilot queries almost never gave a used estimate (at most
+// A map candidate whose pilot queries almost never gave a used estimate (at most
 // kNoMapMaxUsedShare of them; every kNN ball wider than max_radius_mfp) continues the path at
 // nearly every collision. It is the continuation plus a photon pass that buys nothing, and its pilot
 // variance is the continuation's read from fewer samples; where a no-map candidate was measured and

@@ -225,33 +225,30 @@ TEST(PassPlan, APassThatFillsTheBudgetTakesAllTheSamplesItHolds) {
     EXPECT_EQ(p.spp, 16);
 }
 
-TEST(PassPlan, ContinueIsAChoiceOnlyWhereTheMapIsNextToUnused) {
-    // render/no_map_candidate.h: "continue" (no map) scores best here, but where its paths are long
-    // it is excluded once the map candidates used the map in more than kNoMapMaxUsedShare of their queries.
+TEST(PassPlan, ContinueCompetesWithLongPathsWhereTheMapIsUsed) {
+    // render/no_map_candidate.h: "continue" (no map) with long paths (19 tracked segments per sample,
+    // the dense albedo-0.99 box) beside a gather that used the map in every query is scored like any
+    // candidate: it wins where its error^2 x work is lower, and loses where it is not.
     PlanInputs in = inputs(/*v_camera*/ 1e-2, /*v_half*/ 1e-4, /*v_quarter*/ 2e-4, /*sample*/ 10.0, /*photon*/ 100.0);
     in.candidates[0].per_sample.queries = 1.0;
+    in.candidates[0].per_sample.map_used = 1.0;
     GatherMeasurement none = in.candidates[0];
     none.name = kNoMapCandidate;
     none.uses_map = false;
     none.v_camera = 1e-3;
     none.v_map_half = 0.0;
-    none.per_sample.rays = kNoMapShortPathRays + 1.0;   // long continued paths: only where the map is next to unused
+    none.per_sample.rays = 19.0;
+    none.per_sample.queries = none.per_sample.map_used = 0.0;
     in.candidates.push_back(none);
-    for (const double used : {0.0, 0.02, 0.5}) {
-        std::vector<GatherMeasurement> c = in.candidates;
-        c[0].per_sample.map_used = used;
-        exclude_no_map_where_the_map_is_used(c);
-        PlanInputs run = in;
-        run.candidates = c;
-        EXPECT_EQ(plan_passes(run).chosen, used <= kNoMapMaxUsedShare ? 1 : 0) << used;
-        // Short continued paths (at most kNoMapShortPathRays segments per sample) compete freely.
-        c = in.candidates;
-        c[0].per_sample.map_used = used;
-        c[1].per_sample.rays = kNoMapShortPathRays;
-        exclude_no_map_where_the_map_is_used(c);
-        run.candidates = c;
-        EXPECT_EQ(plan_passes(run).chosen, 1) << used;
-    }
+    std::vector<GatherMeasurement> c = in.candidates;
+    exclude_maps_that_go_unused(c);
+    EXPECT_FALSE(c[0].excluded);
+    EXPECT_FALSE(c[1].excluded);
+    in.candidates = c;
+    EXPECT_EQ(plan_passes(in).chosen, 1);
+    // Ten times noisier per sample than the gather it is no longer the better choice.
+    in.candidates[1].v_camera = 1e-1;
+    EXPECT_EQ(plan_passes(in).chosen, 0);
 }
 
 TEST(PassPlan, AMapThatGoesUnusedIsNoChoiceBesideTheContinuation) {
@@ -273,7 +270,6 @@ TEST(PassPlan, AMapThatGoesUnusedIsNoChoiceBesideTheContinuation) {
     in.candidates.push_back(march);
     in.candidates.push_back(none);
     std::vector<GatherMeasurement> c = in.candidates;
-    exclude_no_map_where_the_map_is_used(c);
     exclude_maps_that_go_unused(c);
     EXPECT_TRUE(c[0].excluded);    // no query used either
     EXPECT_TRUE(c[1].excluded);
