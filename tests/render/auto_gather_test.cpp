@@ -95,18 +95,12 @@ TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
     // Under a limit that buys more photons than photons.count, pass 0 renders with a map of the
     // plan's size, not the pilot's: the run emits the pilot's 100000 and then the planned count in
     // every pass, pass 0 included (whatever number of passes the clock allows).
-    // The uniform furnace at k = 128, 64 x 64 (its map noise, not a bias, buys photons: the pilot's
-    // bias is charged only where resolved, render/pilot_bias.h; the thin cube's plan keeps 100000 at
-    // optical thickness 1 and 3). Optical radius 5.4: the continued paths (13 segments per sample)
-    // are too long for "continue" to compete where the map is used (render/no_map_candidate.h).
+    // The thin cube (optical thickness 0.3, albedo 0.9) at k = 128, 64 x 64: its map noise, not a
+    // bias, buys photons (the pilot's bias is charged only where resolved, render/pilot_bias.h), and
+    // the march with the map beats the continued paths there (at k = 32 the plan keeps 100000).
     std::ostringstream log;
-    const std::string f = write("furnace128.toml",
-                                "[render]\nwidth = 64\nheight = 64\nintegrator = \"photon_map\"\ntime_limit = 4\n\n"
-                                "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
-                                "[photons]\nk = 128\ndirect = \"photon_map\"\nmax_radius_mfp = 0\n\n"
-                                "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
-                                "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.9\nalbedo = 1.0\n");
-    const RunResult r = render(f, {}, &log);
+    const std::string f = write("cube128.toml", thin_cube(1.0, 0.3, 0.9));
+    const RunResult r = render(f, {"render.width=64", "render.height=64", "render.time_limit=4", "photons.k=128"}, &log);
     ASSERT_TRUE(r.stats.auto_gather && r.stats.photons);
     const AutoGatherStats& a = *r.stats.auto_gather;
     ASSERT_TRUE(a.photon_pass) << log.str();
@@ -301,11 +295,11 @@ TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
     const auto dense = planned_gather_and_stateless(write("dense.toml", thin_cube(1.0, 1000.0, 0.9)));
     EXPECT_EQ(dense.first, "continue");
     EXPECT_TRUE(dense.second);
-    // A run that keeps its map keeps a photon pass per pass: the cube at optical thickness 100 and
-    // albedo 0.99, where the map is used and the plan takes the march.
-    const auto thick = planned_gather_and_stateless(write("cube100.toml", thin_cube(1.0, 100.0, 0.99)));
-    EXPECT_NE(thick.first, "continue");
-    EXPECT_FALSE(thick.second);
+    // A run that keeps its map keeps a photon pass per pass: the cube at optical thickness 1 and
+    // albedo 0.9, where the plan takes the march.
+    const auto thin = planned_gather_and_stateless(write("cube1.toml", thin_cube(1.0, 1.0, 0.9)));
+    EXPECT_NE(thin.first, "continue");
+    EXPECT_FALSE(thin.second);
 }
 
 TEST(AutoGather, APlanWithoutTheMapRendersThePathTracersImage) {
