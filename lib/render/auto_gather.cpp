@@ -24,6 +24,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     PlanInputs in;
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
     in.count = settings_.count;
+    in.pilot_count = first_map_photons(context);
     // The configured pass: the plan's sizes start from it, and a pass over budget / kPlanMinPasses
     // may still be as large as it (when unsized the plan only picks the gather at these samples).
     in.spp = std::max(1, context.configured_spp);
@@ -43,13 +44,15 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         c.progress = false;
         c.log = nullptr;
         RunStats pilot_stats;
-        pilot_maps = run_photon_pass(scene_, settings_, c, false, pilot_stats, allocation_);
+        PhotonMapSettings pilot_settings = settings_;
+        pilot_settings.count = in.pilot_count;
+        pilot_maps = run_photon_pass(scene_, pilot_settings, c, false, pilot_stats, allocation_);
         map = &pilot_maps.volume;
         counts = pilot_stats.photons;
         if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
     }
     // The pilot's maps, full and halves, are decided on as the run's (photon/bounded_radius.h).
-    const double pilot_emitted = double(settings_.count);
+    const double pilot_emitted = double(in.pilot_count);
     if (counts && counts->emitted > 0)
         in.photon_cost = (w.collision * double(counts->collisions) + w.path * double(counts->emitted) +
                           w.stored * double(counts->stored)) / double(counts->emitted);
@@ -145,7 +148,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     a.photon_cost = in.photon_cost;
     a.chosen = measured[size_t(plan.chosen)].name;
     a.photon_pass = !no_map_;
-    a.count = in.size_photons ? plan.count : settings_.count;
+    a.pilot_count = in.pilot_count;
+    a.count = in.size_photons ? plan.count : in.count;
     a.spp = plan.spp;
     a.beta = plan.beta;
     a.beta_measured = plan.beta_measured;
@@ -153,6 +157,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     a.size_samples = in.size_samples;
     auto_stats_ = a;
     stats.phase("pilot", timer.seconds());
+    one_off_seconds_ += timer.seconds();
     if (context.log) {
         std::ostream& log = *context.log;
         log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
@@ -182,8 +187,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             log << "photons: no photon pass after this one: the map " << (measured[0].per_sample.map_used > 0.0 ? "did not pay for its pass" : "was never used (every kNN ball wider than photons.max_radius_mfp)")
                 << ", so every pass, this one included, is the path tracer's (the same estimator, unbiased)\n";
         if (in.size_photons || in.size_samples)
-            log << "passes: " << a.count << " photons per pass (" << (in.size_photons ? "sized" : "photons.count")
-                << "), " << (in.size_samples ? std::to_string(plan.spp) : std::string("render.spp")) << " samples per pass ("
+            log << "passes: " << (no_map_ ? std::string("no photons") : std::to_string(a.count) + " photons per pass (" + (in.size_photons ? "sized" : "photons.count") + ")")
+                << ", " << (in.size_samples ? std::to_string(plan.spp) : std::string("render.spp")) << " samples per pass ("
                 << (in.size_samples ? "sized" : "given") << "), the map's variance taken as N^-" << plan.beta
                 << (plan.beta_measured ? " (measured)" : " (assumed)") << "\n";
     }

@@ -52,6 +52,9 @@ public:
     // Camera samples per pixel for the pass prepare() has just set up: `configured` unless the
     // integrator sized its passes itself (the photon map's plan under render.time_limit).
     virtual int samples_per_pass(int configured) const { return configured; }
+    // Seconds of the run's first prepare() that later passes do not repeat (the photon map's pilot):
+    // a time limit reckons the passes that still fit without them.
+    virtual double one_off_seconds() const { return 0.0; }
 };
 
 // An integrator's typed settings, read from the config by its registry entry; builds the

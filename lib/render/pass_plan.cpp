@@ -84,12 +84,15 @@ Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_ca
     int s_lo = in.size_samples ? 1 : in.spp;
     if (in.size_samples && !m.uses_map)
         while (s_lo < s_hi && double(s_lo) * in.pixels < kNoMapPassSamples) s_lo *= 2;
+    // The map's figures were read at the pilot's photons, which may be fewer than N0.
+    const double pilot = double(in.pilot_count > 0 ? in.pilot_count : in.count);
     for (int i = 0; i <= doublings; ++i) {
         const double n = double(in.count) * double(int64_t(1) << i);
-        const double v_map = v_map_half * std::pow(0.5 * double(in.count) / n, beta);
-        const double bias2 = bias2_n0 * std::pow(double(in.count) / n, 4.0 / 3.0);
+        const double v_map = v_map_half * std::pow(0.5 * pilot / n, beta);
+        const double bias2 = bias2_n0 * std::pow(pilot / n, 4.0 / 3.0);
+        const double doublings_from_pilot = std::log2(n / pilot);
         for (int s = s_lo; s <= s_hi; s *= 2) {
-            const double cost = photon_cost * n + in.pixels * double(s) * (m.sample_cost + double(i) * query_growth);
+            const double cost = photon_cost * n + in.pixels * double(s) * (m.sample_cost + doublings_from_pilot * query_growth);
             // Over the cap only passes no larger than the configured one (N0, S0) count: the
             // plan never makes a pass longer than the budget that the configuration did not.
             if (cost > cap && !(i == 0 && s <= in.spp)) continue;

@@ -52,7 +52,7 @@ struct GatherMeasurement {
     int samples = 0;              // pilot samples per pixel and map (render/pilot_budget.h)
     bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap
     bool uses_map = true;         // false: no photon pass is paid for (render/no_map_candidate.h)
-    bool excluded = false;        // not a choice (render/no_map_candidate.h: without a map where the map is used, or a map that goes unused)
+    bool excluded = false;        // not a choice (render/no_map_candidate.h: a map that goes unused)
     double bias_mean = 0.0;       // the pilot's pooled, signed bias at N0 behind bias2
     double bias_se = 0.0;         // and its standard error
 };
@@ -62,6 +62,9 @@ struct PlanInputs {
     double photon_cost = 0.0;   // counted work units per emitted photon (trace and build): a candidate that uses the map pays it
     double pixels = 0.0;
     int64_t count = 0;          // N0: photons.count
+    // The pilot map's photons, at which v_map_half, v_map_quarter and bias2 were read (fewer than N0
+    // where walks store many photons each: render/photon_pass.h); 0: N0.
+    int64_t pilot_count = 0;
     int spp = 1;                // S0: samples per pass as configured
     bool size_photons = false;  // false: N stays N0
     bool size_samples = false;  // false: S stays S0
@@ -69,7 +72,7 @@ struct PlanInputs {
     // the bias term is left out and error^2 x work per pass is minimised.
     double budget = 0.0;
     // Work units a used kNN query costs more per doubling of the photons (render/work_units.h's
-    // query_price): a pass of 2^i N0 photons prices each sample's used queries i times this higher.
+    // query_price): a pass of 2^i times the pilot's photons prices each sample's used queries i times this higher.
     double query_doubling = 0.0;
 };
 

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/henyey_greenstein.h"
+#include "core/progress.h"
 #include "core/sampling.h"
 #include "photon/ball_extinction.h"
 #include "photon/bounded_radius.h"
@@ -108,7 +109,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         surface_map_ = nullptr;
     } else if (scene_.has_media() || surface) {
         // Pass 0 of an auto plan is first traced at photons.count: the pilot's map, which the plan is made on.
-        trace_maps(context, plan_ ? plan_->count : settings_.count, surface, stats);
+        trace_maps(context, plan_ ? plan_->count : first_map_photons(context), surface, stats);
         if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
         // k above the stored count: say so once per run (the maps are then not queried).
         const bool volume_short = scene_.has_media() && volume_map_starved();
@@ -131,10 +132,11 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         // Rendered with the pilot's small map, pass 0 would keep that map's bias and noise in the
         // image (all of it where the time limit allows one pass): it is traced again at the plan's
         // size, as every later pass is, and as a run starting at a later pass renders it.
-        if (!no_map_ && plan_->count > settings_.count && (scene_.has_media() || surface)) {
+        if (!no_map_ && plan_->count > first_map_photons_ && (scene_.has_media() || surface)) {
             if (log)
                 *log << "photons: pass 0 traced again with the plan's " << plan_->count << " photons (the pilot's "
-                     << settings_.count << " only chose the plan)\n";
+                     << first_map_photons_ << " only chose the plan)\n";
+            one_off_seconds_ += last_trace_seconds_;   // the pilot's map
             trace_maps(context, plan_->count, surface, stats);
         }
     }
@@ -142,12 +144,30 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         *log << "photons: final_gather = true, so no surface photon map (paths continue through surfaces)\n";
 }
 
+int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context) {
+    if (first_map_photons_ > 0) return first_map_photons_;
+    first_map_photons_ = settings_.count;
+    if (owns_maps_ && settings_.gather == GatherMode::automatic && settings_.size_photons && scene_.has_media()) {
+        const Timer probe_timer;
+        const PilotPhotonCount p = pilot_photon_count(scene_, settings_, context, allocation_);
+        one_off_seconds_ += probe_timer.seconds();
+        first_map_photons_ = p.count;
+        if (context.log && context.first_of_run && p.count < settings_.count)
+            *context.log << "photons: the pilot's map of " << p.count << " photons, not photons.count = " << settings_.count
+                         << ": a probe of " << p.probe_photons << " stored " << p.stored_per_photon << " per photon, and "
+                         << kPilotStoredPhotons << " stored are what the pilot needs (render/photon_pass.h)\n";
+    }
+    return first_map_photons_;
+}
+
 void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats) {
     retire_beam();           // its BVH points into the last pass's map
     owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
     PhotonMapSettings pass_settings = settings_;
     pass_settings.count = count;
+    const Timer timer;
     owned_ = run_photon_pass(scene_, pass_settings, context, surface, stats, allocation_);
+    last_trace_seconds_ = timer.seconds();
     surface_map_ = surface ? &owned_.surface : nullptr;
     set_map_emitted(double(count));
 }
@@ -166,7 +186,7 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     c.log = nullptr;
     RunStats traced;   // its counts are not the run's photon passes'
     PhotonMapSettings decision_settings = settings_;
-    decision_settings.count = std::max<int64_t>(1, settings_.count / kDecisionMapShare);
+    decision_settings.count = std::max<int64_t>(1, first_map_photons(context) / kDecisionMapShare);
     // The run's photons per light (traced after its first map, which set them).
     decision_owned_ = std::move(run_photon_pass(scene_, decision_settings, c, false, traced, allocation_).volume);
     decision_map_ = &decision_owned_;
@@ -176,6 +196,7 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     double seconds = 0.0;
     for (const PhaseStats& phase : traced.phases) seconds += phase.seconds;
     stats.phase("decision_map", seconds);
+    one_off_seconds_ += seconds;
     stats.decision_map_photons = decision_owned_.size();
     if (context.log && context.first_of_run)
         *context.log << "photons: decision map of " << decision_settings.count << " photons (" << decision_owned_.size()

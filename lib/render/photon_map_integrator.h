@@ -89,6 +89,7 @@ public:
     // Once the plan chose "continue" no pass traces photons: the passes may go in groups, and the
     // first pass's photon pass and pilot are not what a later pass costs (render/run.cpp).
     bool stateless_passes() const override { return no_map_; }
+    double one_off_seconds() const override { return one_off_seconds_; }
     // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
     // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
     // beam: one BVH query per segment (render/beam_gather.h); a map without discs falls back to march.
@@ -119,7 +120,7 @@ private:
     const PhotonMap* map_;
     const PhotonMap* surface_map_;
     // The bound's decision map (photon/bounded_radius.h): traced once per run with a seed of its own
-    // at photons.count / kDecisionMapShare photons, so every pass and machine of a run decides alike.
+    // at the first map's photons / kDecisionMapShare, so every pass and machine of a run decides alike.
     // decision_ratio_ = emitted photons of map_ / of the decision map. (At photons.count it cost the
     // dense box of optical side 100 a second, as much as the pass's own photon pass: BENCHMARKS.md
     // section 31.)
@@ -155,6 +156,13 @@ private:
     void retire_beam();
     // This pass's photon maps with `count` photons (the last pass's freed first).
     void trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats);
+    // The photons of the run's first map (and of the auto plan's pilot map): photons.count, or fewer
+    // where an auto plan sizes the count and walks store many photons each (render/photon_pass.h).
+    // Decided once per run, on a probe with the run's streams, so every pass range plans alike.
+    int64_t first_map_photons(const PassContext& context);
+    int64_t first_map_photons_ = 0;   // 0: not decided yet
+    double one_off_seconds_ = 0.0;    // one_off_seconds(): the probe, the pilot, its map when traced again, the decision map
+    double last_trace_seconds_ = 0.0; // trace_maps' last photon pass
     // gather = "beam": the segment's in-scattering, single scattering by NEE when direct = "nee".
     Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
 

@@ -1,20 +1,24 @@
 #include "render/photon_pass.h"
 
+#include <algorithm>
+#include <cmath>
 #include <ostream>
 
 #include <tbb/task_group.h>
 
 #include "core/progress.h"
+#include "core/rng.h"
 #include "photon/photon_allocation.h"
 #include "photon/photon_budget.h"
 #include "render/photon_lights_report.h"
 
 namespace vpm {
 
-PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
-                           bool surface, RunStats& stats, std::optional<LightAllocation>& cached) {
-    // The report lines are written for a run's first pass; later passes add one "pass" line each.
-    std::ostream* log = context.first_of_run ? context.log : nullptr;
+namespace {
+
+// The pass's trace settings, with the photons per light of the run (computed on the first call).
+PhotonTraceSettings trace_settings(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
+                                   bool surface, std::optional<LightAllocation>& cached) {
     PhotonTraceSettings ts;
     ts.count = uint64_t(ps.count);
     ts.seed = context.seed;
@@ -26,17 +30,46 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     ts.store_probability = ps.store_probability;
     ts.store_auto = ps.store_auto;
     ts.forced_collisions = ps.forced_collisions;
-    // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
-    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), context.log);
     // Photons per light: by a pilot's importance where the camera looks, or by power.
-    const bool importance = ps.allocation == PhotonAllocationRule::importance;
     if (!cached) {
         PhotonTraceSettings pilot = ts;
         pilot.stream_offset = context.run_stream_offset;
-        cached = importance ? importance_allocation(scene, pilot) : power_allocation(scene);
+        cached = ps.allocation == PhotonAllocationRule::importance ? importance_allocation(scene, pilot) : power_allocation(scene);
     }
+    ts.light_weights = cached->weights;
+    return ts;
+}
+
+}  // namespace
+
+PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
+                                    std::optional<LightAllocation>& allocation) {
+    PilotPhotonCount p;
+    p.count = ps.count;
+    PhotonTraceSettings probe = trace_settings(scene, ps, context, false, allocation);
+    probe.count = std::min<uint64_t>(kPilotProbePhotons, uint64_t(ps.count));
+    probe.seed = mix64(context.seed ^ 0x70726f6265ULL);   // apart from every pass's map
+    probe.stream_offset = context.run_stream_offset;
+    probe.progress = false;
+    const PhotonTraceResult traced = trace_photons(scene, probe);
+    p.probe_photons = int64_t(traced.paths);
+    p.stored_per_photon = traced.paths ? double(traced.photons.size()) / double(traced.paths) : 0.0;
+    if (p.stored_per_photon * double(ps.count) > kPilotStoredPhotons) {
+        const double wanted = kPilotStoredPhotons / p.stored_per_photon;
+        p.count = std::min(ps.count, std::max(kPilotProbePhotons, int64_t(std::ceil(wanted / double(kPilotProbePhotons))) * kPilotProbePhotons));
+    }
+    return p;
+}
+
+PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
+                           bool surface, RunStats& stats, std::optional<LightAllocation>& cached) {
+    // The report lines are written for a run's first pass; later passes add one "pass" line each.
+    std::ostream* log = context.first_of_run ? context.log : nullptr;
+    PhotonTraceSettings ts = trace_settings(scene, ps, context, surface, cached);
+    // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
+    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), context.log);
+    const bool importance = ps.allocation == PhotonAllocationRule::importance;
     const LightAllocation& allocation = *cached;
-    ts.light_weights = allocation.weights;
     PhotonTraceResult traced = trace_photons(scene, ts);
     // A cancelled task group (the Python module's Ctrl-C) stopped the trace: no kd-tree over its
     // partial photons (seconds for millions); the caller discards the run.

@@ -25,4 +25,20 @@ struct PhotonMaps {
 PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& settings, const PassContext& context,
                            bool surface_map, RunStats& stats, std::optional<LightAllocation>& allocation);
 
+// The auto plan's pilot map where photons.count is not given (render/auto_gather.cpp): photons.count
+// photons, or fewer where walks store many photons each, so that it holds about kPilotStoredPhotons
+// (in a box at optical thickness 100, albedo 0.99, 1e5 photons stored 1.35 M: a trace and a build
+// of 1.4 s, most of a 2 s budget, before the pilot could find that no map pays there). A probe of
+// one batch, with a seed of its own, measures the volume photons stored per emitted one; the map is traced
+// apart from it, as a count chosen on the photons it then normalises would bias them.
+constexpr double kPilotStoredPhotons = 262144.0;
+constexpr int64_t kPilotProbePhotons = 4096;
+struct PilotPhotonCount {
+    int64_t count = 0;               // the pilot map's photons: a multiple of the probe's, at most photons.count
+    int64_t probe_photons = 0;
+    double stored_per_photon = 0.0;  // volume photons stored per emitted, in the probe
+};
+PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings& settings, const PassContext& context,
+                                    std::optional<LightAllocation>& allocation);
+
 }  // namespace vpm

@@ -261,6 +261,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.excluded", nlohmann::json(excluded));
         record.set("photons.auto_gather.photon_pass", a->photon_pass);
         record.set("photons.auto_gather.photon_cost", a->photon_cost);
+        record.set("photons.auto_gather.pilot_count", a->pilot_count);
         record.set("photons.auto_gather.count", a->count);
         record.set("photons.auto_gather.spp", a->spp);
         record.set("photons.auto_gather.beta", a->beta);

@@ -97,7 +97,8 @@ struct AutoGatherStats {
     std::vector<GatherMeasurement> candidates;
     double photon_cost = 0.0;      // work units per emitted photon
     std::string chosen;
-    int64_t count = 0;             // photons per pass (pass 0 traced again at it when above photons.count)
+    int64_t pilot_count = 0;       // the pilot map's photons: photons.count, or fewer where walks store many (render/photon_pass.h)
+    int64_t count = 0;             // photons per pass (pass 0 traced again at it when above pilot_count)
     int spp = 0;                   // samples per pass
     double beta = 1.0;             // V_map ~ N^-beta
     bool beta_measured = false;

@@ -15,6 +15,7 @@
 #include "config/params.h"
 #include "core/error.h"
 #include "render/photon_map_integrator.h"
+#include "render/photon_pass.h"
 #include "render/run.h"
 #include "render/run_stats.h"
 #include "../support/render_statistics.h"
@@ -107,6 +108,57 @@ TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
     ASSERT_GT(a.count, 100000) << log.str();   // the plan's figure: counts only, the same on any machine
     EXPECT_EQ(r.stats.photons->emitted, uint64_t(100000 + a.count * int64_t(r.stats.pass_count()))) << log.str();
     EXPECT_NE(log.str().find("photons: pass 0 traced again with the plan's"), std::string::npos) << log.str();
+}
+
+TEST(AutoGather, ThePilotMapIsSmallerWhereWalksStoreManyPhotons) {
+    // The cube at optical thickness 100, albedo 0.99 stores about 13 photons per emitted one: the
+    // pilot's map holds about kPilotStoredPhotons, not 1.3 M (render/photon_pass.h). Its count comes
+    // from a probe (counts only): the same on one and two threads and for a run starting at pass 1.
+    const std::string dense = write("cube100.toml", thin_cube(1.0, 100.0, 0.99));
+    const std::vector<std::string> one_pass = {"render.time_limit=1e-9"};
+    std::ostringstream log;
+    const RunResult a = render(dense, one_pass, &log);
+    ASSERT_TRUE(a.stats.auto_gather && a.stats.photons);
+    const int64_t pilot = a.stats.auto_gather->pilot_count;
+    EXPECT_LT(pilot, 100000);
+    EXPECT_GE(pilot, kPilotProbePhotons);
+    EXPECT_EQ(pilot % kPilotProbePhotons, 0);
+    EXPECT_NE(log.str().find("photons: the pilot's map of " + std::to_string(pilot) + " photons"), std::string::npos) << log.str();
+    // Pass 0's first photon pass is the pilot's map; a plan that keeps the map traces pass 0 again,
+    // at photons.count or more (render/pass_plan.h).
+    const AutoGatherStats& plan = *a.stats.auto_gather;
+    EXPECT_EQ(a.stats.photons->emitted, uint64_t(pilot + (plan.photon_pass ? plan.count : 0))) << plan.chosen;
+    if (plan.photon_pass) {
+        EXPECT_GE(plan.count, 100000);
+    }
+    // The pilot map's stored photons (its "trace:" line), the probe's projection within a batch's
+    // worth and the probe's noise.
+    const std::string text = log.str();
+    const size_t line = text.find("trace: " + std::to_string(pilot) + " photon paths, ");
+    ASSERT_NE(line, std::string::npos) << text;
+    const size_t collisions = text.find("collisions, ", line);
+    ASSERT_NE(collisions, std::string::npos);
+    const double stored = std::stod(text.substr(collisions + 12));
+    EXPECT_GT(stored, 0.7 * kPilotStoredPhotons);
+    EXPECT_LT(stored, 1.3 * kPilotStoredPhotons + 20.0 * double(kPilotProbePhotons));
+    std::vector<std::string> one = one_pass, two = one_pass, later = one_pass;
+    one.push_back("render.threads=1");
+    two.push_back("render.threads=2");
+    later.push_back("render.first_pass=1");
+    for (const auto& sets : {one, two, later}) {
+        const RunResult b = render(dense, sets);
+        ASSERT_TRUE(b.stats.auto_gather);
+        EXPECT_EQ(b.stats.auto_gather->pilot_count, pilot);
+        EXPECT_EQ(b.stats.auto_gather->chosen, a.stats.auto_gather->chosen);
+    }
+    // Where walks store fewer (the thin cube), or where photons.count is given, the pilot's map has photons.count.
+    // (Where it has fewer the plan still sizes from photons.count up: render/pass_plan.h.)
+    const RunResult thin = render(write("cube.toml", thin_cube(1.0)), one_pass);
+    ASSERT_TRUE(thin.stats.auto_gather);
+    EXPECT_EQ(thin.stats.auto_gather->pilot_count, 100000);
+    const RunResult given = render(dense, {"render.time_limit=1e-9", "photons.count=100000"});
+    ASSERT_TRUE(given.stats.auto_gather);
+    EXPECT_EQ(given.stats.auto_gather->pilot_count, 100000);
 }
 
 TEST(AutoGather, ATimeLimitShorterThanOnePassWritesOneAndSaysSo) {

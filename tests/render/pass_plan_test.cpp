@@ -381,3 +381,29 @@ TEST(PassPlan, TheMapsVarianceIsChargedAtItsUpperBoundToo) {
     EXPECT_NEAR(p.score[0] / p.score[1], (0.015 + 1.0 / 16.0) / (1.2 / 16.0), 1e-12);
 
 }
+
+TEST(PassPlan, APilotMapSmallerThanN0IsReadAtItsOwnCount) {
+    // The figures of a pilot map of N0 / 4 photons (render/photon_pass.h) are those of an N0 map
+    // scaled to N0 / 4: 4x the map variance, 4^(4/3) the squared bias, queries two doublings
+    // cheaper. Read at its own count it plans exactly as the N0 map does, and never below N0.
+    PlanInputs full = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1e-4, /*v_quarter*/ -1.0, /*sample*/ 10.0, /*photon*/ 100.0);
+    full.candidates[0].bias2 = 1e-5;
+    full.candidates[0].per_sample.queries = full.candidates[0].per_sample.map_used = 1.0;
+    full.query_doubling = 0.5;
+    full.budget = 1e9;
+    PlanInputs small = full;
+    small.pilot_count = full.count / 4;
+    small.candidates[0].v_map_half *= 4.0;
+    small.candidates[0].bias2 *= std::pow(4.0, 4.0 / 3.0);
+    small.candidates[0].sample_cost -= 2.0 * full.query_doubling;
+    const PassPlan a = plan_passes(full), b = plan_passes(small);
+    EXPECT_EQ(a.count, b.count);
+    EXPECT_EQ(a.spp, b.spp);
+    EXPECT_GE(b.count, full.count);
+    ASSERT_EQ(a.score.size(), 1u);
+    EXPECT_NEAR(b.score[0], a.score[0], 1e-9 * a.score[0]);
+    // Read as if at N0, the same figures score worse (the small map's noise taken for N0's).
+    PlanInputs misread = small;
+    misread.pilot_count = 0;
+    EXPECT_GT(plan_passes(misread).score[0], 1.5 * a.score[0]);
+}
