@@ -44,7 +44,9 @@ def render(binary, scene, integrator, seed, seconds, out):
         sys.exit(f'heldout_check: {scene}: vpm failed: {r.stderr.strip().splitlines()[-1] if r.stderr.strip() else r.returncode}')
     wall = time.monotonic() - t0
     ag = json.load(open(out[:-4] + '.json')).get('photons', {}).get('auto_gather')
-    return np.asarray(vpm.read_exr(out), dtype=np.float64), wall, (f"{ag['chosen']} {ag['count']}x{ag['spp']}" if ag else '')
+    # A plan without the map ("continue") makes no photon pass: its photon count means nothing.
+    plan = '' if not ag else (f"{ag['chosen']} {ag['count']}x{ag['spp']}" if ag.get('photon_pass', True) else f"{ag['chosen']} x{ag['spp']}")
+    return np.asarray(vpm.read_exr(out), dtype=np.float64), wall, plan
 
 
 for scene in a.scenes:
