@@ -186,7 +186,10 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     c.log = nullptr;
     RunStats traced;   // its counts are not the run's photon passes'
     PhotonMapSettings decision_settings = settings_;
-    decision_settings.count = std::max<int64_t>(1, first_map_photons(context) / kDecisionMapShare);
+    // An eighth of photons.count, also where the auto plan's pilot map is smaller (render/photon_pass.h):
+    // the passes that keep the map have photons.count or more, and the decision's ball and count were
+    // measured at that ratio (BENCHMARKS.md section 31).
+    decision_settings.count = std::max<int64_t>(1, settings_.count / kDecisionMapShare);
     // The run's photons per light (traced after its first map, which set them).
     decision_owned_ = std::move(run_photon_pass(scene_, decision_settings, c, false, traced, allocation_).volume);
     decision_map_ = &decision_owned_;

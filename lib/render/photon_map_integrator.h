@@ -120,7 +120,7 @@ private:
     const PhotonMap* map_;
     const PhotonMap* surface_map_;
     // The bound's decision map (photon/bounded_radius.h): traced once per run with a seed of its own
-    // at the first map's photons / kDecisionMapShare, so every pass and machine of a run decides alike.
+    // at photons.count / kDecisionMapShare photons, so every pass and machine of a run decides alike.
     // decision_ratio_ = emitted photons of map_ / of the decision map. (At photons.count it cost the
     // dense box of optical side 100 a second, as much as the pass's own photon pass: BENCHMARKS.md
     // section 31.)
