@@ -33,8 +33,11 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     in.budget = settings_.time_limit * kWorkUnitsPerSecond;
     // The pilot's map is pass 0's, so that every range of passes rendered apart (render.first_pass,
     // vpm merge) makes the same plan: a run starting later traces it apart, with pass 0's streams.
+    // (Its surface map too: planned without it, a run from pass 1 over a floor took the collision
+    // gather where pass 0's plan took the march, and vpm merge lost the one-machine image.)
     PhotonMaps pilot_maps;
     const PhotonMap* map = map_;
+    const PhotonMap* pilot_surface = surface_map_;
     std::optional<PhotonPassStats> counts = stats.photons;
     if (owns_maps_ && context.pass != 0) {
         PassContext c = context;
@@ -46,8 +49,10 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         RunStats pilot_stats;
         PhotonMapSettings pilot_settings = settings_;
         pilot_settings.count = in.pilot_count;
-        pilot_maps = run_photon_pass(scene_, pilot_settings, c, false, pilot_stats, allocation_);
+        const bool surface = traces_surface_map();
+        pilot_maps = run_photon_pass(scene_, pilot_settings, c, surface, pilot_stats, allocation_);
         map = &pilot_maps.volume;
+        pilot_surface = surface ? &pilot_maps.surface : nullptr;
         counts = pilot_stats.photons;
         if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
     }
@@ -72,7 +77,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     // pass that buys nothing, and the plan drops them (render/no_map_candidate.h). Planned with every
     // figure 0 instead, a scene whose only medium was empty traced 1e5 photons per pass, 185 passes
     // in 2 s, for a black image.
-    const bool measured_by_pilot = map->size() > 0 || !(run_surface && run_surface->size() > 0);
+    const bool measured_by_pilot = map->size() > 0 || !(pilot_surface && pilot_surface->size() > 0);
     if (measured_by_pilot) {
         MapNoisePilotHooks hooks;
         // Grid tracking counts of the pilot's samples (scene/media/tracking_counter.h): sums, the
@@ -82,7 +87,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             gather_ = gathers[c];
             const bool uses_map = candidates[size_t(c)].uses_map;
             map_ = uses_map ? m : &empty_map_;
-            surface_map_ = uses_map ? run_surface : nullptr;
+            surface_map_ = uses_map ? pilot_surface : nullptr;
             set_map_emitted(m == map ? pilot_emitted : pilot_emitted / 2.0);   // a half map: half the walks
         };
         hooks.trace = [&](const Ray& ray, Rng& rng) {

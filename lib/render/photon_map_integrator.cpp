@@ -103,7 +103,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         return;
     }
     std::ostream* log = context.first_of_run ? context.log : nullptr;
-    const bool surface = scene_.uses_embree() && !settings_.final_gather;
+    const bool surface = traces_surface_map();
     if (no_map_) {   // render/no_map_candidate.h: the plan found the map not worth its pass
         owned_ = PhotonMaps();
         surface_map_ = nullptr;
@@ -149,7 +149,7 @@ int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context) {
     first_map_photons_ = settings_.count;
     if (owns_maps_ && settings_.gather == GatherMode::automatic && settings_.size_photons && scene_.has_media()) {
         const Timer probe_timer;
-        const PilotPhotonCount p = pilot_photon_count(scene_, settings_, context, allocation_);
+        const PilotPhotonCount p = pilot_photon_count(scene_, settings_, context, traces_surface_map(), allocation_);
         one_off_seconds_ += probe_timer.seconds();
         first_map_photons_ = p.count;
         if (context.log && context.first_of_run && p.count < settings_.count)
@@ -170,6 +170,10 @@ void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, 
     last_trace_seconds_ = timer.seconds();
     surface_map_ = surface ? &owned_.surface : nullptr;
     set_map_emitted(double(count));
+}
+
+bool PhotonMapIntegrator::traces_surface_map() const {
+    return scene_.uses_embree() && !settings_.final_gather;
 }
 
 bool PhotonMapIntegrator::wants_decision_map() const {

@@ -138,6 +138,8 @@ private:
     DecisionBall decision_ball(double radius) const;
     double decision_emitted_ = 0.0;   // the decision map's emitted photons (owned)
     double map_emitted_ = 0.0;        // map_'s emitted photons (owned maps)
+    // Whether passes trace a surface photon map: surfaces, and final_gather off.
+    bool traces_surface_map() const;
     // Whether this run's estimates need a decision map: media, the bound on, a gather that uses it.
     bool wants_decision_map() const;
     // Traces decision_owned_ (once per run) and logs it.

@@ -43,10 +43,12 @@ PhotonTraceSettings trace_settings(const Scene& scene, const PhotonMapSettings& 
 }  // namespace
 
 PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
-                                    std::optional<LightAllocation>& allocation) {
+                                    bool surface_map, std::optional<LightAllocation>& allocation) {
     PilotPhotonCount p;
     p.count = ps.count;
-    PhotonTraceSettings probe = trace_settings(scene, ps, context, false, allocation);
+    // The run's allocation, as its passes would compute it (with their surface map), then volume only.
+    PhotonTraceSettings probe = trace_settings(scene, ps, context, surface_map, allocation);
+    probe.store_surface = false;
     probe.count = std::min<uint64_t>(kPilotProbePhotons, uint64_t(ps.count));
     probe.seed = mix64(context.seed ^ 0x70726f6265ULL);   // apart from every pass's map
     probe.stream_offset = context.run_stream_offset;

@@ -38,7 +38,9 @@ struct PilotPhotonCount {
     int64_t probe_photons = 0;
     double stored_per_photon = 0.0;  // volume photons stored per emitted, in the probe
 };
+// surface_map: whether the run's passes trace one (the photons per light are computed with it, as
+// the passes would, when `allocation` is still empty).
 PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings& settings, const PassContext& context,
-                                    std::optional<LightAllocation>& allocation);
+                                    bool surface_map, std::optional<LightAllocation>& allocation);
 
 }  // namespace vpm

@@ -170,6 +170,27 @@ TEST(AutoGather, ATimeLimitShorterThanOnePassWritesOneAndSaysSo) {
     EXPECT_NE(log.str().find("gather: auto chose"), std::string::npos) << log.str();
 }
 
+TEST(AutoGather, ARunFromALaterPassPlansAsPassZeroOverASurface) {
+    // The pilot of a run starting at pass 1 traces pass 0's maps apart, its surface map included:
+    // without it the cube over a floor planned the collision gather from pass 1 and the march from
+    // pass 0 (vpm merge then lost the one-machine image).
+    const std::string f = write("cube_floor.toml", thin_cube(1.0) +
+                                                       "\n[[shapes]]\ntype = \"quad\"\ncenter = [0.5, -0.2, 0.5]\n"
+                                                       "u = [2.0, 0.0, 0.0]\nv = [0.0, 0.0, 2.0]\nreflectance = 0.5\n");
+    const RunResult zero = render(f, {"render.time_limit=1e-9", "render.width=32", "render.height=32"});
+    const RunResult one = render(f, {"render.time_limit=1e-9", "render.width=32", "render.height=32", "render.first_pass=1"});
+    ASSERT_TRUE(zero.stats.auto_gather && one.stats.auto_gather);
+    const AutoGatherStats &a = *zero.stats.auto_gather, &b = *one.stats.auto_gather;
+    EXPECT_EQ(a.chosen, b.chosen);
+    EXPECT_EQ(a.count, b.count);
+    EXPECT_EQ(a.spp, b.spp);
+    ASSERT_EQ(a.candidates.size(), b.candidates.size());
+    for (size_t c = 0; c < a.candidates.size(); ++c) {
+        EXPECT_EQ(a.candidates[c].v_camera, b.candidates[c].v_camera) << a.candidates[c].name;
+        EXPECT_EQ(a.candidates[c].sample_cost, b.candidates[c].sample_cost) << a.candidates[c].name;
+    }
+}
+
 TEST(AutoGather, SamePlanAndImageOnOneAndTwoThreads) {
     const std::string f = write("cube.toml", thin_cube(1.0));
     // render.first_pass = 1: the pilot map is pass 0's, traced apart, and the pass uses the planned count.
