@@ -67,7 +67,7 @@ Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_ca
                    bool trusted) {
     const double cap = in.budget > 0.0 ? in.budget / kPlanMinPasses : kInfinity;
     v_map_half = std::max(0.0, v_map_half);   // < 0: the map's noise is below the pilot's resolution
-    const double bias2_n0 = std::max(0.0, m.bias2);
+    const double bias2_pilot = std::max(0.0, m.bias2);
     // Without the map (render/no_map_candidate.h) no photon pass is made: N does not matter.
     const double photon_cost = m.uses_map ? in.photon_cost : 0.0;
     Sizing best;
@@ -89,7 +89,7 @@ Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_ca
     for (int i = 0; i <= doublings; ++i) {
         const double n = double(in.count) * double(int64_t(1) << i);
         const double v_map = v_map_half * std::pow(0.5 * pilot / n, beta);
-        const double bias2 = bias2_n0 * std::pow(pilot / n, 4.0 / 3.0);
+        const double bias2 = bias2_pilot * std::pow(pilot / n, 4.0 / 3.0);
         const double doublings_from_pilot = std::log2(n / pilot);
         for (int s = s_lo; s <= s_hi; s *= 2) {
             const double cost = photon_cost * n + in.pixels * double(s) * (m.sample_cost + doublings_from_pilot * query_growth);

@@ -8,13 +8,14 @@
 // mean that comes from the map itself (shared by every sample of a pass, so it falls with N and P
 // only). A pass costs C(N, S) = c_photon N + pixels S c_sample in counted work units, so for a
 // fixed time the error^2 x time to minimise is (V_map(N) + V_camera / S) C(N, S). V_map is measured
-// at N0 / 2 photons (the pilot's independent half maps) and extrapolated as N^-beta: beta = 1 where
+// at Np / 2 photons (the pilot's independent half maps; Np, the pilot map's photons, is N0 or fewer:
+// render/photon_pass.h) and extrapolated as N^-beta: beta = 1 where
 // a pixel's footprint holds many kNN balls, 1/3 where one ball spans the pixel's cross-section (the
-// balls then only average along the ray); measured from N0 / 4 where given, else 1.
+// balls then only average along the ray); measured from Np / 4 where given, else 1.
 // With a budget T (render.time_limit, in work units) P = floor(T / C) whole passes fit, and the bias,
 // which does not average out, enters: error^2 x time = ((V_map(N) + V_camera / S) / P + bias(N)^2) T for C <= T,
 // (V_map + V_camera / S + bias^2) C for a pass longer than the budget (one pass is still made);
-// bias(N)^2 = bias(N0)^2 (N0 / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N never
+// bias(N)^2 = bias(Np)^2 (Np / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N never
 // goes below the configured count N0. Every input is a count, a variance or a config value: the
 // plan is the same on any machine and thread count, and scale-invariant.
 #include <cstdint>
@@ -38,9 +39,9 @@ struct CountedOperations {
 struct GatherMeasurement {
     std::string name;             // "collision", "march", "continue" (no map: render/no_map_candidate.h)
     double v_camera = 0.0;        // per-sample variance of a pixel's luminance given the map
-    double v_map_half = 0.0;      // variance of a pixel's mean from the map at N0 / 2 (may be < 0: noise)
-    double v_map_quarter = 0.0;   // the same at N0 / 4 (not measured: < 0)
-    double bias2 = 0.0;           // squared bias of a pixel at N0 (>= 0; 0 where unresolved: render/pilot_bias.h), ~ N^-4/3
+    double v_map_half = 0.0;      // variance of a pixel's mean from the map at Np / 2 (may be < 0: noise)
+    double v_map_quarter = 0.0;   // the same at Np / 4 (not measured: < 0)
+    double bias2 = 0.0;           // squared bias of a pixel at Np (>= 0; 0 where unresolved: render/pilot_bias.h), ~ N^-4/3
     double sample_cost = 0.0;     // counted work units per camera sample
     double max_weight = 0.0;      // largest march point weight relative to an exact majorant's (0: no march)
     double mean = 0.0;            // the pilot's mean luminance over its pixels and samples (those that can vary: render/pilot_pixels.h)
@@ -53,7 +54,7 @@ struct GatherMeasurement {
     bool dropped = false;         // not measured beyond its probe: a pass of one sample costs more than the cap
     bool uses_map = true;         // false: no photon pass is paid for (render/no_map_candidate.h)
     bool excluded = false;        // not a choice (render/no_map_candidate.h: a map that goes unused)
-    double bias_mean = 0.0;       // the pilot's pooled, signed bias at N0 behind bias2
+    double bias_mean = 0.0;       // the pilot's pooled, signed bias at Np behind bias2
     double bias_se = 0.0;         // and its standard error
 };
 
@@ -62,8 +63,8 @@ struct PlanInputs {
     double photon_cost = 0.0;   // counted work units per emitted photon (trace and build): a candidate that uses the map pays it
     double pixels = 0.0;
     int64_t count = 0;          // N0: photons.count
-    // The pilot map's photons, at which v_map_half, v_map_quarter and bias2 were read (fewer than N0
-    // where walks store many photons each: render/photon_pass.h); 0: N0.
+    // Np: the pilot map's photons, at which v_map_half, v_map_quarter and bias2 were read (fewer than
+    // N0 where walks store many photons each: render/photon_pass.h); 0: N0.
     int64_t pilot_count = 0;
     int spp = 1;                // S0: samples per pass as configured
     bool size_photons = false;  // false: N stays N0
@@ -130,7 +131,7 @@ constexpr double kPlanVarianceSigmas = 2.0;
 // the collision gather in the blob at 0.1: 0.00041 +- 0.00029 against 0.0014 from the march and
 // the continuation, and 9.4x the march's error at equal time.
 
-// The exponent beta from V_map at N0/2 and N0/4, within [1/3, 1]; `measured` false when either
+// The exponent beta from V_map at Np/2 and Np/4, within [1/3, 1]; `measured` false when either
 // variance is not positive (then 1).
 double map_variance_exponent(double v_half, double v_quarter, bool& measured);
 
