@@ -20,6 +20,9 @@ int PhotonMapIntegrator::samples_per_pass(int configured) const {
 
 void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats) {
     const Timer timer;
+    // The whole span is one-off work; what it holds (a probe, the decision map of a run starting at a
+    // later pass) counts once, in the span.
+    const double one_off_before = one_off_seconds_;
     const WorkUnits w = work_units(scene_, int(k_));
     PlanInputs in;
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
@@ -162,7 +165,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     a.size_samples = in.size_samples;
     auto_stats_ = a;
     stats.phase("pilot", timer.seconds());
-    one_off_seconds_ += timer.seconds();
+    one_off_seconds_ = one_off_before + timer.seconds();
     if (context.log) {
         std::ostream& log = *context.log;
         log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
