@@ -10,7 +10,7 @@
 //
 // Second table (issue 20 item 3): wide balls (radius 1/4 to 1 of the box, where BallExtinction
 // takes the lattice; centres in proportion to sigma_t), the clipped 4096-point Halton rule against
-// the mass lattice (photon/mass_lattice.h), both against a 64^3-point stratified quadrature.
+// the mass lattice (photon/estimate/mass_lattice.h), both against a 64^3-point stratified quadrature.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -21,8 +21,8 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "io/vdb_io.h"
-#include "photon/ball_extinction.h"
-#include "photon/mass_lattice.h"
+#include "photon/estimate/ball_extinction.h"
+#include "photon/estimate/mass_lattice.h"
 #include "scene/media/grid_medium.h"
 
 using namespace vpm;

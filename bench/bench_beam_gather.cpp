@@ -1,4 +1,4 @@
-// The renderer's beam gather (render/beam_gather.h) in configs/thin_cube.toml (issue 22): the
+// The renderer's beam gather (render/photon_map/beam_gather.h) in configs/thin_cube.toml (issue 22): the
 // build of the per-photon radii and the disc BVH against the stored photon count, and the cost of
 // one camera-segment query (BVH walk, sort by foot point, transmittance per interval, kernel,
 // phase, albedo) against the photon discs it crosses, which beam_k sets (radius ~ k^(1/3)).
@@ -11,9 +11,9 @@
 #include "bench_common.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon_tracer.h"
-#include "render/beam_gather.h"
-#include "render/run_config.h"
+#include "photon/trace/photon_tracer.h"
+#include "render/photon_map/beam_gather.h"
+#include "render/run/run_config.h"
 
 using namespace vpm;
 

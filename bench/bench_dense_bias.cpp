@@ -16,11 +16,11 @@
 //   corrected k+1/ball    its limit for independent photons
 //   corrected/halton4096  the ball's volume by vpm's 4096-point clipped quadrature
 //   corrected/32pt rnd plane  by vpm's 32-point ball quadrature, boundary at a random orientation
-//   linear                the local-linear weights of photon/linear_estimate.h
-//   leave-16-groups-out   photon/group_estimate.h (walk index mod 16)
+//   linear                the local-linear weights of photon/estimate/linear_estimate.h
+//   leave-16-groups-out   photon/estimate/group_estimate.h (walk index mod 16)
 //   linear+16 groups      both
 //   leave-half-out        each parity half of the walks within the other half's ceil(k/2)-th photon
-//                         (photon/group_estimate.h since the second session of issue 21)
+//                         (photon/estimate/group_estimate.h since the second session of issue 21)
 //   linear+halves         both
 // --shuffle 1 moves every photon to a random lateral place (depth kept): no clustering, same profile.
 // SMOOTHING: the linear estimates' expectation if their only error were the curvature of the depth
@@ -97,7 +97,7 @@ double radical_inverse(uint32_t i, uint32_t base) {
     for (; i > 0; i /= base) { f /= base; r += f * (i % base); }
     return r;
 }
-// vpm's 32-point ball quadrature (photon/ball_extinction.cpp): Halton (2, 3, 5) warped into the ball.
+// vpm's 32-point ball quadrature (photon/estimate/ball_extinction.cpp): Halton (2, 3, 5) warped into the ball.
 std::vector<std::array<double, 3>> ball_points() {
     std::vector<std::array<double, 3>> p;
     for (uint32_t i = 1; i <= 32; ++i) {
@@ -291,7 +291,7 @@ int main(int argc, char** argv) {
             est[8 + lin] = sum;
         }
         double half_pred = 0;
-        for (int lin = 0; lin < 2; ++lin) {   // photon/group_estimate.h: each parity half within the other's m-th photon
+        for (int lin = 0; lin < 2; ++lin) {   // photon/estimate/group_estimate.h: each parity half within the other's m-th photon
             const size_t m = (k + 1) / 2;
             size_t cnt[2] = {0, 0}, end[2] = {found, found};
             for (size_t j = 0; j < found; ++j) { const int h = int(c.walk[idx[j]] % 2); if (++cnt[h] == m && end[h] == found) end[h] = j; }

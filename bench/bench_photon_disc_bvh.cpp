@@ -10,8 +10,8 @@
 
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon_disc_bvh.h"
-#include "photon/photon_radii.h"
+#include "photon/map/photon_disc_bvh.h"
+#include "photon/map/photon_radii.h"
 
 using namespace vpm;
 

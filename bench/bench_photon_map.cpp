@@ -15,7 +15,7 @@
 #include "core/progress.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon_map.h"
+#include "photon/map/photon_map.h"
 
 using namespace vpm;
 

@@ -1,5 +1,5 @@
 // The kNN query's cost against the map's size, for the plan's price of a query
-// (lib/render/work_units.cpp). One thread, CPU time of the thread. Photons and query points are
+// (lib/render/plan/work_units.cpp). One thread, CPU time of the thread. Photons and query points are
 // drawn with the density of media/blob.vdb (rejection against its maximum), as a photon pass and
 // a march place them; each query is what the photon map integrator runs per used estimate:
 // estimate_in_scattering with the corrected estimator, k = 32, gathering leave_half_out_gather(k)
@@ -16,9 +16,9 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "io/vdb_io.h"
-#include "photon/estimators.h"
-#include "photon/group_estimate.h"
-#include "photon/photon_map.h"
+#include "photon/estimate/estimators.h"
+#include "photon/estimate/group_estimate.h"
+#include "photon/map/photon_map.h"
 
 using namespace vpm;
 

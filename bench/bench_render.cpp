@@ -11,7 +11,7 @@
 #include <tbb/global_control.h>
 
 #include "bench_common.h"
-#include "render/run.h"
+#include "render/run/run.h"
 
 using namespace vpm;
 

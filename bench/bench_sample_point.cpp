@@ -12,8 +12,8 @@
 
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon_radii.h"
-#include "photon/sample_point_estimate.h"
+#include "photon/map/photon_radii.h"
+#include "photon/estimate/sample_point_estimate.h"
 
 using namespace vpm;
 

@@ -34,9 +34,9 @@
 #include "core/henyey_greenstein.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon_tracer.h"
+#include "photon/trace/photon_tracer.h"
 #include "scene/media/grid_medium.h"
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 
 using namespace vpm;
 

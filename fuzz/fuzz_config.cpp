@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "config/params.h"
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);

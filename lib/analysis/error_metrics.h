@@ -30,7 +30,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "render/image.h"
+#include "render/run/image.h"
 
 namespace vpm {
 

@@ -8,7 +8,7 @@
 
 #include "analysis/row_hash.h"
 #include "core/error.h"
-#include "render/image_io.h"
+#include "render/run/image_io.h"
 
 namespace vpm {
 

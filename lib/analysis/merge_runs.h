@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "render/image.h"
+#include "render/run/image.h"
 #include <nlohmann/json_fwd.hpp>
 
-#include "render/run_record.h"
+#include "render/run/run_record.h"
 
 namespace vpm {
 

@@ -1,6 +1,6 @@
 #pragma once
 // One trial of the study's "beam" scenario (analysis/study.h): the sample-point estimate
-// (photon/sample_point_estimate.h, the estimate behind photons.gather = "beam") on n points
+// (photon/estimate/sample_point_estimate.h, the estimate behind photons.gather = "beam") on n points
 // uniform in the unit torus, so the density is uniform with no boundary at all. Each point's
 // radius is its k-th nearest *other* point (minimal-image distance); the point estimate is taken
 // at the cube's centre (3D kernel) and the beam estimate along a segment of length `length`
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/rng.h"
-#include "photon/kernels.h"
+#include "photon/estimate/kernels.h"
 
 namespace vpm {
 

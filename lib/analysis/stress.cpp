@@ -8,9 +8,9 @@
 
 #include "core/error.h"
 #include "core/progress.h"
-#include "photon/estimators.h"
-#include "photon/photon_map.h"
-#include "render/run.h"
+#include "photon/estimate/estimators.h"
+#include "photon/map/photon_map.h"
+#include "render/run/run.h"
 #include "core/density_grid.h"
 #include "io/vdb_io.h"
 

@@ -20,13 +20,13 @@
 
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
-#include "photon/photon_budget.h"
+#include "photon/trace/photon_budget.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon_map.h"
+#include "photon/map/photon_map.h"
 #include "analysis/builtin_scenes.h"
-#include "render/run_config.h"
-#include "photon/photon_tracer.h"
+#include "render/run/run_config.h"
+#include "photon/trace/photon_tracer.h"
 
 namespace vpm {
 

@@ -9,7 +9,7 @@
 // Every scenario draws n points (photons) with a known density at the query point, normalised so
 // that the true power density there is 1; each estimate is therefore directly the relative
 // estimate e, and the study reports mean(e) - 1 (+- standard error), var(e) and mean((e-1)^2).
-// The estimates come from vpm::estimate_density (lib/photon/estimators.h), the same code the
+// The estimates come from vpm::estimate_density (lib/photon/estimate/estimators.h), the same code the
 // renderer uses; the k nearest of the n points are found with nth_element (exact).
 //
 // Scenarios (theory_source says where the theory column comes from):
@@ -32,7 +32,7 @@
 //              records, nanoflann kd-tree), queried with estimate_in_scattering (isotropic
 //              phase) at well-separated interior points. Exact uniform theory with n = map size.
 //   kernels    uniform as above, every estimator with every study kernel (StudyOptions::kernels:
-//              the registry's kernels and the cone at slope 0.5, photon/kernels.h): the follow-up
+//              the registry's kernels and the cone at slope 0.5, photon/estimate/kernels.h): the follow-up
 //              (Garcia, Urena & Sbert, TVCG 2014). Exact finite-n theory from the kernel's moments
 //              (EstimatorEntry::uniform_theory); rows are labelled "classic/epanechnikov".
 //   photon_pass (3D) photons from the renderer's photon pass in a volume furnace (see
@@ -54,7 +54,7 @@
 #include <string>
 #include <vector>
 
-#include "photon/estimators.h"
+#include "photon/estimate/estimators.h"
 
 namespace vpm {
 

@@ -20,10 +20,10 @@
 #include "analysis/sweep_csv.h"
 #include "core/error.h"
 #include "core/progress.h"
-#include "render/image_io.h"
-#include "render/run.h"
-#include "render/run_outputs.h"
-#include "render/run_record.h"
+#include "render/run/image_io.h"
+#include "render/run/run.h"
+#include "render/run/run_outputs.h"
+#include "render/run/run_record.h"
 #include "config/params.h"
 
 namespace fs = std::filesystem;

@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "render/image_io.h"
+#include "render/run/image_io.h"
 
 namespace fs = std::filesystem;
 

@@ -12,8 +12,8 @@
 #include "core/error.h"
 #include "config/config_file.h"
 #include "config/params.h"
-#include "render/photon_map_integrator.h"
-#include "render/run_config.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/run_config.h"
 
 namespace fs = std::filesystem;
 

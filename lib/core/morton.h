@@ -1,6 +1,6 @@
 #pragma once
 // Morton (Z-order) codes of points in a box, 21 bits per axis: the photon map's storage order
-// (photon/photon_map.h) and the octree cells of photon/photon_cell_counts.h, where the photons of
+// (photon/map/photon_map.h) and the octree cells of photon/map/photon_cell_counts.h, where the photons of
 // one cell at level l share the code's top 3 l bits.
 #include <algorithm>
 #include <cstdint>

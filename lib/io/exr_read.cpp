@@ -1,4 +1,4 @@
-// OpenEXR reading (io/exr_read.h). The only reader of EXR files in vpm; render/image_io.cpp
+// OpenEXR reading (io/exr_read.h). The only reader of EXR files in vpm; render/run/image_io.cpp
 // writes them.
 #include "io/exr_read.h"
 

@@ -1,6 +1,6 @@
 #pragma once
 // Reading OpenEXR images below the render layer: scene files such as environment maps are EXR.
-// render/image_io.h's read_exr returns the same pixels as an Image (writing stays in render/).
+// render/run/image_io.h's read_exr returns the same pixels as an Image (writing stays in render/).
 #include <filesystem>
 #include <vector>
 

@@ -64,7 +64,7 @@ private:
 // visit(medium, t, others, m) with the point's weight others x m.mass / m.divisor (times the albedo),
 // m from place_counted_march_points. The march gather and the beam gather's single scattering share it.
 // With `depth`, adds every medium's optical depth over (0, t_end) to *depth in the scene's order, as
-// render/seen_through.h's exact_transmittance sums it (from the profiles the points were placed on:
+// transport/seen_through.h's exact_transmittance sums it (from the profiles the points were placed on:
 // the segment is not walked twice where a light is seen behind it).
 template <class Visit>
 void for_each_march_point(const Scene& scene, const Ray& ray, double t_end, int n, MarchCount count, Rng& rng,

@@ -13,8 +13,8 @@
 #include "analysis/sweep_plan.h"
 #include "bindings.h"
 #include "native_call.h"
-#include "render/image_io.h"
-#include "render/staged_file.h"
+#include "render/run/image_io.h"
+#include "render/run/staged_file.h"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;

@@ -3,7 +3,7 @@
 // and photon maps made from it keep it alive, and how long loading took (the sidecar's "load" phase).
 #include <memory>
 
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 
 namespace vpm::python {
 

@@ -15,11 +15,11 @@
 #include "bindings.h"
 #include "config.h"
 #include "native_call.h"
-#include "photon/estimators.h"
-#include "photon/photon_map.h"
-#include "render/photon_map_integrator.h"
-#include "render/photon_pass.h"
-#include "render/run_record.h"
+#include "photon/estimate/estimators.h"
+#include "photon/map/photon_map.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/photon_map/photon_pass.h"
+#include "render/run/run_record.h"
 
 namespace py = pybind11;
 
@@ -86,7 +86,7 @@ PyPhotonMap trace(const Config& config, uint64_t stream_offset, std::optional<in
     RunStats stats;
     call_native(
         [&](const std::atomic<bool>&) {
-            // The context of a run's first pass with render.first_pass = 0 (lib/render/run.cpp).
+            // The context of a run's first pass with render.first_pass = 0 (lib/render/run/run.cpp).
             PassContext context;
             context.seed = rc.render.seed;
             context.stream_offset = stream_offset;
@@ -213,7 +213,7 @@ py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::ha
 void bind_photon_map(py::module_& m) {
     py::class_<PyPhotonMap, std::shared_ptr<PyPhotonMap>>(
         m, "PhotonMap",
-        "A photon map: compressed photon records in Morton order and a kd-tree (lib/photon/photon_map.h). "
+        "A photon map: compressed photon records in Morton order and a kd-tree (lib/photon/map/photon_map.h). "
         "From vpm.trace_photons(config), or PhotonMap(positions, powers, directions) from (n, 3) arrays.")
         .def(py::init(&from_arrays), py::arg("positions"), py::arg("powers"), py::arg("directions"),
              py::arg("leaf_size") = 32)
@@ -239,7 +239,7 @@ void bind_photon_map(py::module_& m) {
              py::arg("max_radius") = py::none(), py::arg("return_radius") = false,
              "The in-scattering estimate S(x, w_o) (RGB, (m, 3) float64) at each point for the outgoing travel "
              "direction w_o (towards the viewer), as the renderer computes it (estimate_in_scattering in "
-             "lib/photon/estimators.h, rules (a)-(c) included). Unset arguments come from the config's [photons] "
+             "lib/photon/estimate/estimators.h, rules (a)-(c) included). Unset arguments come from the config's [photons] "
              "(estimator, k, kernel, max_radius) and its media (g). return_radius: also the radius of each ball.");
     m.def("_trace_photons", &trace, py::arg("config"), py::arg("stream_offset") = 0, py::arg("threads") = py::none(),
           py::arg("progress") = false, py::arg("log") = false);

@@ -1,4 +1,4 @@
-// vpm.render: one run of a config, as `vpm render` does it (lib/render/run.h), returning the image
+// vpm.render: one run of a config, as `vpm render` does it (lib/render/run/run.h), returning the image
 // as a NumPy view on the run's own pixels (no copy), the typed statistics as a dict, and save()
 // writing the tool's three files (EXR, PNG preview, JSON sidecar) with the tool's guarantees.
 #include <iostream>
@@ -13,9 +13,9 @@
 #include "bindings.h"
 #include "config.h"
 #include "native_call.h"
-#include "render/image_io.h"
-#include "render/run.h"
-#include "render/run_outputs.h"
+#include "render/run/image_io.h"
+#include "render/run/run.h"
+#include "render/run/run_outputs.h"
 
 namespace py = pybind11;
 

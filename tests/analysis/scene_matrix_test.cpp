@@ -13,7 +13,7 @@
 #include "analysis/row_hash.h"
 #include "analysis/scene_matrix.h"
 #include "core/error.h"
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;

@@ -13,12 +13,12 @@
 
 #include "analysis/row_hash.h"
 #include "analysis/sweep.h"
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 #include "analysis/sweep_csv.h"
 #include "analysis/sweep_plan.h"
 #include "core/error.h"
 #include "config/params.h"
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 
 namespace fs = std::filesystem;
 

@@ -8,8 +8,8 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "render/photon_map_integrator.h"
-#include "render/run_config.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/run_config.h"
 
 using namespace vpm;
 

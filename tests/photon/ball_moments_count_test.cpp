@@ -1,6 +1,6 @@
 // The ball moments' counted work (photons.extinction = "linear", the default): BallExtinction::moments
 // reports the sigma_t lookups and lattice visits it makes, as integral() does, so that the plan's cost
-// model (render/work_units.h) sees them. Uncounted, the march was charged 0.56-0.62x its CPU per
+// model (render/plan/work_units.h) sees them. Uncounted, the march was charged 0.56-0.62x its CPU per
 // sample in the thin blob, where the lattice's moments were a third of its render (BENCHMARKS.md 22).
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "io/vdb_io.h"
-#include "photon/ball_extinction.h"
-#include "photon/mass_lattice.h"
+#include "photon/estimate/ball_extinction.h"
+#include "photon/estimate/mass_lattice.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"
 #include "../support/repo_media.h"

@@ -1,7 +1,7 @@
 // Issue 21: the two estimators that remove the corrected estimate's excess in dense, bright media
 // (docs/dense_bias.md), each on a synthetic photon set where the old estimate is measurably wrong
-// and the new one exact: clustered photons (photon/group_estimate.h) and a density gradient at a
-// clipped ball (photon/linear_estimate.h). Fixed seeds; tolerances are 3.5 standard errors over
+// and the new one exact: clustered photons (photon/estimate/group_estimate.h) and a density gradient at a
+// clipped ball (photon/estimate/linear_estimate.h). Fixed seeds; tolerances are 3.5 standard errors over
 // independent photon sets (queries within one set share its photons, so the set is the unit).
 #include <gtest/gtest.h>
 
@@ -12,10 +12,10 @@
 
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/ball_extinction.h"
-#include "photon/group_estimate.h"
-#include "photon/linear_estimate.h"
-#include "photon/walk_group_split.h"
+#include "photon/estimate/ball_extinction.h"
+#include "photon/estimate/group_estimate.h"
+#include "photon/estimate/linear_estimate.h"
+#include "photon/map/walk_group_split.h"
 #include "scene/media/homogeneous_medium.h"
 #include "../support/sample_statistics.h"
 
@@ -145,7 +145,7 @@ TEST(DenseBiasEstimators, LinearEqualsBallAwayFromBoundaries) {
 
 // Independent (Poisson) photons, 40 per unit volume (power density 1) in a 10^3 box, queries at least 1.5 apart in the
 // middle: leaving each half of the walk groups out of its own radius is unbiased and has the
-// corrected estimate's variance at the same k (photon/group_estimate.h: 2 (m - 1) = k - 2), so
+// corrected estimate's variance at the same k (photon/estimate/group_estimate.h: 2 (m - 1) = k - 2), so
 // "leave_group_out" costs no accuracy where photons do not cluster. The variance ratio is compared
 // per batch of queries (same queries for both), its tolerance from the batches' spread.
 TEST(DenseBiasEstimators, LeaveHalfOutHasTheCorrectedVarianceForIndependentPhotons) {
@@ -224,7 +224,7 @@ TEST(DenseBiasEstimators, TwoBallIntegralsAgreeWithOneAtATime) {
     }
 }
 
-// The auto gather's pilot splits the map into two parts by walk group (photon/walk_group_split.h).
+// The auto gather's pilot splits the map into two parts by walk group (photon/map/walk_group_split.h).
 // Each part must still hold both parity halves, or leave_half_out finds one half empty and gathers
 // the whole map for every query (the thin cube's pilot took 300 s with leave_group_out).
 TEST(DenseBiasEstimators, WalkGroupSplitPartsKeepBothHalves) {

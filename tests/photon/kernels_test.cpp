@@ -8,7 +8,7 @@
 
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/estimators.h"
+#include "photon/estimate/estimators.h"
 
 using namespace vpm;
 

@@ -10,8 +10,8 @@
 #include "core/henyey_greenstein.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/estimators.h"
-#include "photon/photon_map.h"
+#include "photon/estimate/estimators.h"
+#include "photon/map/photon_map.h"
 
 using namespace vpm;
 

@@ -1,4 +1,4 @@
-// The mass lattice's first and second sigma_t moments (photon/mass_lattice.h, ball_moments), what
+// The mass lattice's first and second sigma_t moments (photon/estimate/mass_lattice.h, ball_moments), what
 // photons.extinction = "linear" needs for wide balls crossing a continuous medium's box: against the
 // closed-form moments of a ball clipped by a constant box (scene/media/ball_clip_moments.h) and a
 // 64^3-point stratified quadrature of the blob and the plume. Errors are in the units the linear
@@ -16,8 +16,8 @@
 
 #include "core/rng.h"
 #include "io/vdb_io.h"
-#include "photon/ball_extinction.h"
-#include "photon/mass_lattice.h"
+#include "photon/estimate/ball_extinction.h"
+#include "photon/estimate/mass_lattice.h"
 #include "scene/media/ball_clip_moments.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"

@@ -1,4 +1,4 @@
-// The mass lattice (photon/mass_lattice.h), the ball extinction's rule for wide balls crossing a
+// The mass lattice (photon/estimate/mass_lattice.h), the ball extinction's rule for wide balls crossing a
 // continuous medium's box: its error against the exact volume of a ball in a constant box, and
 // against a 64^3-point stratified quadrature of the blob and the plume (whose own error is about
 // 1e-3 or less). The bounds are the errors measured here (worst 0.0083 blob, 0.0022 plume, means
@@ -15,8 +15,8 @@
 
 #include "core/rng.h"
 #include "io/vdb_io.h"
-#include "photon/ball_extinction.h"
-#include "photon/mass_lattice.h"
+#include "photon/estimate/ball_extinction.h"
+#include "photon/estimate/mass_lattice.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"
 #include "../support/repo_media.h"

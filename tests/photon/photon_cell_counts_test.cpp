@@ -1,4 +1,4 @@
-// photon/photon_cell_counts.h: the cell counts certify "at least k photons within r" only where a
+// photon/map/photon_cell_counts.h: the cell counts certify "at least k photons within r" only where a
 // brute-force count agrees, and certify most balls that hold many more than k photons, also far
 // from the origin (coordinates near 1e6) and with every photon at one point.
 #include <gtest/gtest.h>
@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "core/rng.h"
-#include "photon/photon_cell_counts.h"
-#include "photon/photon_map.h"
+#include "photon/map/photon_cell_counts.h"
+#include "photon/map/photon_map.h"
 
 namespace vpm {
 namespace {

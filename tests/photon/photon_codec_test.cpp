@@ -5,8 +5,8 @@
 
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon.h"
-#include "photon/photon_map.h"
+#include "photon/map/photon.h"
+#include "photon/map/photon_map.h"
 
 using namespace vpm;
 

@@ -8,7 +8,7 @@
 
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon_disc_bvh.h"
+#include "photon/map/photon_disc_bvh.h"
 
 using namespace vpm;
 

@@ -9,7 +9,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "core/error.h"
-#include "photon/photon_map.h"
+#include "photon/map/photon_map.h"
 
 using namespace vpm;
 

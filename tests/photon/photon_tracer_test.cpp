@@ -7,8 +7,8 @@
 #include <cmath>
 #include <iostream>
 
-#include "photon/photon_tracer.h"
-#include "render/run_config.h"
+#include "photon/trace/photon_tracer.h"
+#include "render/run/run_config.h"
 
 #include "../support/sample_statistics.h"
 
@@ -226,7 +226,7 @@ TEST(PhotonTracer, ThinnedStorageKeepsTheStoredPowerUnbiased) {
 }
 
 TEST(PhotonTracer, ForcedCollisionsKeepTheStoredPowerAndItsDistribution) {
-    // photons.forced_collisions (photon/forced_collision.h): in a thin medium every segment collides
+    // photons.forced_collisions (photon/trace/forced_collision.h): in a thin medium every segment collides
     // with power times 1 - exp(-tau). Per emitted photon the stored power, and its first moments in
     // x and y (where it lands), have the analog walk's means (8 independent maps each, 4 combined
     // standard errors), the energy balances, and the thin sphere (optical depth 0.6 across) and the

@@ -1,4 +1,4 @@
-// Per-photon radii and the sample-point (beam) estimates of photon/sample_point_estimate.h:
+// Per-photon radii and the sample-point (beam) estimates of photon/estimate/sample_point_estimate.h:
 // radii equal a brute-force search for the k-th nearest other photon, and on a uniform Poisson-like
 // cloud both the 3D point estimate and the 2D beam estimate along a segment are unbiased for every
 // k with no k-1 factor (docs/beam_estimate.md), within 4 standard errors over independent clouds,
@@ -11,8 +11,8 @@
 
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "photon/photon_radii.h"
-#include "photon/sample_point_estimate.h"
+#include "photon/map/photon_radii.h"
+#include "photon/estimate/sample_point_estimate.h"
 #include "../support/sample_statistics.h"
 
 using namespace vpm;

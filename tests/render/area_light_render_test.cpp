@@ -6,10 +6,10 @@
 
 #include <cstdio>
 
-#include "render/path_tracer.h"
-#include "render/photon_map_integrator.h"
-#include "render/run.h"
-#include "render/run_config.h"
+#include "render/path/path_tracer.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/run.h"
+#include "render/run/run_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

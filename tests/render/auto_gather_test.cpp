@@ -1,6 +1,6 @@
-// photons.gather = "auto" (issue 20): the map-noise pilot (render/map_noise_pilot.h) measures the
+// photons.gather = "auto" (issue 20): the map-noise pilot (render/plan/map_noise_pilot.h) measures the
 // collision and march gathers with the pass's map and its independent halves and quarters, and
-// the plan (render/pass_plan.h) picks the gather and, under render.time_limit with photons.count
+// the plan (render/plan/pass_plan.h) picks the gather and, under render.time_limit with photons.count
 // and render.spp not given, the photons and samples per pass. The choices come from counts and
 // fixed streams: the same on 1 and 2 threads and at scale 1e3, and the image stays unbiased.
 #include <gtest/gtest.h>
@@ -14,10 +14,10 @@
 
 #include "config/params.h"
 #include "core/error.h"
-#include "render/photon_map_integrator.h"
-#include "render/photon_pass.h"
-#include "render/run.h"
-#include "render/run_stats.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/photon_map/photon_pass.h"
+#include "render/run/run.h"
+#include "render/run/run_stats.h"
 #include "../support/render_statistics.h"
 #include "../support/vpm_process.h"
 
@@ -97,7 +97,7 @@ TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
     // plan's size, not the pilot's: the run emits the pilot's 100000 and then the planned count in
     // every pass, pass 0 included (whatever number of passes the clock allows).
     // The thin cube (optical thickness 0.3, albedo 0.9) at k = 128, 64 x 64: its map noise, not a
-    // bias, buys photons (the pilot's bias is charged only where resolved, render/pilot_bias.h), and
+    // bias, buys photons (the pilot's bias is charged only where resolved, render/plan/pilot_bias.h), and
     // the march with the map beats the continued paths there (at k = 32 the plan keeps 100000).
     std::ostringstream log;
     const std::string f = write("cube128.toml", thin_cube(1.0, 0.3, 0.9));
@@ -112,7 +112,7 @@ TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
 
 TEST(AutoGather, ThePilotMapIsSmallerWhereWalksStoreManyPhotons) {
     // The cube at optical thickness 100, albedo 0.99 stores about 13 photons per emitted one: the
-    // pilot's map holds about kPilotStoredPhotons, not 1.3 M (render/photon_pass.h). Its count comes
+    // pilot's map holds about kPilotStoredPhotons, not 1.3 M (render/photon_map/photon_pass.h). Its count comes
     // from a probe (counts only): the same on one and two threads and for a run starting at pass 1.
     const std::string dense = write("cube100.toml", thin_cube(1.0, 100.0, 0.99));
     const std::vector<std::string> one_pass = {"render.time_limit=1e-9"};
@@ -125,7 +125,7 @@ TEST(AutoGather, ThePilotMapIsSmallerWhereWalksStoreManyPhotons) {
     EXPECT_EQ(pilot % kPilotProbePhotons, 0);
     EXPECT_NE(log.str().find("photons: the pilot's map of " + std::to_string(pilot) + " photons"), std::string::npos) << log.str();
     // Pass 0's first photon pass is the pilot's map; a plan that keeps the map traces pass 0 again,
-    // at photons.count or more (render/pass_plan.h).
+    // at photons.count or more (render/plan/pass_plan.h).
     const AutoGatherStats& plan = *a.stats.auto_gather;
     EXPECT_EQ(a.stats.photons->emitted, uint64_t(pilot + (plan.photon_pass ? plan.count : 0))) << plan.chosen;
     if (plan.photon_pass) {
@@ -152,7 +152,7 @@ TEST(AutoGather, ThePilotMapIsSmallerWhereWalksStoreManyPhotons) {
         EXPECT_EQ(b.stats.auto_gather->chosen, a.stats.auto_gather->chosen);
     }
     // Where walks store fewer (the thin cube), or where photons.count is given, the pilot's map has photons.count.
-    // (Where it has fewer the plan still sizes from photons.count up: render/pass_plan.h.)
+    // (Where it has fewer the plan still sizes from photons.count up: render/plan/pass_plan.h.)
     const RunResult thin = render(write("cube.toml", thin_cube(1.0)), one_pass);
     ASSERT_TRUE(thin.stats.auto_gather);
     EXPECT_EQ(thin.stats.auto_gather->pilot_count, 100000);
@@ -265,7 +265,7 @@ TEST(AutoGather, GatherKeyNamesItsValues) {
 }
 
 // A box at optical depth 1000 (albedo 0.9): every kNN ball spans far more than max_radius_mfp mean
-// free paths, so no estimate uses the map (render/no_map_candidate.h). The collision gather's pilot
+// free paths, so no estimate uses the map (render/plan/no_map_candidate.h). The collision gather's pilot
 // samples are then the continuation's, and "continue" wins by the photon pass it saves: the passes
 // after the pilot's trace no photons, on 1 and 2 threads alike and at scale 1e3.
 TEST(AutoGather, NoPhotonPassWhereNoQueryUsesTheMap) {
@@ -357,7 +357,7 @@ static std::pair<std::string, bool> planned_gather_and_stateless(const std::stri
     pm.prepare(context, stats);
     pm.collect(stats, nullptr);
     EXPECT_TRUE(stats.auto_gather);
-    // The pilot is one-off work: a time limit does not reckon later passes by it (render/run.cpp).
+    // The pilot is one-off work: a time limit does not reckon later passes by it (render/run/run.cpp).
     double pilot_seconds = 0.0;
     for (const PhaseStats& phase : stats.phases)
         if (phase.name == "pilot") pilot_seconds += phase.seconds;
@@ -370,7 +370,7 @@ TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
     // The dense cube (optical thickness 1000, every kNN ball wider than max_radius_mfp) is planned
     // without a map ("continue": counts only, the same on any machine). From then on no pass traces
     // photons, so the run loop may group passes and must not take pass 0's photon pass and pilot for
-    // what each later pass costs (render/run.cpp).
+    // what each later pass costs (render/run/run.cpp).
     const auto dense = planned_gather_and_stateless(write("dense.toml", thin_cube(1.0, 1000.0, 0.9)));
     EXPECT_EQ(dense.first, "continue");
     EXPECT_TRUE(dense.second);

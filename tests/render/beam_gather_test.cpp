@@ -1,4 +1,4 @@
-// photons.gather = "beam" (render/beam_gather.h): the beam radiance estimate in the renderer.
+// photons.gather = "beam" (render/photon_map/beam_gather.h): the beam radiance estimate in the renderer.
 // - Uniform furnace: unbiased for beam_k = 2, 8, 32 within 3 standard errors over independent
 //   photon maps (docs/beam_estimate.md: a sample-point estimate has no k-1 factor).
 // - Thin cube against the path tracer: within 3 combined standard errors plus the smoothing and
@@ -15,11 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "config/params.h"
-#include "photon/photon_map.h"
-#include "photon/photon_tracer.h"
-#include "render/photon_map_integrator.h"
-#include "render/run.h"
-#include "render/run_config.h"
+#include "photon/map/photon_map.h"
+#include "photon/trace/photon_tracer.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/run.h"
+#include "render/run/run_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

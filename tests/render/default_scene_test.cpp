@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-#include "render/run.h"
+#include "render/run/run.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

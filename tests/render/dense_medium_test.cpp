@@ -4,7 +4,7 @@
 // unbounded kNN ball spans ~150 mean free paths there (median, 1e6 photons; more at the cheap size
 // here), averaging the steep fluence profile of the lit skin: the image was 34% too dark. With the
 // radius bounded by photons.max_radius_mfp (default 2) and the camera path continued where fewer
-// than k photons lie within it (photon/bounded_radius.h), the photon map agrees with the path tracer
+// than k photons lie within it (photon/estimate/bounded_radius.h), the photon map agrees with the path tracer
 // within 3 standard errors; the same check with the bound off (max_radius_mfp = 0, the behaviour
 // before) is asserted to fail, which shows the test has the power to see the bias.
 #include <gtest/gtest.h>
@@ -14,12 +14,12 @@
 #include <string>
 
 #include "core/math.h"
-#include "photon/photon_map.h"
-#include "photon/photon_tracer.h"
-#include "render/path_tracer.h"
-#include "render/photon_map_integrator.h"
-#include "render/run_config.h"
-#include "render/run_stats.h"
+#include "photon/map/photon_map.h"
+#include "photon/trace/photon_tracer.h"
+#include "render/path/path_tracer.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/run_config.h"
+#include "render/run/run_stats.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;
@@ -159,7 +159,7 @@ TEST(DenseMedium, KAboveTheStoredCountInTheDefaultScene) {
     }
 }
 
-// The march's bound (photon/bounded_radius.h) in the furnace (radiance 0.5 everywhere) with nearly
+// The march's bound (photon/estimate/bounded_radius.h) in the furnace (radiance 0.5 everywhere) with nearly
 // independent photons (each collision stored with probability 0.02: 0.26 stored per walk) and the
 // bound near the typical k-th radius, k = 4, where the Poisson mass at N(R) = k - 1 is large (~0.2).
 // The march switched on r_k alone: with the corrected estimate where r_k <= R and the continuation

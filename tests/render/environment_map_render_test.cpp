@@ -10,8 +10,8 @@
 #include <iostream>
 #include <string>
 
-#include "render/image_io.h"
-#include "render/run.h"
+#include "render/run/image_io.h"
+#include "render/run/run.h"
 #include "../support/io_test_util.h"
 #include "../support/render_statistics.h"
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 #include "config/config_file.h"
 #include "config/params.h"
 

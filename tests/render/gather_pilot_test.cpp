@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "render/run.h"
+#include "render/run/run.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

@@ -1,4 +1,4 @@
-#include "render/image_io.h"
+#include "render/run/image_io.h"
 
 #include <png.h>
 

@@ -7,8 +7,8 @@
 
 #include <cstdio>
 
-#include "render/run.h"
-#include "render/run_config.h"
+#include "render/run/run.h"
+#include "render/run/run_config.h"
 #include "scene/lights/light_registry.h"
 #include "../support/light_from_config.h"
 #include "../support/render_statistics.h"
@@ -30,7 +30,7 @@ look_at = [0.0, -1.0, 0.0]
 fov = 20
 [photons]
 count = 100000
-# The map's light is what this checks: "auto" may choose to go without it (render/no_map_candidate.h).
+# The map's light is what this checks: "auto" may choose to go without it (render/plan/no_map_candidate.h).
 gather = "collision"
 [[media]]
 type = "homogeneous"

@@ -1,4 +1,4 @@
-// The auto pilot's per-sample variance V_camera (render/map_noise_pilot.h) where the camera noise
+// The auto pilot's per-sample variance V_camera (render/plan/map_noise_pilot.h) where the camera noise
 // lives in a thin band of the image that the 8 x 8 pilot pixels miss: the lit rim of a sphere held
 // 75% of the march's noise in 1% of the pixels there, and the pilot read 1/7 of it (BENCHMARKS.md
 // section 23), and the map's variance V_map where its noise lives in such a band. Synthetic hooks:
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "core/rng.h"
-#include "photon/photon_map.h"
-#include "render/map_noise_pilot.h"
+#include "photon/map/photon_map.h"
+#include "render/plan/map_noise_pilot.h"
 #include "scene/camera.h"
 #include "../support/synthetic_pilot_hooks.h"
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "render/run.h"
+#include "render/run/run.h"
 #include "../support/io_test_util.h"
 #include "../support/render_statistics.h"
 

@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "config/params.h"
-#include "render/run.h"
-#include "render/run_config.h"
+#include "render/run/run.h"
+#include "render/run/run_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

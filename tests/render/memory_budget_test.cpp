@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "render/run.h"
+#include "render/run/run.h"
 #include "scene/scene.h"
 
 using namespace vpm;

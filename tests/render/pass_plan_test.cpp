@@ -1,4 +1,4 @@
-// render/pass_plan.h: photons and samples per pass and the gather from measured variances and
+// render/plan/pass_plan.h: photons and samples per pass and the gather from measured variances and
 // counted costs, minimising (V_map(N) + V_camera / S) x C(N, S).
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 
 #include "core/error.h"
 #include "core/math.h"
-#include "render/no_map_candidate.h"
-#include "render/pass_plan.h"
+#include "render/plan/no_map_candidate.h"
+#include "render/plan/pass_plan.h"
 
 using namespace vpm;
 
@@ -226,7 +226,7 @@ TEST(PassPlan, APassThatFillsTheBudgetTakesAllTheSamplesItHolds) {
 }
 
 TEST(PassPlan, ContinueCompetesWithLongPathsWhereTheMapIsUsed) {
-    // render/no_map_candidate.h: "continue" (no map) with long paths (19 tracked segments per sample,
+    // render/plan/no_map_candidate.h: "continue" (no map) with long paths (19 tracked segments per sample,
     // the dense albedo-0.99 box) beside a gather that used the map in every query is scored like any
     // candidate: it wins where its error^2 x work is lower, and loses where it is not.
     PlanInputs in = inputs(/*v_camera*/ 1e-2, /*v_half*/ 1e-4, /*v_quarter*/ 2e-4, /*sample*/ 10.0, /*photon*/ 100.0);
@@ -252,7 +252,7 @@ TEST(PassPlan, ContinueCompetesWithLongPathsWhereTheMapIsUsed) {
 }
 
 TEST(PassPlan, AMapThatGoesUnusedIsNoChoiceBesideTheContinuation) {
-    // render/no_map_candidate.h: the box at 1000 optical depths and albedo 0.99, where every kNN ball
+    // render/plan/no_map_candidate.h: the box at 1000 optical depths and albedo 0.99, where every kNN ball
     // is wider than max_radius_mfp. The march scores best on pilot samples that missed the continued
     // paths' tail, but it is the continuation plus a photon pass: not a choice where "continue" is.
     PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 0.0, /*v_quarter*/ -1.0, /*sample*/ 2000.0, /*photon*/ 9000.0);
@@ -383,7 +383,7 @@ TEST(PassPlan, TheMapsVarianceIsChargedAtItsUpperBoundToo) {
 }
 
 TEST(PassPlan, APilotMapSmallerThanN0IsReadAtItsOwnCount) {
-    // The figures of a pilot map of N0 / 4 photons (render/photon_pass.h) are those of an N0 map
+    // The figures of a pilot map of N0 / 4 photons (render/photon_map/photon_pass.h) are those of an N0 map
     // scaled to N0 / 4: 4x the map variance, 4^(4/3) the squared bias, queries two doublings
     // cheaper. Read at its own count it plans exactly as the N0 map does, and never below N0.
     PlanInputs full = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1e-4, /*v_quarter*/ -1.0, /*sample*/ 10.0, /*photon*/ 100.0);

@@ -9,9 +9,9 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
-#include "photon/photon_map_settings.h"
-#include "render/run.h"
-#include "render/run_stats.h"
+#include "render/photon_map/photon_map_settings.h"
+#include "render/run/run.h"
+#include "render/run/run_stats.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;
@@ -20,7 +20,7 @@ namespace {
 
 RunResult run_furnace(std::vector<std::string> sets) {
     for (const char* s : {"render.width=16", "render.height=16", "photons.count=40000", "photons.k=8"}) sets.push_back(s);
-    // The estimators' bias needs the map: "auto" could go without it here (render/no_map_candidate.h). First, so a test's gather wins.
+    // The estimators' bias needs the map: "auto" could go without it here (render/plan/no_map_candidate.h). First, so a test's gather wins.
     sets.insert(sets.begin(), "photons.gather=\"collision\"");
     RunOptions o;
     o.progress = false;

@@ -3,8 +3,8 @@
 // L = L_env everywhere). Means within 3 standard errors, fixed seeds.
 #include <gtest/gtest.h>
 
-#include "render/path_tracer.h"
-#include "render/run_config.h"
+#include "render/path/path_tracer.h"
+#include "render/run/run_config.h"
 
 using namespace vpm;
 

@@ -7,13 +7,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "photon/photon_allocation.h"
-#include "photon/photon_map.h"
-#include "photon/photon_tracer.h"
-#include "render/path_tracer.h"
-#include "render/photon_map_integrator.h"
-#include "render/run.h"
-#include "render/run_config.h"
+#include "photon/trace/photon_allocation.h"
+#include "photon/map/photon_map.h"
+#include "photon/trace/photon_tracer.h"
+#include "render/path/path_tracer.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/run.h"
+#include "render/run/run_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

@@ -1,4 +1,4 @@
-// The auto plan's squared bias (render/pilot_bias.h): pooled with its sign over the pilot's pixels,
+// The auto plan's squared bias (render/plan/pilot_bias.h): pooled with its sign over the pilot's pixels,
 // charged only where it clears kPilotBiasSigmas standard errors. The map noise of the half maps'
 // difference, the same for every sample of a pixel, is not a bias: squared per pixel it used to be
 // charged as one (up to 6% of the radiance in the uniform furnace, where the smoothing bias is zero).
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/rng.h"
-#include "render/pilot_bias.h"
-#include "render/run.h"
+#include "render/plan/pilot_bias.h"
+#include "render/run/run.h"
 
 using namespace vpm;
 
@@ -94,7 +94,7 @@ TEST(PilotBias, FurnaceChargesNoSmoothingBias) {
             EXPECT_LE(std::abs(c.bias_mean), kPilotBiasSigmas * c.bias_se) << c.name << " seed " << seed;
             EXPECT_LT(c.bias2, (0.02 * 0.5) * (0.02 * 0.5)) << c.name << " seed " << seed;
             // The map's variance is never taken as 0 (or below) where the map is used: an unresolved
-            // one is charged at its standard error (render/map_noise_pilot.cpp).
+            // one is charged at its standard error (render/plan/map_noise_pilot.cpp).
             EXPECT_GT(c.v_map_half, 0.0) << c.name << " seed " << seed;
         }
         EXPECT_EQ(map_candidates, 2);

@@ -1,4 +1,4 @@
-// The auto pilot's counted-cost bound (render/pilot_budget.h, render/map_noise_pilot.h): with fake
+// The auto pilot's counted-cost bound (render/plan/pilot_budget.h, render/plan/map_noise_pilot.h): with fake
 // hooks whose counted work per sample is fixed per candidate, each candidate takes the samples its
 // share pays for (at least 2, at most 8), a candidate whose one-sample pass exceeds the cap stops
 // after its probe once a cheaper one fitted, and without a budget every gather takes 8 (a candidate
@@ -7,8 +7,8 @@
 
 #include <atomic>
 
-#include "photon/photon_map.h"
-#include "render/map_noise_pilot.h"
+#include "photon/map/photon_map.h"
+#include "render/plan/map_noise_pilot.h"
 #include "scene/camera.h"
 
 using namespace vpm;

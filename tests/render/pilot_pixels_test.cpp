@@ -1,4 +1,4 @@
-// Where the auto pilot's pixels go (render/pilot_pixels.h): over the pixels that can vary, each
+// Where the auto pilot's pixels go (render/plan/pilot_pixels.h): over the pixels that can vary, each
 // figure their average times their share of the image. A small object in an empty image must get
 // all the pilot's pixels and the same image-average variance as the old block centres measure
 // (within their standard error), and an image that sees something everywhere must keep the block
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/rng.h"
-#include "photon/photon_map.h"
-#include "render/map_noise_pilot.h"
-#include "render/pilot_pixels.h"
+#include "photon/map/photon_map.h"
+#include "render/plan/map_noise_pilot.h"
+#include "render/plan/pilot_pixels.h"
 #include "scene/camera.h"
 #include "../support/synthetic_pilot_hooks.h"
 

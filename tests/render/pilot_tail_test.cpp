@@ -1,4 +1,4 @@
-// The auto pilot's heavy-tail figures for "continue" (render/pilot_tail.h, render/no_map_candidate.h):
+// The auto pilot's heavy-tail figures for "continue" (render/plan/pilot_tail.h, render/plan/no_map_candidate.h):
 // the share of the variance in a candidate's largest 1/1024 samples and the standard error of the
 // variance read, from synthetic pilot samples (fake hooks) with a light and a heavy tail; the longer
 // pilot a candidate without a map takes (the plan's charge on that figure: pass_plan_test.cpp); and a
@@ -13,12 +13,12 @@
 
 #include "core/error.h"
 #include "core/rng.h"
-#include "photon/photon_map.h"
-#include "render/map_noise_pilot.h"
-#include "render/no_map_candidate.h"
-#include "render/pilot_tail.h"
+#include "photon/map/photon_map.h"
+#include "render/plan/map_noise_pilot.h"
+#include "render/plan/no_map_candidate.h"
+#include "render/plan/pilot_tail.h"
 #include "../support/vpm_process.h"
-#include "render/run.h"
+#include "render/run/run.h"
 #include "scene/camera.h"
 
 using namespace vpm;

@@ -1,4 +1,4 @@
-#include "render/run_record.h"
+#include "render/run/run_record.h"
 
 #include <nlohmann/json.hpp>
 

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <sstream>
 
-#include "render/run.h"
-#include "render/run_config.h"
+#include "render/run/run.h"
+#include "render/run/run_config.h"
 
 using namespace vpm;
 

@@ -1,4 +1,4 @@
-// render/seen_through.h: the exact transmittance of a camera segment, against the closed form of
+// transport/seen_through.h: the exact transmittance of a camera segment, against the closed form of
 // a homogeneous sphere and against the mean of the scene's unbiased ratio-tracking estimates
 // through the blob grid overlapping that sphere; and the sky seen through them is that
 // transmittance times the sky's radiance, with no random numbers drawn.
@@ -8,7 +8,7 @@
 
 #include "config/params.h"
 #include "core/math.h"
-#include "render/seen_through.h"
+#include "transport/seen_through.h"
 #include "transport/march_points.h"
 #include "scene/scene.h"
 #include "../support/sample_statistics.h"
@@ -69,7 +69,7 @@ TEST(SeenThrough, GridAndSphereMatchTheMeanOfRatioTracking) {
 
 TEST(SeenThrough, TheMarchsDepthIsTheExactTransmittancesToTheBit) {
     // The march gather weighs the light behind a segment by exp(-depth) from its own profiles
-    // (for_each_march_point's depth; render/photon_map_integrator.cpp): the same sum in the same
+    // (for_each_march_point's depth; render/photon_map/photon_map_integrator.cpp): the same sum in the same
     // order as exact_transmittance, an absorbing medium (albedo 0, no march points) included.
     const std::string absorbing = "[[media]]\ntype = 'homogeneous'\nshape = 'sphere'\ncenter = [-0.3, 0.1, 0]\nradius = 0.5\n"
                                   "sigma_t_scale = 1.5\nalbedo = 0\n";

@@ -12,11 +12,11 @@
 #include <string>
 
 #include "analysis/chandrasekhar_h.h"
-#include "photon/photon_map.h"
-#include "photon/photon_tracer.h"
-#include "render/path_tracer.h"
-#include "render/photon_map_integrator.h"
-#include "render/run_config.h"
+#include "photon/map/photon_map.h"
+#include "photon/trace/photon_tracer.h"
+#include "render/path/path_tracer.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/run_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

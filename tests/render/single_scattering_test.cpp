@@ -1,4 +1,4 @@
-// The photon map's single scattering by both strategies (render/single_scattering.h): unbiased
+// The photon map's single scattering by both strategies (transport/single_scattering.h): unbiased
 // against a quadrature of the closed-form transmittance under a constant sky and against NEE alone
 // under a quad light, and a photon-map camera path that never uses its map (starved) is the path
 // tracer's own path, MIS included: the same image, bit for bit.
@@ -10,9 +10,9 @@
 #include "config/params.h"
 #include "core/henyey_greenstein.h"
 #include "core/math.h"
-#include "render/run.h"
-#include "render/run_config.h"
-#include "render/single_scattering.h"
+#include "render/run/run.h"
+#include "render/run/run_config.h"
+#include "transport/single_scattering.h"
 #include "scene/scene.h"
 #include "transport/direct_light.h"
 #include "../support/render_statistics.h"

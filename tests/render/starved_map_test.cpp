@@ -1,14 +1,14 @@
 // Issue 24, item 1: a volume photon map with fewer photons than any estimate needs (empty, thinned
 // by photons.store_probability = 1e-9, or photons.count = 1) must give the path tracer's answer:
-// every query takes the continue-the-path fallback (photon/bounded_radius.h). Before the fix the
+// every query takes the continue-the-path fallback (photon/estimate/bounded_radius.h). Before the fix the
 // collision gather ended the path with nothing (the image equalled the path tracer at max_depth 1,
 // -38%), and so did the march points with the radius bound off.
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
-#include "render/run.h"
-#include "render/run_config.h"
+#include "render/run/run.h"
+#include "render/run/run_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

@@ -1,4 +1,4 @@
-// photons.store_probability = "auto" (photon/store_thinning.h): the rule, its effect on the photon
+// photons.store_probability = "auto" (photon/trace/store_thinning.h): the rule, its effect on the photon
 // pass (thins where walks store many collisions, not where they store few), unbiasedness of the
 // stored power and of the furnace image, the same photons on 1 and 2 threads, and the key's
 // validation.
@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "photon/photon_map.h"
-#include "photon/store_thinning.h"
-#include "photon/photon_tracer.h"
-#include "render/photon_map_integrator.h"
-#include "render/run_config.h"
+#include "photon/map/photon_map.h"
+#include "photon/trace/store_thinning.h"
+#include "photon/trace/photon_tracer.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/run_config.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;

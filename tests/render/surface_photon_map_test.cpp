@@ -10,12 +10,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "photon/photon_map.h"
-#include "photon/photon_tracer.h"
-#include "render/path_tracer.h"
-#include "render/photon_map_integrator.h"
-#include "render/render_loop.h"
-#include "render/run.h"
+#include "photon/map/photon_map.h"
+#include "photon/trace/photon_tracer.h"
+#include "render/path/path_tracer.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/run/render_loop.h"
+#include "render/run/run.h"
 #include "scene/scene.h"
 #include "../support/render_statistics.h"
 

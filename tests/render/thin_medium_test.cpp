@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/run.h"
+#include "render/run/run.h"
 #include "../support/render_statistics.h"
 
 using namespace vpm;
@@ -76,7 +76,7 @@ TEST(ThinMedium, MarchCountsQueriesBeyondTheMeanFreePathBound) {
         o.progress = false;
         const RunResult r = run(RunConfig::load(std::string(VPM_SOURCE_DIR) + "/configs/" + config, sets), o);
         EXPECT_TRUE(r.record.json()["photons"].contains("march_wide_queries"));
-        // A point decided on the decision map (photon/bounded_radius.h) queries the pass's map only
+        // A point decided on the decision map (photon/estimate/bounded_radius.h) queries the pass's map only
         // where it takes the estimate: both maps' queries count.
         return std::make_pair(r.stats.march_wide_queries.value_or(0),
                               r.stats.volume_estimates->queries + r.stats.decision_queries.value_or(0));

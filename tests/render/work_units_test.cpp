@@ -1,10 +1,10 @@
-// render/work_units.h: the price of a kNN query grows with the stored photons (log2: the kd-tree's
+// render/plan/work_units.h: the price of a kNN query grows with the stored photons (log2: the kd-tree's
 // depth), is the fitted price at the reference size, and stays positive down to a single photon.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "render/work_units.h"
+#include "render/plan/work_units.h"
 #include "../support/scene_from_config.h"
 
 using namespace vpm;

@@ -5,7 +5,7 @@
 
 #include "core/error.h"
 #include "core/sampling.h"
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 #include "scene/lights/light_registry.h"
 
 #include "../support/light_from_config.h"

@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "core/error.h"
-#include "render/image_io.h"
+#include "render/run/image_io.h"
 #include "scene/lights/emission_bounds.h"
 #include "scene/lights/latlong_map.h"
 #include "scene/lights/light_registry.h"

@@ -62,7 +62,7 @@ TEST(OpticalDepthProfile, PlumeTotalAndInverseMatchQuadrature) {
 }
 
 TEST(OpticalDepthProfile, TheWalkIsCountedForThePlansWork) {
-    // The auto plan prices the march by these counts (render/work_units.h): the profile's blocks as
+    // The auto plan prices the march by these counts (render/plan/work_units.h): the profile's blocks as
     // steps and its voxel cells as closed-form cells, on this thread. Uncounted, the march cost about
     // 2x what the plan charged in grids (BENCHMARKS.md section 28).
     const GridMedium m = plume();

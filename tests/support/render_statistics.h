@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "render/render_loop.h"
-#include "render/run.h"
+#include "render/run/render_loop.h"
+#include "render/run/run.h"
 #include "sample_statistics.h"
-#include "render/run_config.h"
+#include "render/run/run_config.h"
 
 namespace vpm::test {
 

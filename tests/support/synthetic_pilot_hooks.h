@@ -1,10 +1,10 @@
 #pragma once
-// Pilot hooks (render/map_noise_pilot.h) around a synthetic trace: no gather to switch, and every
+// Pilot hooks (render/plan/map_noise_pilot.h) around a synthetic trace: no gather to switch, and every
 // sample counted as one used query and one ray of one work unit, so that the pilot's figures are
 // the trace's alone.
 #include <functional>
 
-#include "render/map_noise_pilot.h"
+#include "render/plan/map_noise_pilot.h"
 
 namespace vpm::test {
 

@@ -1,6 +1,6 @@
 // Every file path that a config comment or a document names exists, so a move (the scene/ split,
 // a renamed test) cannot leave a reader following a stale pointer. Paths are looked up from the
-// repository root, the mentioning file's folder, lib/ (include paths such as "photon/kernels.h")
+// repository root, the mentioning file's folder, lib/ (include paths such as "photon/estimate/kernels.h")
 // configs/ (config comments name their siblings) and configs/sweeps/ (sweep examples name scenes
 // relative to the sweep file); outputs (out/, build/, $VAR/...), extensions alone and the optional
 // third-party files beside a checkout (../shared/..., absent in a plain clone) are skipped.

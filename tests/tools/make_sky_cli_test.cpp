@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "render/image_io.h"
+#include "render/run/image_io.h"
 #include "scene/lights/latlong_map.h"
 #include "scene/lights/light_registry.h"
 

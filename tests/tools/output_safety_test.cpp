@@ -16,9 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/image_io.h"
-#include "render/run_outputs.h"
-#include "render/staged_file.h"
+#include "render/run/image_io.h"
+#include "render/run/run_outputs.h"
+#include "render/run/staged_file.h"
 #include "../support/vpm_process.h"
 
 using namespace vpm;

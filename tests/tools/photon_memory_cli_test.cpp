@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "photon/photon_budget.h"
+#include "photon/trace/photon_budget.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;

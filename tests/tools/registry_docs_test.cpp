@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "photon/estimators.h"
-#include "photon/kernels.h"
+#include "photon/estimate/estimators.h"
+#include "photon/estimate/kernels.h"
 #include "render/integrator_registry.h"
 #include "scene/lights/light_registry.h"
 #include "scene/media/medium_registry.h"

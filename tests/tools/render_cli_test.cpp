@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/image_io.h"
+#include "render/run/image_io.h"
 #include "../support/scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -174,7 +174,7 @@ TEST(RenderCli, KAboveTheStoredCountWarnsAndIsBounded) {
     EXPECT_EQ(j["photons"]["estimate_cases"]["queries"].get<uint64_t>(), 0u);
     EXPECT_LT(j["photons"]["stored"].get<uint64_t>(), 65536u);
     // The paths go on past the map: continued one by one, or, where the auto plan dropped the map
-    // ("continue"), path traced whole (render/no_map_candidate.h).
+    // ("continue"), path traced whole (render/plan/no_map_candidate.h).
     const uint64_t continued = j["photons"]["continued_paths"].get<uint64_t>() +
                                j["photons"].value("march_wide_queries", uint64_t(0));
     const bool no_map = j["photons"].contains("auto_gather") && j["photons"]["auto_gather"]["chosen"] == "continue";

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/image_io.h"
+#include "render/run/image_io.h"
 #include "../support/scratch_dir.h"
 
 namespace fs = std::filesystem;

@@ -32,9 +32,9 @@
 #include "command.h"
 #include "core/error.h"
 #include "core/progress.h"
-#include "render/image_io.h"
-#include "render/staged_file.h"
-#include "render/run.h"
+#include "render/run/image_io.h"
+#include "render/run/staged_file.h"
+#include "render/run/run.h"
 
 namespace {
 

@@ -10,8 +10,8 @@
 #include "analysis/error_metrics.h"
 #include "arguments.h"
 #include "command.h"
-#include "render/image_io.h"
-#include "render/run_outputs.h"
+#include "render/run/image_io.h"
+#include "render/run/run_outputs.h"
 
 namespace {
 

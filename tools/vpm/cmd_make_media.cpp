@@ -17,7 +17,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/density_grid.h"
-#include "render/staged_file.h"
+#include "render/run/staged_file.h"
 #include "io/vdb_io.h"
 
 namespace vpm {

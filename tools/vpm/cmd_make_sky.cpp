@@ -20,9 +20,9 @@
 
 #include "core/math.h"
 #include "core/progress.h"
-#include "render/image.h"
-#include "render/image_io.h"
-#include "render/staged_file.h"
+#include "render/run/image.h"
+#include "render/run/image_io.h"
+#include "render/run/staged_file.h"
 #include "scene/lights/latlong_map.h"
 
 namespace vpm {

@@ -6,8 +6,8 @@
 #include "analysis/merge_runs.h"
 #include "arguments.h"
 #include "command.h"
-#include "render/run.h"
-#include "render/run_outputs.h"
+#include "render/run/run.h"
+#include "render/run/run_outputs.h"
 
 namespace {
 

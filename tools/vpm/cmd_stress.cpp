@@ -15,8 +15,8 @@
 #include "data_files.h"
 #include "core/error.h"
 #include "core/progress.h"
-#include "render/image_io.h"
-#include "render/staged_file.h"
+#include "render/run/image_io.h"
+#include "render/run/staged_file.h"
 
 namespace {
 

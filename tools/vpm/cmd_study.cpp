@@ -19,8 +19,8 @@
 #include "arguments.h"
 #include "command.h"
 #include "data_files.h"
-#include "render/image_io.h"
-#include "render/staged_file.h"
+#include "render/run/image_io.h"
+#include "render/run/staged_file.h"
 #include "core/error.h"
 
 namespace vpm {

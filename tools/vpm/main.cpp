@@ -7,7 +7,7 @@
 #include "command.h"
 #include "core/build_info.h"
 #include "core/error.h"
-#include "render/staged_file.h"
+#include "render/run/staged_file.h"
 
 namespace vpm::cli {
 

@@ -2,7 +2,7 @@
 // The volume, first and second moments of a ball clipped by a box or by another ball, about the
 // ball's centre: integral of 1, u and u u^T over the region, u = p - x. They are the sigma_t
 // moments of a kNN ball in a homogeneous medium (photons.extinction = "linear",
-// photon/ball_extinction.h), which took 64 lookups for a whole ball and 4096 (with an outer product
+// photon/estimate/ball_extinction.h), which took 64 lookups for a whole ball and 4096 (with an outer product
 // each) for a clipped one (issue 21: 2.9x the thin cube's CPU).
 //
 //   ball in ball    a lens: two spherical caps glued at the plane of the spheres' circle; every

@@ -37,7 +37,7 @@ public:
     // (homogeneous: the ball inside the shape, a sphere's lens, a box face's cap; grid: the ball
     // inside one trilinear cell, whose mean is the centre value since every other term of the
     // trilinear polynomial is odd about it). False says nothing: the caller integrates
-    // (photons.extinction = "ball", photon/ball_extinction.h).
+    // (photons.extinction = "ball", photon/estimate/ball_extinction.h).
     virtual bool ball_integral(const Vec3& x, double r, double& integral) const {
         (void)x;
         (void)r;

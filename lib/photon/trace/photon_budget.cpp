@@ -1,0 +1,52 @@
+#include "photon/trace/photon_budget.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <ostream>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace vpm {
+
+double projected_stored_photons(const PhotonTraceProgress& p) {
+    const double stored = double(p.stored) + double(p.surface_stored);
+    if (p.emitted == 0) return stored;
+    const double later = double(p.stored) * p.later_store_fraction + double(p.surface_stored);
+    return stored + later * double(p.total - p.emitted) / double(p.emitted);
+}
+
+std::function<void(const PhotonTraceProgress&)> make_photon_pass_guard(double limit_bytes, std::ostream* log,
+                                                                      double log_interval_s) {
+    auto next_log = std::make_shared<double>(log_interval_s);
+    return [=](const PhotonTraceProgress& p) {
+        const double stored = double(p.stored) + double(p.surface_stored);
+        const double projected = projected_stored_photons(p);
+        const double peak = projected * kPeakBytesPerStoredPhoton;
+        if (peak > limit_bytes || stored * kPeakBytesPerStoredPhoton > limit_bytes) {
+            const double rate = p.emitted ? stored / double(p.emitted) : 0.0;
+            const double fits = rate > 0.0 ? limit_bytes / (kPeakBytesPerStoredPhoton * rate) : 0.0;
+            std::ostringstream s;
+            s.precision(3);
+            s << "photons.count = " << double(p.total) << " cannot fit in memory: the first " << p.emitted
+              << " photons stored " << rate << " photons each, so the pass would store about " << projected
+              << " photons and need about " << peak / 1e9 << " GB (" << kPeakBytesPerStoredPhoton
+              << " bytes per stored photon while the kd-tree is built), more than the " << limit_bytes / 1e9
+              << " GB of memory; photons.count <= " << std::floor(fits) << " fits";
+            throw Error(s.str());
+        }
+        if (log && p.emitted < p.total && p.seconds >= *next_log) {
+            *next_log = p.seconds + log_interval_s;
+            const double eta = p.seconds * (double(p.total) / double(p.emitted) - 1.0);
+            std::ostringstream s;
+            s.precision(3);
+            s << "trace: " << 100.0 * double(p.emitted) / double(p.total) << "% (" << double(p.emitted) << " of "
+              << double(p.total) << " photons), " << stored << " stored (projected " << projected << ", "
+              << peak / 1e9 << " GB), " << p.seconds << " s, ETA " << eta << " s\n";
+            *log << s.str() << std::flush;
+        }
+    };
+}
+
+}  // namespace vpm

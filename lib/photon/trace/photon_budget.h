@@ -1,0 +1,33 @@
+#pragma once
+// Memory guard and progress lines for the photon pass (issue 12).
+//
+// The photon tracer calls PhotonTraceSettings::on_chunk after a 65536-photon pilot chunk and then
+// after every ~1M photons. The guard made here projects the final number of stored photons
+// (volume + surface) from the stored-per-emitted rate so far and the peak memory of storing them
+// and building the kd-tree (kPeakBytesPerStoredPhoton each). When that projection, or the memory
+// already used for stored photons, exceeds the limit (physical memory), it stops the pass with a
+// vpm::Error naming photons.count, the projection and the largest count that fits: a clear error
+// before the real work instead of std::bad_alloc or swapping. Every ~10 s it writes a progress
+// line to the log (which, unlike the progress bar, also appears when stderr is not a terminal).
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+
+#include "photon/map/photon.h"
+#include "photon/trace/photon_tracer.h"
+
+namespace vpm {
+
+// Peak bytes per stored photon: the tracer's PhotonInput record, plus the kd-tree build (compact
+// record, Morton key and index, permutation entry, nodes) while the records still exist.
+constexpr double kPeakBytesPerStoredPhoton = double(sizeof(PhotonInput)) + double(sizeof(Photon)) + 16.0 + 4.0 + 4.0;
+
+// Projected stored photons at the end of the pass, from the totals so far.
+double projected_stored_photons(const PhotonTraceProgress& p);
+
+// The on_chunk callback: throws vpm::Error when the projected peak exceeds limit_bytes; writes a
+// progress line to *log (when not null) at most every log_interval_s seconds.
+std::function<void(const PhotonTraceProgress&)> make_photon_pass_guard(double limit_bytes, std::ostream* log,
+                                                                      double log_interval_s = 10.0);
+
+}  // namespace vpm

@@ -1,0 +1,256 @@
+#include "photon/trace/photon_tracer.h"
+
+#include <algorithm>
+#include <atomic>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
+
+#include "core/error.h"
+#include "core/henyey_greenstein.h"
+#include "core/progress.h"
+#include "core/sampling.h"
+#include "photon/trace/forced_collision.h"
+#include "photon/trace/store_thinning.h"
+#include "transport/walk_steps.h"
+
+namespace vpm {
+
+namespace {
+
+// Photons per independent batch. Batches are the unit of determinism: each has its own Rng
+// stream and output slot, and results are concatenated in batch order.
+constexpr uint64_t kBatchSize = 4096;
+constexpr uint64_t kPilotBatches = 16;    // the first chunk: 65536 photons
+constexpr uint64_t kAutoBatches = 1;      // store_probability "auto": its counts come from batch 0 alone
+constexpr uint64_t kChunkBatches = 256;   // then ~1M photons per chunk
+
+// Picks a light with probability proportional to its weight: settings.light_weights when given
+// (photon/trace/photon_allocation.h), else its luminance power. A photon's power is divided by the
+// pick probability, so any weights that are positive wherever a light has power are unbiased.
+struct LightPicker {
+    std::vector<double> cdf;
+    LightPicker(const Scene& scene, const std::vector<double>& weights, int single_light) {
+        if (single_light >= 0) {
+            if (size_t(single_light) >= scene.lights.size())
+                throw Error("photon tracer: single_light " + std::to_string(single_light) + " out of range");
+            for (size_t i = 0; i < scene.lights.size(); ++i) cdf.push_back(int(i) >= single_light ? 1.0 : 0.0);
+            return;
+        }
+        if (!weights.empty() && weights.size() != scene.lights.size())
+            throw Error("photon tracer: " + std::to_string(weights.size()) + " light weights for " +
+                        std::to_string(scene.lights.size()) + " lights");
+        double sum = 0.0;
+        for (size_t i = 0; i < scene.lights.size(); ++i) {
+            const double power = std::max(0.0, luminance(scene.lights[i]->power()));
+            double w = power;
+            if (!weights.empty()) {
+                w = weights[i];
+                if (!(w >= 0.0) || !std::isfinite(w) || (power > 0.0 && w == 0.0))
+                    throw Error("photon tracer: light " + std::to_string(i) + " has weight " + std::to_string(w) +
+                                " (allowed: finite, > 0 where the light has power)");
+            }
+            sum += w;
+            cdf.push_back(sum);
+        }
+        for (double& c : cdf) c = sum > 0 ? c / sum : 1.0;
+    }
+    size_t pick(double u, double& pdf) const {
+        const size_t i = size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+        const size_t idx = std::min(i, cdf.size() - 1);
+        pdf = cdf[idx] - (idx ? cdf[idx - 1] : 0.0);
+        return idx;
+    }
+};
+
+// Survive with probability q = max channel of `factor`; the surviving power is power * factor / q.
+// Returns false when the photon is terminated.
+bool roulette(Rgb& power, const Rgb& factor, Rng& rng) {
+    const double q = factor.maxCoeff();
+    if (q <= 0.0 || rng.uniform() >= q) return false;
+    power *= factor / q;
+    return true;
+}
+
+struct BatchOutput {
+    std::vector<PhotonInput> photons, surface_photons;
+    EnergyBalance energy;
+    uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0, light_hits = 0, storing_walks = 0;
+    std::vector<LightPhotonStats> per_light;
+};
+
+// q: the volume storage probability for this batch.
+void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPicker& picker, uint64_t batch, double q,
+                 BatchOutput& out) {
+    Rng rng(s.seed ^ 0x70686f746f6eULL, batch + s.stream_offset * ((s.count + kBatchSize - 1) / kBatchSize));
+    const uint64_t begin = batch * kBatchSize, end = std::min(s.count, begin + kBatchSize);
+    const double inv_n = 1.0 / double(s.count);
+    out.per_light.assign(scene.lights.size(), LightPhotonStats{});
+    const bool forced_ok = s.forced_collisions && forced_collisions_possible(scene);
+    OpticalDepthProfile profile;
+    for (uint64_t i = begin; i < end; ++i) {
+        double light_pdf = 1.0;
+        const size_t light_index = picker.pick(rng.uniform(), light_pdf);
+        const Light& light = *scene.lights[light_index];
+        LightPhotonStats& light_stats = out.per_light[light_index];
+        const size_t stored_before = out.photons.size() + out.surface_photons.size();
+        const size_t volume_before = out.photons.size();
+        ++light_stats.emitted;
+        EmissionSample e = light.sample_emission(rng);
+        Rgb power = e.power * (inv_n / light_pdf);
+        out.energy.emitted += power;
+        Ray ray = e.ray;
+        const double window = kForcedWindow * power.maxCoeff();   // forced steps: the weight window's floor
+        bool scattered = false;
+        int bounces = 0;
+        const uint8_t group = uint8_t(i % kWalkGroups);   // every photon of this walk (photon.h)
+        for (;;) {
+            if (bounces >= s.max_bounces) {
+                out.energy.truncated += power;
+                ++out.truncated_paths;
+                break;
+            }
+            const ForcedStep forced = forced_ok ? forced_step(scene, ray, rng, profile)
+                                                : ForcedStep{next_vertex(scene, ray, rng), 1.0, false};
+            const PathVertex& v = forced.vertex;
+            const MediumEvent& event = v.medium;
+            const SurfaceHit& hit = v.hit;
+            if (v.escaped()) {
+                out.energy.escaped += power;
+                break;
+            }
+            if (bounces == 0) ++light_stats.landed;
+            ++bounces;
+            if (event && forced.forced) {
+                // The share exp(-tau) passes the medium: out of the scene, or into a black surface.
+                const Rgb passed = power * forced.transmittance;
+                (v.on_surface ? out.energy.absorbed : out.energy.escaped) += passed;
+                power -= passed;
+                if (power.maxCoeff() < window) {   // the weight window: roulette up to its floor
+                    const double keep = power.maxCoeff() / window;
+                    if (!(keep > 0.0) || rng.uniform() >= keep) {
+                        out.energy.absorbed += power;
+                        break;
+                    }
+                    out.energy.absorbed += power - power / keep;   // negative: the survivor carries the rest
+                    power /= keep;
+                }
+            }
+            const Rgb power_in = power;
+            bool alive;
+            if (event) {
+                const Vec3 x = ray.at(event.t);
+                ++out.collisions;
+                if (s.store_direct || scattered) {
+                    if (q >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power, group});
+                    else if (rng.uniform() < q)
+                        out.photons.push_back(PhotonInput{x, ray.dir, power / q, group});
+                }
+                alive = roulette(power, event.medium->albedo(), rng);
+                if (alive) {
+                    const double u1 = rng.uniform(), u2 = rng.uniform();
+                    ray = Ray{x, hg_sample(ray.dir, event.medium->g(), u1, u2)};
+                }
+            } else {
+                ++out.surface_hits;
+                if (hit.emitter) ++out.light_hits;
+                if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
+                    out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power, group});
+                alive = roulette(power, hit.reflectance, rng);
+                if (alive) ray = diffuse_bounce(hit, rng);
+            }
+            if (!alive) power = Rgb::Zero();
+            out.energy.absorbed += power_in - power;
+            if (!alive) break;
+            scattered = true;
+        }
+        light_stats.stored += out.photons.size() + out.surface_photons.size() - stored_before;
+        if (out.photons.size() > volume_before) ++out.storing_walks;
+    }
+}
+
+}  // namespace
+
+double EnergyBalance::relative_imbalance() const {
+    const Rgb residual = emitted - absorbed - escaped - truncated;
+    double worst = 0.0;
+    for (int c = 0; c < 3; ++c)
+        if (emitted[c] > 0) worst = std::max(worst, std::abs(residual[c]) / emitted[c]);
+    return worst;
+}
+
+PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s) {
+    scene.prepare_photon_emission();   // the lights' guides, once per scene (scene/emission_guides.h)
+    PhotonTraceResult result;
+    const Timer timer;
+    const LightPicker picker(scene, s.light_weights, s.single_light);
+    const uint64_t batches = (s.count + kBatchSize - 1) / kBatchSize;
+    Progress progress("photons", batches, s.progress);
+    // Chunks of batches, merged in batch order (the same photons and sums as one parallel loop over
+    // all batches): memory for per-batch outputs stays bounded whatever the count, and after each
+    // chunk the caller sees the running totals (pilot projection, budget, progress lines).
+    PhotonTraceProgress totals;
+    totals.total = s.count;
+    // "auto": batch 0 stores all, its counts set q for the rest (same on any thread count).
+    double q = s.store_auto ? 1.0 : s.store_probability;
+    for (uint64_t first = 0; first < batches;) {
+        // "auto" splits the pilot chunk after batch 0, whose walks set q for every later batch.
+        const uint64_t head = s.store_auto && first == 0 ? kAutoBatches : kPilotBatches;
+        const uint64_t n = std::min(batches - first, first < kPilotBatches ? head - first : kChunkBatches);
+        std::vector<BatchOutput> outputs(n);
+        tbb::parallel_for(uint64_t(0), n, [&](uint64_t b) {
+            // A cancelled task group (the Python module's Ctrl-C) skips its remaining batches at once
+            // (one task may hold many); the caller discards the result.
+            if (tbb::is_current_task_group_canceling()) return;
+            trace_batch(scene, s, picker, first + b, q, outputs[b]);
+            progress.advance();
+        });
+        for (auto& o : outputs) {   // fixed order: deterministic sums and photon order
+            result.photons.insert(result.photons.end(), o.photons.begin(), o.photons.end());
+            std::vector<PhotonInput>().swap(o.photons);
+            result.surface_photons.insert(result.surface_photons.end(), o.surface_photons.begin(),
+                                          o.surface_photons.end());
+            std::vector<PhotonInput>().swap(o.surface_photons);
+            result.surface_hits += o.surface_hits;
+            result.light_hits += o.light_hits;
+            result.energy.emitted += o.energy.emitted;
+            result.energy.absorbed += o.energy.absorbed;
+            result.energy.escaped += o.energy.escaped;
+            result.energy.truncated += o.energy.truncated;
+            result.collisions += o.collisions;
+            result.truncated_paths += o.truncated_paths;
+            result.storing_walks += o.storing_walks;
+            if (result.per_light.empty()) result.per_light.assign(scene.lights.size(), LightPhotonStats{});
+            for (size_t l = 0; l < o.per_light.size(); ++l) {
+                result.per_light[l].emitted += o.per_light[l].emitted;
+                result.per_light[l].landed += o.per_light[l].landed;
+                result.per_light[l].stored += o.per_light[l].stored;
+            }
+        }
+        first += n;
+        totals.emitted = std::min(s.count, first * kBatchSize);
+        totals.stored = result.photons.size();
+        totals.surface_stored = result.surface_photons.size();
+        totals.seconds = timer.seconds();
+        if (s.store_auto && first == kAutoBatches) q = auto_store_probability(result.photons.size(), result.storing_walks);
+        if (s.store_auto && totals.emitted > 0) {   // the rest at q, against the mean probability so far
+            const double pilot = double(std::min(s.count, kAutoBatches * kBatchSize));
+            totals.later_store_fraction = q * double(totals.emitted) / (pilot + q * (double(totals.emitted) - pilot));
+        }
+        if (s.on_chunk) s.on_chunk(totals);
+        if (first == kPilotBatches && first < batches && totals.emitted > 0) {
+            // Reserve what the pilot projects (+10%, thinned by "auto"'s q), so the record vectors
+            // are not reallocated (a reallocation briefly holds both copies).
+            const double scale = 1.1 * double(s.count) / double(totals.emitted) * (s.store_auto ? q : 1.0);
+            result.photons.reserve(size_t(double(totals.stored) * scale) + kBatchSize);
+            if (s.store_surface) result.surface_photons.reserve(size_t(double(totals.surface_stored) * scale) + kBatchSize);
+        }
+    }
+    progress.done();
+    result.paths = s.count;
+    result.seconds = timer.seconds();
+    result.store_probability = q;
+    return result;
+}
+
+}  // namespace vpm

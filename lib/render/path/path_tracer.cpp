@@ -1,0 +1,72 @@
+#include "render/path/path_tracer.h"
+
+#include "core/henyey_greenstein.h"
+#include "core/sampling.h"
+#include "transport/direct_light.h"
+#include "transport/mis.h"
+#include "transport/walk_steps.h"
+
+namespace vpm {
+
+Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
+    const int max_depth = walk_.max_depth;
+    const int rr_depth = walk_.rr_depth;
+    const bool mis = walk_.mis;
+    Ray ray = camera_ray;
+    Rgb throughput = Rgb::Ones();
+    Rgb radiance = Rgb::Zero();
+    EmissionWeighting emission = EmissionWeighting::camera();   // how emission met next counts
+    for (int depth = 0;; ++depth) {
+        // `depth` scattering events so far; the vertex found now would be number depth + 1.
+        const PathVertex v = next_vertex(scene_, ray, rng);
+        if (v.escaped()) {
+            radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
+            break;
+        }
+        // Emission belongs to the path of `depth` scattering events, like escaping does; the
+        // light is black, so the path ends on it.
+        if (!v.medium && v.hit.emitter) {
+            radiance += throughput * emitted_radiance(scene_, ray, v.hit, emission);
+            break;
+        }
+        if (max_depth >= 0 && depth + 1 > max_depth) break;
+        if (v.medium) {
+            const Vec3 x = ray.at(v.medium.t);
+            const Medium& m = *v.medium.medium;
+            throughput *= m.albedo();   // collision estimator: scatter weight = albedo
+            if ((throughput == 0.0).all()) break;
+            radiance += throughput * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, mis);
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            const Vec3 wo = hg_sample(ray.dir, m.g(), u1, u2);
+            emission = EmissionWeighting::after(mis, x, hg_eval(ray.dir.dot(wo), m.g()));
+            ray = Ray{x, wo};
+        } else {
+            if ((v.hit.reflectance == 0.0).all()) break;
+            radiance += throughput * direct_light_on_surface(scene_, v.hit, rng, mis);
+            throughput *= v.hit.reflectance;
+            ray = diffuse_bounce(v.hit, rng);
+            emission = EmissionWeighting::after(mis, v.hit.position, std::max(0.0, ray.dir.dot(v.hit.normal)) * kInvPi);
+        }
+        if (!survive_roulette(throughput, depth + 1, rr_depth, rng)) break;
+    }
+    return radiance;
+}
+
+namespace {
+
+struct PathTracerSettings : IntegratorSettings {
+    WalkSettings walk;
+    std::unique_ptr<Integrator> create(const Scene& scene) const override {
+        return std::make_unique<PathTracer>(scene, walk);
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<IntegratorSettings> read_path_tracer_settings(Params& render, Params&) {
+    auto s = std::make_unique<PathTracerSettings>();
+    s->walk = WalkSettings::read(render);
+    return s;
+}
+
+}  // namespace vpm

@@ -1,0 +1,205 @@
+// photons.gather = "auto": the map-noise pilot and the pass plan (render/plan/pass_plan.h), run once on
+// the first pass of a run. A member of PhotonMapIntegrator kept apart from its camera paths.
+#include <algorithm>
+#include <atomic>
+#include <ostream>
+
+#include "core/progress.h"
+#include "core/rng.h"
+#include "render/plan/map_noise_pilot.h"
+#include "render/plan/no_map_candidate.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/plan/work_units.h"
+#include "scene/media/tracking_counter.h"
+
+namespace vpm {
+
+int PhotonMapIntegrator::samples_per_pass(int configured) const {
+    return plan_ && settings_.size_samples ? plan_->spp : configured;
+}
+
+void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats) {
+    const Timer timer;
+    // The whole span is one-off work; what it holds (a probe, the decision map of a run starting at a
+    // later pass) counts once, in the span.
+    const double one_off_before = one_off_seconds_;
+    const WorkUnits w = work_units(scene_, int(k_));
+    PlanInputs in;
+    in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
+    in.count = settings_.count;
+    in.pilot_count = first_map_photons(context);
+    // The configured pass: the plan's sizes start from it, and a pass over budget / kPlanMinPasses
+    // may still be as large as it (when unsized the plan only picks the gather at these samples).
+    in.spp = std::max(1, context.configured_spp);
+    in.size_photons = owns_maps_ && settings_.size_photons;
+    in.size_samples = settings_.size_samples;
+    in.budget = settings_.time_limit * kWorkUnitsPerSecond;
+    // The pilot's map is pass 0's, so that every range of passes rendered apart (render.first_pass,
+    // vpm merge) makes the same plan: a run starting later traces it apart, with pass 0's streams.
+    // (Its surface map too: planned without it, a run from pass 1 over a floor took the collision
+    // gather where pass 0's plan took the march, and vpm merge lost the one-machine image.)
+    PhotonMaps pilot_maps;
+    const PhotonMap* map = map_;
+    const PhotonMap* pilot_surface = surface_map_;
+    std::optional<PhotonPassStats> counts = stats.photons;
+    if (owns_maps_ && context.pass != 0) {
+        PassContext c = context;
+        c.stream_offset = context.run_stream_offset;
+        c.pass = 0;
+        c.first_of_run = false;
+        c.progress = false;
+        c.log = nullptr;
+        RunStats pilot_stats;
+        PhotonMapSettings pilot_settings = settings_;
+        pilot_settings.count = in.pilot_count;
+        const bool surface = traces_surface_map();
+        pilot_maps = run_photon_pass(scene_, pilot_settings, c, surface, pilot_stats, allocation_);
+        map = &pilot_maps.volume;
+        pilot_surface = surface ? &pilot_maps.surface : nullptr;
+        counts = pilot_stats.photons;
+        if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
+    }
+    // The pilot's maps, full and halves, are decided on as the run's (photon/estimate/bounded_radius.h).
+    const double pilot_emitted = double(in.pilot_count);
+    if (counts && counts->emitted > 0)
+        in.photon_cost = (w.collision * double(counts->collisions) + w.path * double(counts->emitted) +
+                          w.stored * double(counts->stored)) / double(counts->emitted);
+    const std::vector<PilotCandidate> candidates = {{"collision", true}, {"march", true}, {kNoMapCandidate, false}};
+    const Gather gathers[] = {Gather::collision, Gather::march, Gather::collision};
+    std::vector<GatherMeasurement> measured;
+    const PhotonMap* run_map = map_;
+    const PhotonMap* run_surface = surface_map_;
+    const double run_emitted = map_emitted_;
+    PilotBudget budget;   // render/plan/pilot_budget.h
+    if (in.budget > 0.0) {
+        budget.per_candidate = in.budget * kPilotBudgetFraction / double(candidates.size());
+        budget.max_pass_cost = in.budget / kPlanMinPasses;
+    }
+    // Measured also where the pilot's volume map is empty and no surface map was stored: the gathers'
+    // queries then find no photons and continue the path, so they are the continuation plus a photon
+    // pass that buys nothing, and the plan drops them (render/plan/no_map_candidate.h). Planned with every
+    // figure 0 instead, a scene whose only medium was empty traced 1e5 photons per pass, 185 passes
+    // in 2 s, for a black image.
+    const bool measured_by_pilot = map->size() > 0 || !(pilot_surface && pilot_surface->size() > 0);
+    if (measured_by_pilot) {
+        MapNoisePilotHooks hooks;
+        // Grid tracking counts of the pilot's samples (scene/media/tracking_counter.h): sums, the
+        // same whatever the threads' order.
+        std::atomic<uint64_t> steps{0}, density_lookups{0}, cells{0};
+        hooks.use = [&](int c, const PhotonMap* m) {
+            gather_ = gathers[c];
+            const bool uses_map = candidates[size_t(c)].uses_map;
+            map_ = uses_map ? m : &empty_map_;
+            surface_map_ = uses_map ? pilot_surface : nullptr;
+            set_map_emitted(m == map ? pilot_emitted : pilot_emitted / 2.0);   // a half map: half the walks
+        };
+        hooks.trace = [&](const Ray& ray, Rng& rng) {
+            // One sample runs on one thread: the thread's counts before and after are the sample's.
+            const TrackingCounts before = thread_tracking_counts();
+            const Rgb l = trace(ray, 0, rng);
+            const TrackingCounts& after = thread_tracking_counts();
+            steps += after.steps - before.steps;
+            density_lookups += after.lookups - before.lookups;
+            cells += after.cells - before.cells;
+            return l;
+        };
+        hooks.counts = [&] {
+            CountedOperations c = counted_operations();
+            c.steps = double(steps.load());
+            c.density_lookups = double(density_lookups.load());
+            c.cells = double(cells.load());
+            return c;
+        };
+        // Pixels whose rays meet nothing show the background and do not vary (render/plan/pilot_pixels.h).
+        hooks.sees = [&](const Ray& ray) {
+            SurfaceHit hit;
+            return scene_.intersect(ray, kInfinity, hit) || scene_.optical_depth(ray, kInfinity) > 0.0;
+        };
+        // A query over the pilot's map (pass 0's); the plan adds the price's growth for larger maps.
+        const double query = query_price(w, double(map->size()));
+        in.query_doubling = w.query_doubling;
+        hooks.work = [&](const CountedOperations& c) {
+            const double wide = std::max(0.0, c.queries - c.map_used);   // searches whose estimate was not used
+            return query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps +
+                   w.density_lookup * c.density_lookups + w.cell * c.cells;
+        };
+        with_fresh_counters([&] {
+            measured = measure_gathers(scene_.camera, *map, candidates, hooks,
+                                       mix64(context.seed ^ 0x6d61706e6f697365ULL), context.run_stream_offset, budget, in.pixels);
+        });
+        map_ = run_map;
+        surface_map_ = run_surface;
+        set_map_emitted(run_emitted);
+    } else {
+        // An empty volume map beside a surface map: the gathers cost the same and "continue" is left
+        // out (the empty map costs nothing and the surface map keeps its use).
+        for (size_t c = 0; c + 1 < candidates.size(); ++c) {
+            GatherMeasurement g;
+            g.name = candidates[c].name;
+            g.v_map_quarter = -1.0;
+            measured.push_back(g);
+        }
+    }
+    exclude_maps_that_go_unused(measured);
+    in.candidates = measured;
+    PassPlan plan = plan_passes(in);
+    if (!in.size_samples) plan.spp = 0;   // not the plan's: samples_per_pass keeps the configured value
+    gather_ = gathers[plan.chosen];
+    plan_ = plan;
+    if (!measured[size_t(plan.chosen)].uses_map) {   // render/plan/no_map_candidate.h: from this pass on
+        no_map_ = true;
+        map_ = &empty_map_;
+        surface_map_ = nullptr;
+    }
+    AutoGatherStats a;
+    a.candidates = measured;
+    a.photon_cost = in.photon_cost;
+    a.chosen = measured[size_t(plan.chosen)].name;
+    a.photon_pass = !no_map_;
+    a.pilot_count = in.pilot_count;
+    a.count = in.size_photons ? plan.count : in.count;
+    a.spp = plan.spp;
+    a.beta = plan.beta;
+    a.beta_measured = plan.beta_measured;
+    a.size_photons = in.size_photons;
+    a.size_samples = in.size_samples;
+    auto_stats_ = a;
+    stats.phase("pilot", timer.seconds());
+    one_off_seconds_ = one_off_before + timer.seconds();
+    if (context.log) {
+        std::ostream& log = *context.log;
+        log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
+            << "up to " << kPilotSamples << " samples with the map and its halves, up to " << kNoMapPilotSamples << " without a map";
+        if (map->size() == 0)
+            log << (measured_by_pilot ? "; the volume map is empty: its queries continue the path"
+                                      : "; the volume map is empty, nothing to measure");
+        for (const auto& m : measured) {
+            log << "; " << m.name << ": ";
+            if (m.dropped) {
+                log << "dropped after its probe (a pass of one sample, " << in.pixels * m.sample_cost
+                    << " work units, exceeds half the budget), work " << m.sample_cost << " per sample";
+                continue;
+            }
+            log << m.samples << " samples, per-sample variance " << m.v_camera << " (charged at "
+                << 1.0 + kPlanVarianceSigmas * m.v_camera_rel_se << "x: its upper bound), map variance at N/2 " << m.v_map_half << " +- " << m.v_map_half_se
+                << ", bias " << m.bias_mean << " +- " << m.bias_se << " (squared, charged: " << m.bias2 << "), mean " << m.mean << " +- " << m.mean_se
+                << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
+                << ", work " << m.sample_cost << " per sample, map estimates used " << m.per_sample.map_used << " per sample";
+            if (m.uses_map && m.excluded)
+                log << " (not a choice: it almost never used the map, so it is the continuation plus a photon pass, render/plan/no_map_candidate.h)";
+            if (!m.uses_map)
+                log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance";
+        }
+        log << "; work " << in.photon_cost << " per photon)\n";
+        if (no_map_)
+            log << "photons: no photon pass after this one: the map " << (measured[0].per_sample.map_used > 0.0 ? "did not pay for its pass" : "was never used (every kNN ball wider than photons.max_radius_mfp)")
+                << ", so every pass, this one included, is the path tracer's (the same estimator, unbiased)\n";
+        if (in.size_photons || in.size_samples)
+            log << "passes: " << (no_map_ ? std::string("no photons") : std::to_string(a.count) + " photons per pass (" + (in.size_photons ? "sized" : "photons.count") + ")")
+                << ", " << (in.size_samples ? std::to_string(plan.spp) : std::string("render.spp")) << " samples per pass ("
+                << (in.size_samples ? "sized" : "given") << "), the map's variance taken as N^-" << plan.beta
+                << (plan.beta_measured ? " (measured)" : " (assumed)") << "\n";
+    }
+}
+
+}  // namespace vpm

@@ -1,0 +1,163 @@
+#include "render/photon_map/beam_gather.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "core/henyey_greenstein.h"
+#include "core/progress.h"
+#include "photon/estimate/ball_extinction.h"
+#include "photon/map/photon_radii.h"
+#include "scene/media/homogeneous_medium.h"
+
+namespace vpm {
+
+BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
+                       double max_radius_mfp)
+    : scene_(scene), map_(map), kernel_(kernel) {
+    for (const auto& m : scene.media) exact_.push_back(dynamic_cast<const HomogeneousMedium*>(m.get()) != nullptr);
+    const Timer radii_timer;
+    std::vector<double> radii = photon_radii(map, k);
+    std::vector<Vec3> centres(map.size());
+    for (size_t i = 0; i < map.size(); ++i) {
+        centres[i] = map.position(i);
+        double r = std::min(radii[i], max_radius);
+        if (max_radius_mfp > 0.0 && std::isfinite(r)) {
+            // The collision gather's bound (photon/estimate/bounded_radius.h), per photon: it depends on x_i
+            // only, so the radius stays independent of the query.
+            double sigma_t = 0.0;
+            for (const auto& m : scene.media) sigma_t += m->sigma_t(centres[i]);
+            if (sigma_t > 0.0) r = std::min(r, max_radius_mfp / sigma_t);
+        }
+        radii[i] = r;
+    }
+    // Per photon 1 / (mean sigma_t over its ball): query-independent like the radius (photon/estimate/ball_extinction.h).
+    // Only media with a jump need it; where every medium is continuous the plain estimate is kept.
+    for (const auto& m : scene.media) foot_point_ = foot_point_ || !m->continuous();
+    inv_ball_sigma_t_.assign(foot_point_ ? map.size() : 0, 0.0f);
+    const BallExtinction ball(scene.media);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, inv_ball_sigma_t_.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+            if (!std::isfinite(radii[i]) || !(radii[i] > 0.0)) continue;
+            double mean = ball.mean(centres[i], radii[i]);
+            if (!(mean > 0.0))   // a ball too small for the quadrature to meet the medium: the point's
+                for (const auto& m : scene.media) mean += m->sigma_t(centres[i]);
+            if (mean > 0.0) inv_ball_sigma_t_[i] = float(1.0 / mean);
+        }
+    });
+    built_.radii_seconds = radii_timer.seconds();
+    const Timer bvh_timer;
+    bvh_ = PhotonDiscBvh(centres, radii);
+    built_.bvh_seconds = bvh_timer.seconds();
+    built_.k = k;
+    built_.photons = bvh_.size();
+    built_.bvh_bytes = bvh_.memory_bytes() + inv_ball_sigma_t_.capacity() * sizeof(float);
+    const double n = double(std::max<size_t>(map.size(), 1));
+    built_.bvh_bytes_per_photon = double(built_.bvh_bytes) / n;
+    built_.map_bytes_per_photon = double(map.memory_bytes()) / n;
+    built_.total_bytes_per_photon = built_.bvh_bytes_per_photon + built_.map_bytes_per_photon;
+}
+
+Rgb BeamGather::scattering(const Vec3& x, double cos_theta) const {
+    Rgb sum = Rgb::Zero();
+    for (const auto& m : scene_.media) {
+        const double s = m->sigma_t(x);
+        if (s > 0.0) sum += s * m->albedo() * hg_eval(cos_theta, m->g());
+    }
+    return sum;
+}
+
+Rgb BeamGather::albedo_phase(const Vec3& x, double cos_theta) const {
+    if (scene_.media.size() == 1) return scene_.media.front()->albedo() * hg_eval(cos_theta, scene_.media.front()->g());
+    Rgb sum = Rgb::Zero();
+    double sigma_t = 0.0;
+    for (const auto& m : scene_.media) {
+        const double s = m->sigma_t(x);
+        sum += s * m->albedo() * hg_eval(cos_theta, m->g());
+        sigma_t += s;
+    }
+    if (sigma_t > 0.0) return sum / sigma_t;
+    // A stored position rounded just outside every medium: the media's mean.
+    for (const auto& m : scene_.media) sum += m->albedo() * hg_eval(cos_theta, m->g());
+    return sum / double(scene_.media.size());
+}
+
+void BeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hits, std::vector<double>& out, Rng& rng,
+                                Local& local) const {
+    const size_t n = hits.size();
+    out.assign(n, 1.0);
+    const double t_last = hits.back().t;
+    for (size_t mi = 0; mi < scene_.media.size(); ++mi) {
+        const Medium& m = *scene_.media[mi];
+        const bool exact = exact_[mi];
+        size_t i = 0;
+        double acc = exact ? 0.0 : 1.0;   // optical depth so far (exact) or the ratio-tracking product
+        m.majorant_pieces(ray, t_last, [&](double ta, double tb, double mu) {
+            if (exact) {   // the majorant is sigma_t itself
+                const double before = std::exp(-acc);
+                for (; i < n && hits[i].t <= ta; ++i) out[i] *= before;
+                for (; i < n && hits[i].t <= tb; ++i) out[i] *= std::exp(-(acc + mu * (hits[i].t - ta)));
+                acc += mu * (tb - ta);
+                return true;
+            }
+            // Ratio tracking: tentative collisions at rate mu, each scaling the product by
+            // 1 - sigma_t / mu. The product over those before t is unbiased for T(0, t) at every t.
+            double t = ta;
+            while (mu > 0.0) {
+                t += -std::log1p(-rng.uniform()) / mu;
+                const double stop = std::min(t, tb);
+                for (; i < n && hits[i].t < stop; ++i) out[i] *= acc;
+                if (t >= tb) break;
+                acc *= 1.0 - m.sigma_t(ray.at(t)) / mu;
+                ++local.tracking_lookups;
+            }
+            for (; i < n && hits[i].t <= tb; ++i) out[i] *= acc;   // mu = 0: nothing to collide with
+            return acc != 0.0;
+        });
+        const double rest = exact ? std::exp(-acc) : acc;
+        for (; i < n; ++i) out[i] *= rest;
+    }
+}
+
+Rgb BeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+    Local& local = local_.local();
+    std::vector<Hit>& hits = local.hits;
+    hits.clear();
+    bvh_.for_each_crossed_ball(ray.origin, ray.dir, t_end, [&](uint32_t index, double t, double d2, double r) {
+        hits.push_back({t, d2, r, index});
+    });
+    ++local.queries;
+    local.crossed += hits.size();
+    if (hits.empty()) return Rgb::Zero();
+    // In order along the ray, ties by index: one tracking pass serves every photon, and the random
+    // stream is consumed in an order that does not depend on the BVH's traversal.
+    std::sort(hits.begin(), hits.end(),
+              [](const Hit& a, const Hit& b) { return a.t < b.t || (a.t == b.t && a.index < b.index); });
+    transmittances(ray, hits, local.transmittance, rng, local);
+    Rgb sum = Rgb::Zero();
+    for (size_t i = 0; i < hits.size(); ++i) {
+        const Hit& h = hits[i];
+        const double r2 = h.r * h.r;
+        const double w = local.transmittance[i] * kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
+        if (w == 0.0) continue;
+        const double cos_theta = map_.direction(h.index).dot(-ray.dir);
+        const Rgb f = foot_point_ ? scattering(ray.at(h.t), cos_theta) * double(inv_ball_sigma_t_[h.index])
+                                  : albedo_phase(map_.position(h.index), cos_theta);
+        if ((f == 0.0).all()) continue;
+        sum += w * map_.power(h.index) * f;
+    }
+    return sum;
+}
+
+BeamGatherStats BeamGather::stats() const {
+    BeamGatherStats s = built_;
+    for (const Local& l : local_) {
+        s.queries += l.queries;
+        s.crossed += l.crossed;
+        s.tracking_lookups += l.tracking_lookups;
+    }
+    return s;
+}
+
+}  // namespace vpm

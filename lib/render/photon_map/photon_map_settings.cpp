@@ -1,0 +1,106 @@
+#include "render/photon_map/photon_map_settings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include "config/params.h"
+
+namespace vpm {
+
+namespace {
+
+// A number in (0, 1] or "auto" (photon/trace/store_thinning.h).
+void read_store_probability(Params& p, PhotonMapSettings& s) {
+    const char* key = "store_probability";
+    const char* allowed = "must be a number in (0, 1] or \"auto\" (the probability from the walks' own statistics)";
+    const toml::node* n = p.node(key);
+    if (!n) {
+        s.store_probability = p.real(key, s.store_probability);   // the default, into the resolved config
+        return;
+    }
+    if (n->is_string()) {
+        if (n->value<std::string>().value_or("") != "auto") p.fail(key, allowed);
+        p.choice(key, "auto", {"auto"});
+        s.store_auto = true;
+        return;
+    }
+    const Range range{0.0, 1.0, true, false};
+    if (!n->is_number() || !range.contains(n->value<double>().value_or(-1.0))) p.fail(key, allowed);
+    s.store_probability = p.real(key, s.store_probability, range);
+}
+
+}  // namespace
+
+PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p) {
+    PhotonMapSettings s;
+    s.walk = WalkSettings::read(render);
+    s.count = p.integer("count", s.count, Range::closed(1, int64_t(1) << 40));
+    std::vector<std::pair<std::string, Estimator>> estimators;
+    for (const Estimator& e : Estimator::all()) estimators.emplace_back(e.name(), e);
+    s.estimator = p.choice("estimator", s.estimator, estimators);
+    // photons.kernel (registry in photon/estimate/kernels.h) and its parameter, if any, as
+    // photons.<kernel>_<parameter> (cone_slope); the key exists only for that kernel.
+    std::vector<std::pair<std::string, Kernel>> kernels;
+    for (const Kernel& k : Kernel::all()) kernels.emplace_back(k.name(), k);
+    Kernel kernel = p.choice("kernel", s.estimator.kernel(), kernels);
+    if (kernel.has_parameter()) {
+        const KernelEntry& ke = kernel.entry();
+        const std::string key = std::string(ke.name) + "_" + ke.parameter;
+        const double v = p.real(key, ke.default_parameter, {ke.parameter_lo, ke.parameter_hi, true, false});
+        kernel = Kernel::named(ke.name, v);
+    }
+    s.estimator = s.estimator.with_kernel(kernel);
+    s.k = int(p.integer("k", s.k, Range::closed(1, 1 << 20)));
+    if (size_t(s.k) < s.estimator.min_k())
+        p.fail("k", std::string("the ") + s.estimator.name() + " estimator needs k >= " +
+                        std::to_string(s.estimator.min_k()) +
+                        (std::string(s.estimator.name()) == "corrected" ? " (it drops the k-th photon)" : ""));
+    if (const std::string w = s.estimator.warning(size_t(s.k)); !w.empty())
+        std::cerr << "warning: " << p.where("k") << ": " << w << "\n";
+    s.direct = p.choice("direct", s.direct, {{"nee", DirectLighting::nee}, {"photon_map", DirectLighting::photon_map}});
+    s.max_radius = p.real("max_radius", s.max_radius, Range::at_least(0.0));
+    s.max_bounces = int(p.integer("max_bounces", s.max_bounces, Range::closed(1, 1 << 30)));
+    s.memory_budget_fraction = p.real("memory_budget_fraction", s.memory_budget_fraction, {0.0, 1.0, true, false});
+    s.final_gather = p.boolean("final_gather", s.final_gather);
+    s.forced_collisions = p.boolean("forced_collisions", s.forced_collisions);
+    s.extinction = p.choice("extinction", s.extinction,
+                            {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball},
+                             {"linear", ExtinctionNormalisation::linear}});
+    s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
+    s.allocation = p.choice("allocation", s.allocation,
+                            {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
+    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"threshold", GatherMode::threshold}, {"beam", GatherMode::beam}});
+    s.time_limit = render.has("time_limit") ? render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) : 0.0;
+    if (s.gather == GatherMode::automatic && s.time_limit > 0.0) {
+        s.size_photons = !p.has("count");
+        // render.spp is usually in a scene file for runs without a limit (and the path tracer's batch):
+        // under a limit it is the plan's starting point, not a pin (issue 20: a file's spp = 64 kept a
+        // thin blob at 64 samples per pass, relative RMSE 0.52 at 4 s against 0.17 sized).
+        // render.passes pins the pass structure: spp / passes samples per pass.
+        s.size_samples = !render.has("passes");
+    }
+    s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
+    s.march_points = p.choice("march_points", s.march_points,
+                              {{"fixed", MarchCount::fixed}, {"mass", MarchCount::mass}, {"free_flight", MarchCount::free_flight}});
+    s.beam_k = int(p.integer("beam_k", s.beam_k, Range::closed(1, 1 << 20)));
+    s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
+    s.clustering = p.choice("clustering", s.clustering,
+                            {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
+    read_store_probability(p, s);
+    s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});
+    s.alpha = p.real("alpha", s.alpha, Range::open(0.0, 1.0));
+    s.k_floor = int(p.integer("k_floor", s.k_floor, Range::closed(1, 1 << 20)));
+    if (size_t(s.k_floor) < s.estimator.min_k() + 1)
+        p.fail("k_floor", std::string("the ") + s.estimator.name() + " estimator needs k_floor >= " +
+                              std::to_string(s.estimator.min_k() + 1) + " (its variance is infinite below)");
+    return s;
+}
+
+int PhotonMapSettings::k_for_pass(int pass_index) const {
+    if (schedule == KSchedule::fixed) return k;
+    const double shrunk = std::round(double(k) * std::pow(double(pass_index) + 1.0, alpha - 1.0));
+    return std::max(std::min(k_floor, k), int(shrunk));
+}
+
+}  // namespace vpm

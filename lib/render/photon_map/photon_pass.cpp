@@ -1,0 +1,137 @@
+#include "render/photon_map/photon_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+
+#include <tbb/task_group.h>
+
+#include "core/progress.h"
+#include "core/rng.h"
+#include "photon/trace/photon_allocation.h"
+#include "photon/trace/photon_budget.h"
+#include "render/photon_map/photon_lights_report.h"
+
+namespace vpm {
+
+namespace {
+
+// The pass's trace settings, with the photons per light of the run (computed on the first call).
+PhotonTraceSettings trace_settings(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
+                                   bool surface, std::optional<LightAllocation>& cached) {
+    PhotonTraceSettings ts;
+    ts.count = uint64_t(ps.count);
+    ts.seed = context.seed;
+    ts.stream_offset = context.stream_offset;
+    ts.store_direct = ps.direct == DirectLighting::photon_map;
+    ts.max_bounces = ps.max_bounces;
+    ts.progress = context.progress;
+    ts.store_surface = surface;
+    ts.store_probability = ps.store_probability;
+    ts.store_auto = ps.store_auto;
+    ts.forced_collisions = ps.forced_collisions;
+    // Photons per light: by a pilot's importance where the camera looks, or by power.
+    if (!cached) {
+        PhotonTraceSettings pilot = ts;
+        pilot.stream_offset = context.run_stream_offset;
+        cached = ps.allocation == PhotonAllocationRule::importance ? importance_allocation(scene, pilot) : power_allocation(scene);
+    }
+    ts.light_weights = cached->weights;
+    return ts;
+}
+
+}  // namespace
+
+PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
+                                    bool surface_map, std::optional<LightAllocation>& allocation) {
+    PilotPhotonCount p;
+    p.count = ps.count;
+    // The run's allocation, as its passes would compute it (with their surface map), then volume only.
+    PhotonTraceSettings probe = trace_settings(scene, ps, context, surface_map, allocation);
+    probe.store_surface = false;
+    probe.count = std::min<uint64_t>(kPilotProbePhotons, uint64_t(ps.count));
+    probe.seed = mix64(context.seed ^ 0x70726f6265ULL);   // apart from every pass's map
+    probe.stream_offset = context.run_stream_offset;
+    probe.progress = false;
+    const PhotonTraceResult traced = trace_photons(scene, probe);
+    p.probe_photons = int64_t(traced.paths);
+    p.stored_per_photon = traced.paths ? double(traced.photons.size()) / double(traced.paths) : 0.0;
+    if (p.stored_per_photon * double(ps.count) > kPilotStoredPhotons) {
+        const double wanted = kPilotStoredPhotons / p.stored_per_photon;
+        p.count = std::min(ps.count, std::max(kPilotProbePhotons, int64_t(std::ceil(wanted / double(kPilotProbePhotons))) * kPilotProbePhotons));
+    }
+    return p;
+}
+
+PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
+                           bool surface, RunStats& stats, std::optional<LightAllocation>& cached) {
+    // The report lines are written for a run's first pass; later passes add one "pass" line each.
+    std::ostream* log = context.first_of_run ? context.log : nullptr;
+    PhotonTraceSettings ts = trace_settings(scene, ps, context, surface, cached);
+    // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
+    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), context.log);
+    const bool importance = ps.allocation == PhotonAllocationRule::importance;
+    const LightAllocation& allocation = *cached;
+    PhotonTraceResult traced = trace_photons(scene, ts);
+    // A cancelled task group (the Python module's Ctrl-C) stopped the trace: no kd-tree over its
+    // partial photons (seconds for millions); the caller discards the run.
+    if (tbb::is_current_task_group_canceling()) return PhotonMaps();
+    stats.phase("trace", traced.seconds);
+    PhotonPassStats p;
+    report_photon_lights(scene, importance ? "importance" : "power", allocation, traced, p, log);
+    const size_t stored = traced.photons.size();
+    p.emitted = traced.paths;
+    p.stored = stored;
+    p.collisions = traced.collisions;
+    p.storing_walks = traced.storing_walks;
+    p.store_probability = traced.store_probability;
+    if (log && ps.store_auto)
+        *log << "photons: store_probability = \"auto\": " << traced.store_probability << " after the first 4096 photons ("
+             << traced.storing_walks << " walks stored " << stored << " volume photons in all)\n";
+    p.truncated_paths = traced.truncated_paths;
+    p.paths_per_second = traced.seconds > 0 ? double(traced.paths) / traced.seconds : 0.0;
+    p.energy = traced.energy;
+    if (log)
+        *log << "trace: " << traced.paths << " photon paths, " << traced.collisions << " collisions, " << stored
+             << " stored in " << traced.seconds << " s; energy imbalance " << traced.energy.relative_imbalance()
+             << ", truncated paths " << traced.truncated_paths << "\n";
+    // Warn before building a map larger than the budget (records + index, measured per photon).
+    p.projected_map_bytes = double(stored + traced.surface_photons.size()) * double(bytes_per_photon() + 4);
+    p.memory_budget_bytes = ps.memory_budget_fraction * double(physical_memory_bytes());
+    p.over_memory_budget = p.projected_map_bytes > p.memory_budget_bytes;
+    if (p.over_memory_budget && log)
+        *log << "warning: the photon map will take about " << p.projected_map_bytes / 1e9 << " GB, over the budget of "
+             << p.memory_budget_bytes / 1e9 << " GB (photons.memory_budget_fraction)\n";
+
+    PhotonMaps maps;
+    if (surface) {
+        const Timer surface_timer;
+        const size_t n_surface = traced.surface_photons.size();
+        maps.surface = PhotonMap(traced.surface_photons);
+        std::vector<PhotonInput>().swap(traced.surface_photons);
+        stats.phase("build_surface", surface_timer.seconds());
+        p.surface_map = true;
+        p.surface_hits = traced.surface_hits;
+        p.surface_stored = n_surface;
+        p.surface_map_bytes = maps.surface.memory_bytes();
+        if (log)
+            *log << "build: surface photon map, " << traced.surface_hits << " surface hits, " << n_surface
+                 << " stored, kd-tree in " << surface_timer.seconds() << " s, " << maps.surface.memory_bytes() / 1e6
+                 << " MB\n";
+    }
+
+    const Timer build_timer;
+    maps.volume = PhotonMap(traced.photons);
+    std::vector<PhotonInput>().swap(traced.photons);
+    stats.phase("build", build_timer.seconds());
+    p.bytes_per_photon = bytes_per_photon();
+    p.map_bytes = maps.volume.memory_bytes();
+    p.map_bytes_per_photon = stored ? double(p.map_bytes) / double(stored) : 0.0;
+    stats.add_photon_pass(p);
+    if (log)
+        *log << "build: kd-tree over " << stored << " photons in " << build_timer.seconds() << " s, "
+             << p.map_bytes / 1e6 << " MB (" << p.map_bytes_per_photon << " bytes/photon)\n";
+    return maps;
+}
+
+}  // namespace vpm

@@ -1,0 +1,46 @@
+#pragma once
+// The photon-map integrator's pass before the camera pass: trace the photons, then build the
+// kd-trees (the volume map, and the surface map when asked), recording phases "trace",
+// "build_surface" and "build", the energy balance, counts and memory in RunStats, and one log
+// line each. Before building, a map projected over the memory budget is announced.
+#include <optional>
+
+#include "photon/trace/photon_allocation.h"
+#include "photon/map/photon_map.h"
+#include "render/integrator.h"
+#include "render/photon_map/photon_map_settings.h"
+#include "render/run/run_stats.h"
+#include "scene/scene.h"
+
+namespace vpm {
+
+struct PhotonMaps {
+    PhotonMap volume;
+    PhotonMap surface;   // empty unless built
+};
+
+// `allocation`: photons per light; computed on the first call (a pilot, for "importance") and
+// reused by later passes of the run. The pilot's streams depend on the run's stream offset, not on
+// the pass, so every pass (and every machine rendering passes of the same run) shares it.
+PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& settings, const PassContext& context,
+                           bool surface_map, RunStats& stats, std::optional<LightAllocation>& allocation);
+
+// The auto plan's pilot map where photons.count is not given (render/photon_map/auto_gather.cpp): photons.count
+// photons, or fewer where walks store many photons each, so that it holds about kPilotStoredPhotons
+// (in a box at optical thickness 100, albedo 0.99, 1e5 photons stored 1.35 M: a trace and a build
+// of 1.4 s, most of a 2 s budget, before the pilot could find that no map pays there). A probe of
+// one batch, with a seed of its own, measures the volume photons stored per emitted one; the map is traced
+// apart from it, as a count chosen on the photons it then normalises would bias them.
+constexpr double kPilotStoredPhotons = 262144.0;
+constexpr int64_t kPilotProbePhotons = 4096;
+struct PilotPhotonCount {
+    int64_t count = 0;               // the pilot map's photons: a multiple of the probe's, at most photons.count
+    int64_t probe_photons = 0;
+    double stored_per_photon = 0.0;  // volume photons stored per emitted, in the probe
+};
+// surface_map: whether the run's passes trace one (the photons per light are computed with it, as
+// the passes would, when `allocation` is still empty).
+PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings& settings, const PassContext& context,
+                                    bool surface_map, std::optional<LightAllocation>& allocation);
+
+}  // namespace vpm

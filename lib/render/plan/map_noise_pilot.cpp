@@ -1,0 +1,273 @@
+#include "render/plan/map_noise_pilot.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "photon/map/walk_group_split.h"
+#include "render/plan/pilot_bias.h"
+#include "render/plan/pilot_pixels.h"
+#include "render/plan/pilot_tail.h"
+
+namespace vpm {
+
+namespace {
+
+double luminance_of(const Rgb& l) { return all_finite(l) ? 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2] : 0.0; }
+
+constexpr int kPixels = kPilotSide * kPilotSide;
+constexpr uint64_t kLongPilotSalt = 0x6c6f6e6770696c6fULL;   // streams of samples past kPilotSamples
+constexpr int kSpreadPixels = kPilotSpreadSide * kPilotSpreadSide;
+constexpr uint64_t kSpreadSalt = 0x7370726561647063ULL;   // the spread samples' streams
+constexpr uint64_t kBackgroundSalt = 0x6261636b67726e64ULL;   // the background cost samples' streams
+// A sample's slot: fixed whatever n is (`most`: the candidate's largest n; kPilotSamples with halves).
+size_t at(int j, int s, int most) { return size_t(j) * size_t(most) + size_t(s); }
+
+// Per pixel of `pixels` (samples in slots of `most`): the mean of a's first n samples minus b's,
+// squared, less the samples' share Var(a - b) / n, an unbiased figure of V_map(a) + V_map(b) there.
+// Appended to `t`.
+void append_map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int pixels, int n,
+                                       int most, std::vector<double>& t) {
+    for (int j = 0; j < pixels; ++j) {
+        double mean = 0.0, m2 = 0.0;
+        for (int s = 0; s < n; ++s) {
+            const double d = a[at(j, s, most)] - b[at(j, s, most)];
+            const double delta = d - mean;
+            mean += delta / (s + 1);
+            m2 += delta * (d - mean);
+        }
+        t.push_back(mean * mean - m2 / (n - 1) / n);
+    }
+}
+
+// The mean of the pixels' figures and (`se`) its standard error from their spread.
+double mean_with_standard_error(const std::vector<double>& t, double& se) {
+    double mean = 0.0, m2 = 0.0;
+    for (size_t j = 0; j < t.size(); ++j) {
+        const double delta = t[j] - mean;
+        mean += delta / double(j + 1);
+        m2 += delta * (t[j] - mean);
+    }
+    se = t.size() > 1 ? std::sqrt(m2 / double(t.size() - 1) / double(t.size())) : 0.0;
+    return mean;
+}
+
+// f x a + (1 - f) x b, field by field (the largest march weight is a maximum, kept from a).
+CountedOperations mixed(double f, const CountedOperations& a, const CountedOperations& b) {
+    CountedOperations o = a;
+    o.queries = f * a.queries + (1.0 - f) * b.queries;
+    o.rays = f * a.rays + (1.0 - f) * b.rays;
+    o.lookups = f * a.lookups + (1.0 - f) * b.lookups;
+    o.map_used = f * a.map_used + (1.0 - f) * b.map_used;
+    o.steps = f * a.steps + (1.0 - f) * b.steps;
+    o.density_lookups = f * a.density_lookups + (1.0 - f) * b.density_lookups;
+    o.cells = f * a.cells + (1.0 - f) * b.cells;
+    return o;
+}
+
+CountedOperations per_sample(const CountedOperations& before, const CountedOperations& after, double samples) {
+    CountedOperations o;
+    o.queries = (after.queries - before.queries) / samples;
+    o.rays = (after.rays - before.rays) / samples;
+    o.lookups = (after.lookups - before.lookups) / samples;
+    o.map_used = (after.map_used - before.map_used) / samples;
+    o.steps = (after.steps - before.steps) / samples;
+    o.density_lookups = (after.density_lookups - before.density_lookups) / samples;
+    o.cells = (after.cells - before.cells) / samples;
+    return o;
+}
+
+}  // namespace
+
+std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const PhotonMap& map,
+                                               const std::vector<PilotCandidate>& candidates,
+                                               MapNoisePilotHooks& hooks, uint64_t seed, uint64_t stream,
+                                               const PilotBudget& budget, double image_pixels) {
+    // The halves are built once a candidate's full-map samples used the map: where none did (every
+    // ball wider than max_radius_mfp, the dense boxes) a half map's balls, wider still, are not used
+    // either, V_map and bias^2 are exactly 0, and the split (two kd-trees: most of a 1 s pilot in the
+    // dense boxes at 0.8 M stored photons) is skipped.
+    std::vector<PhotonMap> halves;
+    const int width = camera.width(), height = camera.height();
+    std::vector<GatherMeasurement> out;
+    bool one_fits = false;   // an earlier candidate's one-sample pass fits the cap (render/plan/pilot_budget.h)
+    // The pixels that can vary (render/plan/pilot_pixels.h): the figures are theirs times f, their share.
+    const PilotPixels where = choose_pilot_pixels(width, height, kPilotSide, kPilotSpreadSide, [&](int x, int y) {
+        return !hooks.sees || hooks.sees(camera.generate_ray(x + 0.5, y + 0.5));
+    });
+    const double f = where.seen_fraction;
+    // One camera sample's luminance, jittered within pixel (px, py).
+    auto sample = [&](int px, int py, Rng& rng) {
+        const double jx = rng.uniform(), jy = rng.uniform();
+        return luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
+    };
+    // A background sample's counted work (the same for every candidate: it meets nothing to gather).
+    CountedOperations background;
+    if (!where.background.empty()) {
+        hooks.use(0, &map);
+        const CountedOperations before = hooks.counts();
+        const int n = int(where.background.size());
+        tbb::parallel_for(0, n, [&](int j) {
+            Rng rng(mix64(seed ^ kBackgroundSalt), stream * uint64_t(kPixels) + uint64_t(j));
+            sample(where.background[size_t(j)].first, where.background[size_t(j)].second, rng);
+        });
+        background = per_sample(before, hooks.counts(), double(n));
+    }
+    const double work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
+    for (size_t c = 0; c < candidates.size(); ++c) {
+        const bool may_use_halves = candidates[c].uses_map;
+        // Share the budget as if the halves were traced (render/plan/pilot_budget.h), whether or not they are.
+        const int budget_maps = may_use_halves ? 3 : 1;
+        std::vector<const PhotonMap*> maps = {&map};
+        const int most = may_use_halves ? kPilotSamples : kNoMapPilotSamples;
+        std::vector<std::vector<double>> values(may_use_halves ? 3 : 1, std::vector<double>(size_t(kPixels) * size_t(most)));
+        // Samples s0 .. s1 - 1 of every pilot pixel with map m.
+        auto trace = [&](size_t m, int s0, int s1) {
+            tbb::parallel_for(0, kPixels, [&](int j) {
+                const auto [px, py] = where.pixels[size_t(j)];
+                for (int s = s0; s < s1; ++s) {
+                    // The same numbers for every map and candidate: the differences are the maps'.
+                    // Samples past kPilotSamples (a candidate without a map) draw from streams of their own.
+                    Rng rng = s < kPilotSamples
+                                  ? Rng(seed, stream * uint64_t(kPixels * kPilotSamples) + uint64_t(j * kPilotSamples + s))
+                                  : Rng(mix64(seed ^ kLongPilotSalt), stream * uint64_t(kPixels * kNoMapPilotSamples) + at(j, s, most));
+                    values[m][at(j, s, most)] = sample(px, py, rng);
+                }
+            });
+        };
+        GatherMeasurement g;
+        g.name = candidates[c].name;
+        g.uses_map = candidates[c].uses_map;
+        // The probe: one sample per pixel with the full map gives the counted cost per sample.
+        hooks.use(int(c), maps[0]);
+        const CountedOperations before = hooks.counts();
+        trace(0, 0, 1);
+        const CountedOperations probe = per_sample(before, hooks.counts(), double(kPixels));
+        const double probe_cost = hooks.work(probe);   // at the pilot's pixels: what its samples cost
+        const double image_probe_cost = hooks.work(mixed(f, probe, background));   // over the image
+        if (budget.per_candidate > 0.0 && one_fits && image_pixels * image_probe_cost > budget.max_pass_cost) {
+            g.dropped = true;
+            g.samples = 1;
+            g.per_sample = mixed(f, probe, background);
+            g.sample_cost = image_probe_cost;
+            g.max_weight = hooks.counts().march_weight_max;
+            out.push_back(g);
+            continue;
+        }
+        one_fits = one_fits || !(image_pixels * image_probe_cost > budget.max_pass_cost);
+        int n = budget.per_candidate > 0.0
+                    ? pilot_samples(budget.per_candidate, probe_cost, kPixels, budget_maps, kPilotSamples)
+                    : kPilotSamples;
+        if (!may_use_halves) {
+            // Without a map a sample is cheap (no kNN query, no halves) and its tail is what decides
+            // (render/plan/no_map_candidate.h): up to kNoMapPilotSamples, within its budget share, or without
+            // a budget within the work the candidates before it spent together. (Capped by that work
+            // under a budget too, a march made cheaper left it 348 samples in the blob at g = 0.8.)
+            const double share = budget.per_candidate > 0.0 ? budget.per_candidate : hooks.work(before) - work_before;
+            if (share > 0.0) n = std::max(n, pilot_samples(share, probe_cost, kPixels, 1, kNoMapPilotSamples));
+        }
+        trace(0, 1, n);
+        g.per_sample = mixed(f, per_sample(before, hooks.counts(), double(kPixels * n)), background);
+        g.sample_cost = hooks.work(g.per_sample);
+        const bool halves_too = may_use_halves && g.per_sample.map_used > 0.0;
+        if (halves_too) {
+            if (halves.empty()) halves = split_by_walk_group(map, 2);
+            maps.push_back(&halves[0]);
+            maps.push_back(&halves[1]);
+        }
+        for (size_t m = 1; m < maps.size(); ++m) {
+            hooks.use(int(c), maps[m]);
+            trace(m, 0, n);
+        }
+        g.samples = n;
+        g.max_weight = hooks.counts().march_weight_max;   // over this candidate's traces (and the earlier ones')
+        double v = 0.0;
+        for (int j = 0; j < kPixels; ++j) {
+            double mean = 0.0, m2 = 0.0;
+            for (int s = 0; s < n; ++s) {
+                const double x = values[0][at(j, s, most)], delta = x - mean;
+                mean += delta / (s + 1);
+                m2 += delta * (x - mean);
+            }
+            v += m2 / (n - 1);
+        }
+        g.v_camera = v / kPixels;
+        // The spread grid's samples with each map (the full map, then the halves where traced).
+        std::vector<std::vector<double>> spread_values;
+        if (may_use_halves) {
+            // V_camera and V_map also at the centres of a 16 x 16 grid, kSpreadSamples each with
+            // every map (the bias stays the 8 x 8 pixels'), weighted by pixel count. The 8 x 8 centres
+            // alone missed where the march's camera noise lives in a sphere lit from the side (1% of
+            // the pixels, on its lit rim, held 75% of it: 2.0e-5 read, 1.4e-4 true), and where a thin
+            // plume holds the map's noise in a tenth of them, V_map read from those few pixels ranged
+            // over 0.18-2.8x its mean at seeds 1-12 (BENCHMARKS.md section 30).
+            for (size_t m = 0; m < maps.size(); ++m) {
+                hooks.use(int(c), maps[m]);
+                std::vector<double>& out_m = spread_values.emplace_back(size_t(kSpreadPixels) * kPilotSpreadSamples);
+                tbb::parallel_for(0, kSpreadPixels, [&](int j) {
+                    const auto [px, py] = where.spread[size_t(j)];
+                    for (int s = 0; s < kPilotSpreadSamples; ++s) {
+                        // The same numbers for every map: the differences are the maps'.
+                        Rng rng(mix64(seed ^ kSpreadSalt), stream * uint64_t(kSpreadPixels * kPilotSpreadSamples) + uint64_t(j * kPilotSpreadSamples + s));
+                        out_m[at(j, s, kPilotSpreadSamples)] = sample(px, py, rng);
+                    }
+                });
+            }
+            static_assert(kPilotSpreadSamples == 2, "the spread's variance below is that of two samples");
+            double vs = 0.0;
+            for (int j = 0; j < kSpreadPixels; ++j) {
+                const double a = spread_values[0][at(j, 0, kPilotSpreadSamples)], b = spread_values[0][at(j, 1, kPilotSpreadSamples)];
+                vs += 0.5 * (a - b) * (a - b);   // the unbiased variance of two samples
+            }
+            g.v_camera = (v + vs) / (kPixels + kSpreadPixels);
+        }
+        double sum = 0.0;
+        for (int j = 0; j < kPixels; ++j)
+            for (int s = 0; s < n; ++s) sum += values[0][at(j, s, most)];
+        g.mean = sum / double(kPixels * n);
+        // Pixels differ in mean, so the SE comes from the spread of the pixel means (each of n samples).
+        std::vector<double> pixel_mean(kPixels, 0.0);
+        double spread = 0.0;
+        for (int j = 0; j < kPixels; ++j) {
+            for (int s = 0; s < n; ++s) pixel_mean[size_t(j)] += values[0][at(j, s, most)] / n;
+            spread += (pixel_mean[size_t(j)] - g.mean) * (pixel_mean[size_t(j)] - g.mean);
+        }
+        g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
+        // The share of the variance in the largest samples (render/plan/pilot_tail.h), about each pixel's mean.
+        std::vector<double> squares;
+        squares.reserve(size_t(kPixels * n));
+        for (int j = 0; j < kPixels; ++j)
+            for (int s = 0; s < n; ++s) {
+                const double d = values[0][at(j, s, most)] - pixel_mean[size_t(j)];
+                squares.push_back(d * d);
+            }
+        g.v_camera_rel_se = mean_of_squares_relative_se(squares);
+        g.tail_share = largest_squares_share(std::move(squares), kPilotTailFraction);
+        g.v_map_quarter = -1.0;
+        if (halves_too) {
+            // A map variance the pilot does not resolve is charged at its standard error, not at 0 (or
+            // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
+            // whose map noise then set the image's error (BENCHMARKS.md section 17).
+            std::vector<double> t;
+            append_map_variance_of_difference(values[1], values[2], kPixels, n, kPilotSamples, t);
+            append_map_variance_of_difference(spread_values[1], spread_values[2], kSpreadPixels, kPilotSpreadSamples,
+                                              kPilotSpreadSamples, t);
+            double se = 0.0;
+            const double v = mean_with_standard_error(t, se);
+            g.v_map_half = 0.5 * std::max(v, se);
+            g.v_map_half_se = 0.5 * se;
+            const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
+            g.bias2 = bias.bias2;
+            g.bias_mean = bias.mean;
+            g.bias_se = bias.se;
+        }
+        // Averages over the image: the pixels that can vary, times their share (the rest add 0). The
+        // mean stays theirs (the background's radiance need not be 0): it only compares candidates.
+        for (double* x : {&g.v_camera, &g.v_map_half, &g.v_map_half_se, &g.bias2, &g.bias_mean, &g.bias_se}) *x *= f;
+        out.push_back(g);
+    }
+    return out;
+}
+
+}  // namespace vpm

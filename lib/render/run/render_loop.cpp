@@ -1,0 +1,79 @@
+#include "render/run/render_loop.h"
+
+#include <algorithm>
+#include <atomic>
+#include <vector>
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
+
+#include "core/error.h"
+#include "core/progress.h"
+
+namespace vpm {
+
+Image render_image(const Camera& camera, const Integrator& integrator, const RenderOptions& o, RenderStats& stats) {
+    // One pass of render_passes: its sum holds each pixel's value exactly as the float image does.
+    std::vector<double> sum(size_t(o.width) * size_t(o.height) * 3, 0.0), means;
+    render_passes(camera, integrator, o, 1, 0, sum, means, stats);
+    Image image(o.width, o.height);
+    for (size_t i = 0; i < sum.size(); ++i) image.rgb[i] = float(sum[i]);
+    return image;
+}
+
+void render_passes(const Camera& camera, const Integrator& integrator, const RenderOptions& o, int passes,
+                   uint64_t pass_stride, std::vector<double>& sum, std::vector<double>& pass_means, RenderStats& stats) {
+    const size_t pixels = size_t(o.width) * size_t(o.height), rows = size_t(o.height);
+    if (sum.size() != 3 * pixels) throw Error("render_passes: the sum must hold 3 doubles per pixel");
+    std::vector<double> row_sums(size_t(passes) * rows, 0.0);   // [pass][row]
+    std::atomic<uint64_t> nonfinite{0};
+    Progress progress("render", uint64_t(o.height), o.progress);
+    const Timer timer;
+    tbb::parallel_for(tbb::blocked_range<int>(0, o.height, 1), [&](const tbb::blocked_range<int>& range) {
+        std::vector<double> row(static_cast<size_t>(passes), 0.0);   // this row's sum per pass (written once: no false sharing)
+        for (int y = range.begin(); y != range.end(); ++y) {
+            // A cancelled task group (the Python module's Ctrl-C) stops at the next row; the caller
+            // discards the image. A range may hold many rows, so checking between ranges is not enough.
+            if (tbb::is_current_task_group_canceling()) return;
+            uint64_t bad = 0;
+            std::fill(row.begin(), row.end(), 0.0);
+            for (int x = 0; x < o.width; ++x) {
+                const uint64_t pixel = uint64_t(y) * uint64_t(o.width) + uint64_t(x);
+                double* acc = &sum[3 * pixel];
+                for (int g = 0; g < passes; ++g) {
+                    const uint64_t stream = o.stream_offset + uint64_t(g) * pass_stride;
+                    Rng rng(o.seed, pixel + stream * uint64_t(o.width) * uint64_t(o.height));
+                    Rgb s = Rgb::Zero();
+                    for (int k = 0; k < o.spp; ++k) {
+                        const double jx = rng.uniform(), jy = rng.uniform();
+                        const Rgb l = integrator.radiance(camera.generate_ray(x + jx, y + jy), rng);
+                        if (all_finite(l)) s += l;
+                        else ++bad;
+                    }
+                    const Rgb v = s / double(o.spp);
+                    for (int c = 0; c < 3; ++c) {
+                        const double stored = double(float(v[c]));   // as Image::set stores it
+                        acc[c] += stored;
+                        row[size_t(g)] += stored;
+                    }
+                }
+            }
+            for (int g = 0; g < passes; ++g) row_sums[size_t(g) * rows + size_t(y)] = row[size_t(g)];
+            if (bad) nonfinite += bad;
+            progress.advance();
+        }
+    });
+    progress.done();
+    pass_means.assign(size_t(passes), 0.0);
+    for (int g = 0; g < passes; ++g) {
+        double total = 0.0;
+        for (size_t y = 0; y < rows; ++y) total += row_sums[size_t(g) * rows + y];
+        pass_means[size_t(g)] = total / double(3 * pixels);
+    }
+    stats.samples = uint64_t(pixels) * uint64_t(o.spp) * uint64_t(passes);
+    stats.nonfinite_samples = nonfinite.load();
+    stats.seconds = timer.seconds();
+}
+
+}  // namespace vpm

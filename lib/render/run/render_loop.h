@@ -1,0 +1,43 @@
+#pragma once
+// Renders an image by averaging an integrator's estimates over spp jittered camera rays per pixel.
+// Every pixel draws from its own Rng stream (seed, pixel index), so the image is the same for
+// any thread count. Non-finite estimates are counted and left out of the average, never clamped
+// or hidden: the count is returned and written to the sidecar.
+#include <cstdint>
+#include <vector>
+
+#include "render/run/image.h"
+#include "render/integrator.h"
+#include "scene/camera.h"
+
+namespace vpm {
+
+struct RenderStats {
+    uint64_t samples = 0;
+    uint64_t nonfinite_samples = 0;
+    double seconds = 0.0;
+    double samples_per_second() const { return seconds > 0 ? double(samples) / seconds : 0.0; }
+};
+
+struct RenderOptions {
+    int width = 0, height = 0, spp = 1;
+    uint64_t seed = 1;
+    bool progress = true;
+    // Stream offset so that independent renders (e.g. repeats) can share a seed without sharing noise.
+    uint64_t stream_offset = 0;
+};
+
+Image render_image(const Camera& camera, const Integrator& integrator, const RenderOptions& options,
+                   RenderStats& stats);
+
+// Renders `passes` passes in one go over the image: pass g draws exactly what render_image
+// draws with stream_offset + g * pass_stride, and its pixel values, rounded to float as an Image
+// stores them, are added to `sum` (3 doubles per pixel) in pass order, so the sum equals that of
+// rendering the passes one by one (and one pass's sum is its image). pass_means[g] is pass g's
+// mean over pixels and channels (summed by rows, in row order: independent of the thread count).
+// For integrators without per-pass state (Integrator::stateless_passes); it saves the per-pass
+// cost of a go over the image where a pass holds few samples (render.time_limit on a small image).
+void render_passes(const Camera& camera, const Integrator& integrator, const RenderOptions& options, int passes,
+                   uint64_t pass_stride, std::vector<double>& sum, std::vector<double>& pass_means, RenderStats& stats);
+
+}  // namespace vpm

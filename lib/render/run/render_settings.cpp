@@ -1,0 +1,31 @@
+#include "render/run/render_settings.h"
+
+#include "core/progress.h"
+#include "config/params.h"
+
+namespace vpm {
+
+RenderSettings RenderSettings::read(Params& p) {
+    RenderSettings r;
+    r.width = int(p.integer("width", r.width, Range::closed(1, 65536)));
+    r.height = int(p.integer("height", r.height, Range::closed(1, 65536)));
+    r.spp = int(p.integer("spp", r.spp, Range::closed(1, 1 << 24)));
+    r.seed = uint64_t(p.integer("seed", int64_t(r.seed), Range::at_least(0)));
+    r.threads = int(p.integer("threads", r.threads, Range::closed(0, 4096)));
+    r.output = p.string("output", r.output);
+    r.exposure = p.real("exposure", r.exposure, Range::closed(-64, 64));
+    r.passes = int(p.integer("passes", r.passes, Range::closed(1, 1 << 24)));
+    if (r.spp % r.passes != 0)
+        p.fail("passes", "render.spp = " + std::to_string(r.spp) + " must be a multiple of passes = " +
+                             std::to_string(r.passes) + " (each pass renders spp / passes samples per pixel)");
+    r.time_limit = p.real("time_limit", r.time_limit, Range::closed(0.0, 1e9));
+    r.first_pass = int(p.integer("first_pass", r.first_pass, Range::closed(0, 1 << 24)));
+    // Film accumulators are 3 doubles per pixel next to the 3-float image; refuse what cannot fit.
+    const double bytes = double(r.width) * double(r.height) * 3.0 * (8.0 + 4.0);
+    if (bytes > 0.8 * double(physical_memory_bytes()))
+        p.fail("width", "a " + std::to_string(r.width) + "x" + std::to_string(r.height) + " image needs " +
+                            std::to_string(bytes / 1e9) + " GB, more than this machine's memory");
+    return r;
+}
+
+}  // namespace vpm

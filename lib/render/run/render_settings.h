@@ -1,0 +1,46 @@
+#pragma once
+// How the image of a run is made, whatever the integrator: the [render] table's film, sampling
+// and output keys. (max_depth and rr_depth are the walk's: transport/walk_settings.h; `integrator`
+// picks an entry of render/integrator_registry.h.)
+//
+//   | key      | default          | meaning                                                  |
+//   |----------|------------------|----------------------------------------------------------|
+//   | width    | 256              | pixels                                                   |
+//   | height   | 256              | pixels                                                   |
+//   | spp      | 16               | samples per pixel                                        |
+//   | seed     | 1                | the same image on any thread count                       |
+//   | threads  | 0                | worker threads; 0: all cores                             |
+//   | output   | "out/render.exr" | relative to the working directory                        |
+//   | exposure | 0                | PNG preview only: pixel * 2^exposure                     |
+//   | passes   | 1                | independent passes (a fresh photon map each), the image  |
+//   |          |                  | is their mean; each renders spp / passes samples         |
+//   | time_limit | 0              | seconds; > 0: passes go on (beyond `passes`) while the   |
+//   |          |                  | next one is expected to end within it; 0: off (records   |
+//   |          |                  | stay bounded: render/run/run_stats.h PassSummary)            |
+//   | first_pass | 0              | index of this run's first pass: machines rendering       |
+//   |          |                  | passes 0..7 and 8..15 merge (vpm merge) into the 16-pass |
+//   |          |                  | image                                                    |
+#include <cstdint>
+#include <string>
+
+namespace vpm {
+
+class Params;
+
+struct RenderSettings {
+    int width = 256;
+    int height = 256;
+    int spp = 16;
+    uint64_t seed = 1;
+    int threads = 0;
+    std::string output = "out/render.exr";
+    double exposure = 0.0;
+    int passes = 1;
+    double time_limit = 0.0;
+    int first_pass = 0;
+    int spp_per_pass() const { return spp / passes; }
+    // Reads the keys above from [render]; throws ConfigError (also for an image that cannot fit in memory).
+    static RenderSettings read(Params& render);
+};
+
+}  // namespace vpm

@@ -1,0 +1,167 @@
+#include "render/run/run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/progress.h"
+
+namespace vpm {
+
+namespace {
+
+nlohmann::json toml_to_json(const toml::table& table) {
+    std::ostringstream s;
+    s << toml::json_formatter(table);
+    return nlohmann::json::parse(s.str());
+}
+
+// Streams of pass p of a run with stream offset r: pass 0 keeps r (a one-pass run is what it always
+// was); later passes sit 2^20 offsets apart so that repeats (consecutive r) never share a pass.
+constexpr uint64_t kPassStreamStride = uint64_t(1) << 20;
+// Pass indices stay ints (render.first_pass, vpm merge): a time limit stops before INT_MAX passes.
+constexpr int64_t kMaxPasses = 2147483647;
+// Camera samples below which a pass is cheaper rendered together with the next ones: one go over
+// the image costs a task launch, a progress bar and a pass over the pixel sums whatever it holds.
+constexpr int64_t kMinGroupSamples = int64_t(1) << 16;
+
+}  // namespace
+
+RunResult run(const RunConfig& config, const RunOptions& options) {
+    RunResult result;
+    const RenderSettings& rs = config.render;
+    std::unique_ptr<Integrator> integrator = config.create_integrator();
+    RenderStats& render = result.stats.render;
+    // Pass values summed per pixel (3 doubles per pixel: RenderSettings::read checks they fit).
+    std::vector<double> sum(size_t(rs.width) * size_t(rs.height) * 3, 0.0);
+    std::vector<double> means;
+    result.stats.first_pass = rs.first_pass;
+    int spp = rs.spp_per_pass();   // the integrator may size it (samples_per_pass) once prepared
+    // Passes of an integrator without per-pass state go in groups of at least kMinGroupSamples
+    // camera samples, rendered in one go over the image (render_passes: the same image as one by one).
+    // (Asked per group: an integrator may become stateless once prepared, the photon map without a map.)
+    auto group_size = [&] {
+        const double pass_samples = double(rs.width) * double(rs.height) * double(spp);
+        return integrator->stateless_passes() ? int64_t(std::min(65536.0, std::ceil(double(kMinGroupSamples) / pass_samples))) : 1;
+    };
+    const Timer run_timer;
+    int64_t done = 0;   // passes rendered
+    double first_group_seconds = 0.0;
+    int64_t first_group_passes = 0;
+    // Time per pass from the passes after the first group; until there are any, the first group's
+    // whole time, or only its render where nothing else repeats (a stateless integrator: the photon
+    // map planned without a map paid its photon pass and pilot once, 1.2 s of a 2 s limit in the box
+    // at optical thickness 3, and stopped after one 0.15 s pass).
+    auto seconds_per_pass = [&] {
+        if (done > first_group_passes) return (run_timer.seconds() - first_group_seconds) / double(done - first_group_passes);
+        // (The first group's one-off work, the photon map's pilot, is not a pass's: a first pass of
+        // 1.0 s holding 0.5 s of pilot stopped the blob at optical thickness 1000 at 1.0 s of 2.)
+        return (integrator->stateless_passes() ? render.seconds : run_timer.seconds() - integrator->one_off_seconds()) /
+               double(done);   // render: the first group's so far
+    };
+    for (;;) {
+        const int64_t group = group_size();
+        // How many passes this group renders: the configured ones first, then, under a time limit,
+        // as many as the measured time per pass says still fit (at least one: the limit is checked
+        // before a group starts). The image depends on the total pass count only.
+        int64_t n = 1;
+        if (done < rs.passes) {
+            n = std::min<int64_t>(group, rs.passes - done);
+        } else {
+            const double per_pass = seconds_per_pass();
+            const double fit = per_pass > 0.0 ? std::floor((rs.time_limit - run_timer.seconds()) / per_pass) : double(group);
+            n = std::max<int64_t>(1, std::min<int64_t>(group, int64_t(std::min(fit, double(group)))));
+            n = std::min<int64_t>(n, kMaxPasses - rs.first_pass - done);
+        }
+        const Timer group_timer;
+        const double started = run_timer.seconds();
+        const int index = int(rs.first_pass + done);   // the first pass's identity: its streams
+        const uint64_t stream = options.stream_offset + uint64_t(index) * kPassStreamStride;
+        PassContext context;
+        context.seed = rs.seed;
+        context.stream_offset = stream;
+        context.run_stream_offset = options.stream_offset;
+        context.pass = index;
+        context.configured_spp = rs.spp_per_pass();
+        context.first_of_run = done == 0;
+        context.progress = options.progress;
+        context.log = options.log;
+        integrator->prepare(context, result.stats);
+        spp = integrator->samples_per_pass(rs.spp_per_pass());
+
+        RenderOptions ro;
+        ro.width = rs.width;
+        ro.height = rs.height;
+        ro.spp = spp;
+        ro.seed = rs.seed;
+        ro.progress = options.progress;
+        ro.stream_offset = stream;
+        RenderStats group_render;
+        render_passes(config.scene->camera, *integrator, ro, int(n), kPassStreamStride, sum, means, group_render);
+        result.stats.phase("render", group_render.seconds);
+        render.samples += group_render.samples;
+        render.nonfinite_samples += group_render.nonfinite_samples;
+        render.seconds += group_render.seconds;
+        const double seconds = group_timer.seconds(), each = seconds / double(n);
+        double mean_of_means = 0.0;
+        for (int64_t g = 0; g < n; ++g) {
+            result.stats.add_pass({each, started + each * double(g + 1), spp, means[size_t(g)]});
+            mean_of_means += means[size_t(g)] / double(n);
+        }
+        const int64_t before = done;
+        done += n;
+        const PassGroupStats this_group{done, n, spp, seconds, run_timer.seconds(), mean_of_means};
+        if (options.on_pass_group) options.on_pass_group(this_group);
+
+        // Time per pass from the passes after the first: the first also holds one-off work (the
+        // photon map's pilot, the light allocation) and would stop a time-limited run early.
+        if (before == 0) {
+            first_group_seconds = run_timer.seconds();
+            first_group_passes = done;
+        }
+        const double mean_pass = seconds_per_pass();
+        if (options.log && before == 0 && rs.time_limit > 0 && run_timer.seconds() > rs.time_limit)
+            *options.log << "warning: render.time_limit = " << rs.time_limit << " s is shorter than the first "
+                         << (n > 1 ? "passes" : "pass") << " (" << run_timer.seconds() << " s): " << done
+                         << (done > 1 ? " passes" : " pass") << " written, at least render.passes = " << rs.passes << "\n";
+        const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
+                                                done < kMaxPasses - rs.first_pass)) &&
+                          !(options.cancelled && options.cancelled());
+        if (options.on_pass || !more) {
+            Image mean(rs.width, rs.height);
+            for (size_t i = 0; i < sum.size(); ++i) mean.rgb[i] = float(sum[i] / double(done));   // exact for one pass
+            if (options.on_pass) options.on_pass(mean, this_group);
+            if (!more) result.image = std::move(mean);
+        }
+        // A line when the count passes 1, 2, 4, 8, ...: a time-limited run may make millions.
+        auto bits = [](int64_t v) { return v > 0 ? 64 - __builtin_clzll(uint64_t(v)) : 0; };   // floor(log2 v) + 1
+        if (options.log && (done > 1 || more) && bits(done) > bits(before))
+            *options.log << "pass " << done << (rs.time_limit > 0 ? "" : "/" + std::to_string(rs.passes)) << ": "
+                         << each << " s each, " << run_timer.seconds() << " s elapsed\n";
+        if (!more) break;
+    }
+    if (options.log) {
+        const uint64_t passes = result.stats.pass_count();
+        *options.log << "render: " << rs.width << "x" << rs.height << " at "
+                     << render.samples / (uint64_t(rs.width) * uint64_t(rs.height)) << " spp";
+        if (passes > 1) *options.log << " in " << passes << " passes";
+        *options.log << " in " << render.seconds << " s (" << render.samples_per_second() / 1e6 << " M samples/s)";
+        if (render.nonfinite_samples) *options.log << ", " << render.nonfinite_samples << " non-finite samples left out";
+        *options.log << "\n";
+    }
+    integrator->collect(result.stats, options.log);
+
+    result.record = RunRecord::with_environment();
+    result.record.set("config", toml_to_json(config.resolved));
+    result.record.set("config_file", config.source_file);
+    result.record.set("seed", rs.seed);
+    result.record.set("integrator", integrator->name());
+    result.record.set("build_log", config.scene->build_log);
+    write_run_stats(result.stats, result.record);
+    return result;
+}
+
+}  // namespace vpm
