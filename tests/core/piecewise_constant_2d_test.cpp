@@ -6,7 +6,7 @@
 #include "core/piecewise_constant_2d.h"
 #include "core/rng.h"
 
-#include "../support/chi_square.h"
+#include "support/chi_square.h"
 
 using namespace vpm;
 

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/density_grid.h"
 #include "io/vdb_io.h"
-#include "../support/scratch_dir.h"
+#include "support/scratch_dir.h"
 
 using namespace vpm;
 namespace fs = std::filesystem;

@@ -10,8 +10,8 @@
 #include "scene/camera_region.h"
 #include "scene/lights/emission_bounds.h"
 #include "scene/scene.h"
-#include "../support/sample_statistics.h"
-#include "../support/scene_from_config.h"
+#include "support/sample_statistics.h"
+#include "support/scene_from_config.h"
 
 using namespace vpm;
 

@@ -12,8 +12,8 @@
 #include "scene/emission_guides.h"
 #include "scene/lights/direction_guide.h"
 #include "scene/scene.h"
-#include "../support/sample_statistics.h"
-#include "../support/scene_from_config.h"
+#include "support/sample_statistics.h"
+#include "support/scene_from_config.h"
 
 using namespace vpm;
 

@@ -15,7 +15,7 @@
 
 #include "core/density_grid.h"
 #include "io/vdb_io.h"
-#include "../support/scratch_dir.h"
+#include "support/scratch_dir.h"
 
 namespace fs = std::filesystem;
 using namespace vpm;

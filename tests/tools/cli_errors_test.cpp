@@ -2,7 +2,7 @@
 // "vpm <cmd>: error: ... (see vpm <cmd> --help)" and exits 2; --version; defaults in --help.
 #include <gtest/gtest.h>
 
-#include "../support/vpm_process.h"
+#include "support/vpm_process.h"
 
 using namespace vpm::test;
 

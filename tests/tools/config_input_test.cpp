@@ -2,7 +2,7 @@
 // sees a file, folders named as folders, --set errors that blame the --set.
 #include <gtest/gtest.h>
 
-#include "../support/vpm_process.h"
+#include "support/vpm_process.h"
 
 using namespace vpm::test;
 

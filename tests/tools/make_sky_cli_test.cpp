@@ -9,7 +9,7 @@
 #include "scene/lights/latlong_map.h"
 #include "scene/lights/light_registry.h"
 
-#include "../support/vpm_process.h"
+#include "support/vpm_process.h"
 
 using namespace vpm;
 using namespace vpm::test;

@@ -19,7 +19,7 @@
 #include "render/run/image_io.h"
 #include "render/run/run_outputs.h"
 #include "render/run/staged_file.h"
-#include "../support/vpm_process.h"
+#include "support/vpm_process.h"
 
 using namespace vpm;
 using namespace vpm::test;

@@ -17,7 +17,7 @@
 #include "render/integrator_registry.h"
 #include "scene/lights/light_registry.h"
 #include "scene/media/medium_registry.h"
-#include "../support/vpm_process.h"
+#include "support/vpm_process.h"
 
 using namespace vpm;
 

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/run/image_io.h"
-#include "../support/scratch_dir.h"
+#include "support/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../support/vpm_process.h"
+#include "support/vpm_process.h"
 
 using namespace vpm::test;
 

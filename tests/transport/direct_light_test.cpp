@@ -13,8 +13,8 @@
 #include "transport/direct_light.h"
 #include "transport/mis.h"
 #include "transport/walk_steps.h"
-#include "../support/sample_statistics.h"
-#include "../support/scene_from_config.h"
+#include "support/sample_statistics.h"
+#include "support/scene_from_config.h"
 
 using namespace vpm;
 

@@ -1,0 +1,399 @@
+// photons.gather = "auto" (issue 20): the map-noise pilot (render/plan/map_noise_pilot.h) measures the
+// collision and march gathers with the pass's map and its independent halves and quarters, and
+// the plan (render/plan/pass_plan.h) picks the gather and, under render.time_limit with photons.count
+// and render.spp not given, the photons and samples per pass. The choices come from counts and
+// fixed streams: the same on 1 and 2 threads and at scale 1e3, and the image stays unbiased.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "config/params.h"
+#include "core/error.h"
+#include "render/photon_map/photon_map_integrator.h"
+#include "render/photon_map/photon_pass.h"
+#include "render/run/run.h"
+#include "render/run/run_stats.h"
+#include "support/render_statistics.h"
+#include "support/vpm_process.h"
+
+using namespace vpm;
+namespace fs = std::filesystem;
+
+namespace {
+
+// configs/thin_cube.toml without spp and count (so that a time limit sizes them), every length times s.
+std::string thin_cube(double s, double sigma_t = 1.0, double albedo = 0.8) {
+    auto v = [s](double x, double y, double z) {
+        std::ostringstream o;
+        o.precision(17);
+        o << "[" << x * s << ", " << y * s << ", " << z * s << "]";
+        return o.str();
+    };
+    std::ostringstream t;
+    t.precision(17);
+    t << "[render]\nwidth = 12\nheight = 12\nintegrator = \"photon_map\"\n\n"
+      << "[camera]\nposition = " << v(0.5, 0.5, 3.5) << "\nlook_at = " << v(0.5, 0.5, 0.5) << "\nfov = 35\n\n"
+      << "[photons]\nk = 32\n\n"
+      << "[[lights]]\ntype = \"point\"\nposition = " << v(2.5, 2.0, 2.0) << "\nintensity = " << 20.0 * s * s << "\n\n"
+      << "[[media]]\ntype = \"homogeneous\"\nshape = \"box\"\nmin = " << v(0, 0, 0) << "\nmax = " << v(1, 1, 1)
+      << "\nsigma_t_scale = " << sigma_t / s << "\nalbedo = " << albedo << "\n";
+    return t.str();
+}
+
+// Scene files go to one folder per test process (ctest runs the tests as parallel processes, and
+// two suites may run at once), removed when the process ends.
+std::string write(const std::string& name, const std::string& text) {
+    static const vpm::test::ScratchDir dir;
+    const fs::path p = dir.path / name;
+    std::ofstream(p) << text;
+    return p.string();
+}
+
+RunResult render(const std::string& file, const std::vector<std::string>& sets, std::ostream* log = nullptr) {
+    RunOptions o;
+    o.progress = false;
+    o.log = log;
+    return run(RunConfig::load(file, sets), o);
+}
+
+}  // namespace
+
+TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
+    const std::string f = write("cube.toml", thin_cube(1.0));
+    // One pass (a limit far below it): pass 0 is the pilot's, the plan's samples per pass apply.
+    const RunResult a = render(f, {"render.time_limit=1e-9", "photons.count=20000"});
+    ASSERT_TRUE(a.stats.auto_gather);
+    EXPECT_FALSE(a.stats.auto_gather->size_photons);   // count given
+    EXPECT_TRUE(a.stats.auto_gather->size_samples);
+    EXPECT_EQ(a.stats.pass_count(), 1u);
+    EXPECT_EQ(a.stats.render.samples, 144u * uint64_t(a.stats.auto_gather->spp));
+    ASSERT_EQ(a.stats.auto_gather->candidates.size(), 3u);   // collision, march, continue
+    for (const auto& c : a.stats.auto_gather->candidates) {
+        EXPECT_GT(c.v_camera, 0.0) << c.name;
+        EXPECT_GT(c.sample_cost, 0.0) << c.name;
+        EXPECT_EQ(c.v_map_quarter, -1.0) << c.name;   // quarters only when the count is sized
+    }
+    // render.spp alone is the plan's starting point under a limit; render.passes pins the pass.
+    const RunResult spp_given = render(f, {"render.time_limit=1e-9", "render.spp=3", "photons.count=20000"});
+    ASSERT_TRUE(spp_given.stats.auto_gather);
+    EXPECT_TRUE(spp_given.stats.auto_gather->size_samples);
+    const RunResult given = render(f, {"render.time_limit=1e-9", "render.spp=3", "render.passes=1", "photons.count=20000"});
+    ASSERT_TRUE(given.stats.auto_gather);
+    EXPECT_FALSE(given.stats.auto_gather->size_samples);
+    EXPECT_EQ(given.stats.render.samples, 144u * 3u);
+    const RunResult no_limit = render(f, {"photons.count=20000"});
+    ASSERT_TRUE(no_limit.stats.auto_gather);
+    EXPECT_FALSE(no_limit.stats.auto_gather->size_photons || no_limit.stats.auto_gather->size_samples);
+    EXPECT_EQ(no_limit.stats.render.samples, 144u * 16u);   // (its gather may differ: chosen at 16 samples per pass)
+}
+
+TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
+    // Under a limit that buys more photons than photons.count, pass 0 renders with a map of the
+    // plan's size, not the pilot's: the run emits the pilot's 100000 and then the planned count in
+    // every pass, pass 0 included (whatever number of passes the clock allows).
+    // The thin cube (optical thickness 0.3, albedo 0.9) at k = 128, 64 x 64: its map noise, not a
+    // bias, buys photons (the pilot's bias is charged only where resolved, render/plan/pilot_bias.h), and
+    // the march with the map beats the continued paths there (at k = 32 the plan keeps 100000).
+    std::ostringstream log;
+    const std::string f = write("cube128.toml", thin_cube(1.0, 0.3, 0.9));
+    const RunResult r = render(f, {"render.width=64", "render.height=64", "render.time_limit=4", "photons.k=128"}, &log);
+    ASSERT_TRUE(r.stats.auto_gather && r.stats.photons);
+    const AutoGatherStats& a = *r.stats.auto_gather;
+    ASSERT_TRUE(a.photon_pass) << log.str();
+    ASSERT_GT(a.count, 100000) << log.str();   // the plan's figure: counts only, the same on any machine
+    EXPECT_EQ(r.stats.photons->emitted, uint64_t(100000 + a.count * int64_t(r.stats.pass_count()))) << log.str();
+    EXPECT_NE(log.str().find("photons: pass 0 traced again with the plan's"), std::string::npos) << log.str();
+}
+
+TEST(AutoGather, ThePilotMapIsSmallerWhereWalksStoreManyPhotons) {
+    // The cube at optical thickness 100, albedo 0.99 stores about 13 photons per emitted one: the
+    // pilot's map holds about kPilotStoredPhotons, not 1.3 M (render/photon_map/photon_pass.h). Its count comes
+    // from a probe (counts only): the same on one and two threads and for a run starting at pass 1.
+    const std::string dense = write("cube100.toml", thin_cube(1.0, 100.0, 0.99));
+    const std::vector<std::string> one_pass = {"render.time_limit=1e-9"};
+    std::ostringstream log;
+    const RunResult a = render(dense, one_pass, &log);
+    ASSERT_TRUE(a.stats.auto_gather && a.stats.photons);
+    const int64_t pilot = a.stats.auto_gather->pilot_count;
+    EXPECT_LT(pilot, 100000);
+    EXPECT_GE(pilot, kPilotProbePhotons);
+    EXPECT_EQ(pilot % kPilotProbePhotons, 0);
+    EXPECT_NE(log.str().find("photons: the pilot's map of " + std::to_string(pilot) + " photons"), std::string::npos) << log.str();
+    // Pass 0's first photon pass is the pilot's map; a plan that keeps the map traces pass 0 again,
+    // at photons.count or more (render/plan/pass_plan.h).
+    const AutoGatherStats& plan = *a.stats.auto_gather;
+    EXPECT_EQ(a.stats.photons->emitted, uint64_t(pilot + (plan.photon_pass ? plan.count : 0))) << plan.chosen;
+    if (plan.photon_pass) {
+        EXPECT_GE(plan.count, 100000);
+    }
+    // The pilot map's stored photons (its "trace:" line), the probe's projection within a batch's
+    // worth and the probe's noise.
+    const std::string text = log.str();
+    const size_t line = text.find("trace: " + std::to_string(pilot) + " photon paths, ");
+    ASSERT_NE(line, std::string::npos) << text;
+    const size_t collisions = text.find("collisions, ", line);
+    ASSERT_NE(collisions, std::string::npos);
+    const double stored = std::stod(text.substr(collisions + 12));
+    EXPECT_GT(stored, 0.7 * kPilotStoredPhotons);
+    EXPECT_LT(stored, 1.3 * kPilotStoredPhotons + 20.0 * double(kPilotProbePhotons));
+    std::vector<std::string> one = one_pass, two = one_pass, later = one_pass;
+    one.push_back("render.threads=1");
+    two.push_back("render.threads=2");
+    later.push_back("render.first_pass=1");
+    for (const auto& sets : {one, two, later}) {
+        const RunResult b = render(dense, sets);
+        ASSERT_TRUE(b.stats.auto_gather);
+        EXPECT_EQ(b.stats.auto_gather->pilot_count, pilot);
+        EXPECT_EQ(b.stats.auto_gather->chosen, a.stats.auto_gather->chosen);
+    }
+    // Where walks store fewer (the thin cube), or where photons.count is given, the pilot's map has photons.count.
+    // (Where it has fewer the plan still sizes from photons.count up: render/plan/pass_plan.h.)
+    const RunResult thin = render(write("cube.toml", thin_cube(1.0)), one_pass);
+    ASSERT_TRUE(thin.stats.auto_gather);
+    EXPECT_EQ(thin.stats.auto_gather->pilot_count, 100000);
+    const RunResult given = render(dense, {"render.time_limit=1e-9", "photons.count=100000"});
+    ASSERT_TRUE(given.stats.auto_gather);
+    EXPECT_EQ(given.stats.auto_gather->pilot_count, 100000);
+}
+
+TEST(AutoGather, ATimeLimitShorterThanOnePassWritesOneAndSaysSo) {
+    std::ostringstream log;
+    const RunResult r = render(write("cube.toml", thin_cube(1.0)), {"render.time_limit=1e-9", "photons.count=20000"}, &log);
+    EXPECT_EQ(r.stats.pass_count(), 1u);
+    EXPECT_EQ(r.image.width, 12);
+    EXPECT_NE(log.str().find("warning: render.time_limit = 1e-09 s is shorter than the first pass"), std::string::npos) << log.str();
+    EXPECT_NE(log.str().find("gather: auto chose"), std::string::npos) << log.str();
+}
+
+TEST(AutoGather, ARunFromALaterPassPlansAsPassZeroOverASurface) {
+    // The pilot of a run starting at pass 1 traces pass 0's maps apart, its surface map included:
+    // without it the cube over a floor planned the collision gather from pass 1 and the march from
+    // pass 0 (vpm merge then lost the one-machine image).
+    const std::string f = write("cube_floor.toml", thin_cube(1.0) +
+                                                       "\n[[shapes]]\ntype = \"quad\"\ncenter = [0.5, -0.2, 0.5]\n"
+                                                       "u = [2.0, 0.0, 0.0]\nv = [0.0, 0.0, 2.0]\nreflectance = 0.5\n");
+    const RunResult zero = render(f, {"render.time_limit=1e-9", "render.width=32", "render.height=32"});
+    const RunResult one = render(f, {"render.time_limit=1e-9", "render.width=32", "render.height=32", "render.first_pass=1"});
+    ASSERT_TRUE(zero.stats.auto_gather && one.stats.auto_gather);
+    const AutoGatherStats &a = *zero.stats.auto_gather, &b = *one.stats.auto_gather;
+    EXPECT_EQ(a.chosen, b.chosen);
+    EXPECT_EQ(a.count, b.count);
+    EXPECT_EQ(a.spp, b.spp);
+    ASSERT_EQ(a.candidates.size(), b.candidates.size());
+    for (size_t c = 0; c < a.candidates.size(); ++c) {
+        EXPECT_EQ(a.candidates[c].v_camera, b.candidates[c].v_camera) << a.candidates[c].name;
+        EXPECT_EQ(a.candidates[c].sample_cost, b.candidates[c].sample_cost) << a.candidates[c].name;
+    }
+}
+
+TEST(AutoGather, SamePlanAndImageOnOneAndTwoThreads) {
+    const std::string f = write("cube.toml", thin_cube(1.0));
+    // render.first_pass = 1: the pilot map is pass 0's, traced apart, and the pass uses the planned count.
+    const std::vector<std::string> sets = {"render.time_limit=1e-9", "render.first_pass=1"};
+    std::vector<std::string> one = sets, two = sets;
+    one.push_back("render.threads=1");
+    two.push_back("render.threads=2");
+    const RunResult a = render(f, one), b = render(f, two);
+    ASSERT_TRUE(a.stats.auto_gather && b.stats.auto_gather);
+    const AutoGatherStats &x = *a.stats.auto_gather, &y = *b.stats.auto_gather;
+    EXPECT_TRUE(x.size_photons && x.size_samples);
+    EXPECT_EQ(x.chosen, y.chosen);
+    EXPECT_EQ(x.count, y.count);
+    EXPECT_EQ(x.spp, y.spp);
+    EXPECT_EQ(x.photon_cost, y.photon_cost);
+    for (size_t c = 0; c < x.candidates.size(); ++c) {
+        EXPECT_EQ(x.candidates[c].v_camera, y.candidates[c].v_camera);
+        EXPECT_EQ(x.candidates[c].v_map_half, y.candidates[c].v_map_half);
+        EXPECT_EQ(x.candidates[c].v_map_quarter, y.candidates[c].v_map_quarter);
+        EXPECT_EQ(x.candidates[c].sample_cost, y.candidates[c].sample_cost);
+    }
+    if (x.photon_pass) {
+        ASSERT_TRUE(a.stats.photons);
+        EXPECT_EQ(a.stats.photons->emitted, uint64_t(x.count));   // pass 1 emits the planned count
+    } else {   // "continue" (the thin cube at this budget): pass 1 traces no photons
+        EXPECT_TRUE(!a.stats.photons || a.stats.photons->emitted == 0);
+    }
+    EXPECT_EQ(a.image.rgb, b.image.rgb);
+}
+
+TEST(AutoGather, SameChoicesAtScale1e3) {
+    const RunResult a = render(write("cube1.toml", thin_cube(1.0)), {"render.time_limit=1e-9"});
+    const RunResult b = render(write("cube1e3.toml", thin_cube(1e3)), {"render.time_limit=1e-9"});
+    ASSERT_TRUE(a.stats.auto_gather && b.stats.auto_gather);
+    const AutoGatherStats &x = *a.stats.auto_gather, &y = *b.stats.auto_gather;
+    EXPECT_EQ(x.chosen, y.chosen);
+    EXPECT_EQ(x.count, y.count);
+    EXPECT_EQ(x.spp, y.spp);
+    EXPECT_NEAR(y.photon_cost, x.photon_cost, 0.01 * x.photon_cost);
+    for (size_t c = 0; c < x.candidates.size(); ++c) {
+        EXPECT_NEAR(y.candidates[c].v_camera, x.candidates[c].v_camera, 0.02 * x.candidates[c].v_camera) << c;
+        EXPECT_NEAR(y.candidates[c].sample_cost, x.candidates[c].sample_cost, 0.02 * x.candidates[c].sample_cost) << c;
+    }
+}
+
+TEST(AutoGather, FurnaceStaysUnbiasedWithThePlan) {
+    // configs/uniform_furnace.toml (radiance 0.5 everywhere) without spp and count: the plan sizes
+    // both; one pass per run (the limit is below it), six independent runs.
+    const std::string f = write("furnace.toml",
+                                "[render]\nwidth = 12\nheight = 12\nintegrator = \"photon_map\"\ntime_limit = 1e-9\n\n"
+                                "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
+                                "[photons]\nk = 8\ndirect = \"photon_map\"\nmax_radius_mfp = 0\n\n"
+                                "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
+                                "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.6\nalbedo = 1.0\n");
+    const RunConfig config = RunConfig::load(f);
+    const test::Sample s = test::repeated_run_brightness(config, 6);
+    EXPECT_NEAR(s.mean(), 0.5, 3.0 * s.se() + 0.005);
+}
+
+TEST(AutoGather, GatherKeyNamesItsValues) {
+    const std::string f = write("cube.toml", thin_cube(1.0));
+    try {
+        RunConfig::load(f, {"photons.gather=\"bogus\""});
+        FAIL() << "accepted photons.gather = \"bogus\"";
+    } catch (const ConfigError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("gather"), std::string::npos) << m;
+        EXPECT_NE(m.find("threshold"), std::string::npos) << m;
+        EXPECT_NE(m.find("auto"), std::string::npos) << m;
+    }
+    EXPECT_NO_THROW(RunConfig::load(f, {"photons.gather=\"threshold\""}));
+}
+
+// A box at optical depth 1000 (albedo 0.9): every kNN ball spans far more than max_radius_mfp mean
+// free paths, so no estimate uses the map (render/plan/no_map_candidate.h). The collision gather's pilot
+// samples are then the continuation's, and "continue" wins by the photon pass it saves: the passes
+// after the pilot's trace no photons, on 1 and 2 threads alike and at scale 1e3.
+TEST(AutoGather, NoPhotonPassWhereNoQueryUsesTheMap) {
+    const std::vector<std::string> sets = {"photons.count=5000", "render.passes=3", "render.spp=3"};
+    auto with = [&](std::vector<std::string> v, const std::string& extra) {
+        v.push_back(extra);
+        return v;
+    };
+    std::ostringstream log;
+    const std::string f = write("dense.toml", thin_cube(1.0, 1000.0, 0.9));
+    const RunResult a = render(f, with(sets, "render.threads=1"), &log);
+    const RunResult b = render(f, with(sets, "render.threads=2"));
+    const RunResult c = render(write("dense1e3.toml", thin_cube(1e3, 1000.0, 0.9)), with(sets, "render.threads=2"));
+    ASSERT_TRUE(a.stats.auto_gather && b.stats.auto_gather && c.stats.auto_gather);
+    const AutoGatherStats& x = *a.stats.auto_gather;
+    ASSERT_EQ(x.candidates.size(), 3u);
+    EXPECT_EQ(x.candidates[0].per_sample.map_used, 0.0);   // the collision gather never used the map
+    EXPECT_GT(x.candidates[0].per_sample.queries, 0.0);    // though it asked
+    EXPECT_EQ(x.chosen, "continue") << log.str();
+    EXPECT_FALSE(x.photon_pass);
+    EXPECT_EQ(a.stats.photons->emitted, 5000u);             // pass 0's only, of 3
+    EXPECT_EQ(a.stats.pass_count(), 3u);
+    EXPECT_NE(log.str().find("no photon pass after this one"), std::string::npos) << log.str();
+    EXPECT_EQ(log.str().find("exceeds the"), std::string::npos) << log.str();   // no "k exceeds the stored count" warning
+    EXPECT_EQ(b.stats.auto_gather->chosen, x.chosen);
+    EXPECT_EQ(c.stats.auto_gather->chosen, x.chosen);
+    for (size_t i = 0; i < x.candidates.size(); ++i) {
+        EXPECT_EQ(b.stats.auto_gather->candidates[i].v_camera, x.candidates[i].v_camera);
+        EXPECT_EQ(b.stats.auto_gather->candidates[i].sample_cost, x.candidates[i].sample_cost);
+    }
+    EXPECT_EQ(a.image.rgb, b.image.rgb);
+}
+
+// A medium of density 0 and nothing else: the pilot's map is empty and no surface map is stored,
+// so no estimate can use a map and no photon pass follows the pilot's. (Planned with every figure 0
+// it traced 1e5 photons per pass, 185 passes in 2 s, for a black image.) With a wall and a floor the
+// surface map holds the light between them (direct light is NEE's) and is used: the gathers stay,
+// with the photon pass.
+TEST(AutoGather, NoPhotonPassWhereTheMediumIsEmptyAndNothingElseIsLit) {
+    const std::vector<std::string> sets = {"photons.count=5000", "render.passes=3", "render.spp=3"};
+    std::ostringstream log;
+    const RunResult empty = render(write("empty.toml", thin_cube(1.0, 0.0)), sets, &log);
+    ASSERT_TRUE(empty.stats.auto_gather);
+    EXPECT_EQ(empty.stats.auto_gather->chosen, "continue") << log.str();
+    EXPECT_FALSE(empty.stats.auto_gather->photon_pass);
+    EXPECT_EQ(empty.stats.photons->emitted, 5000u);   // pass 0's only, of 3
+    EXPECT_EQ(empty.stats.photons->stored, 0u);
+    EXPECT_EQ(empty.stats.pass_count(), 3u);
+    for (float v : empty.image.rgb) EXPECT_EQ(v, 0.0f);
+
+    const RunResult floor = render(write("empty_corner.toml", thin_cube(1.0, 0.0) +
+                                                             "[[shapes]]\ntype = \"quad\"\ncenter = [0.5, 0.5, -0.5]\n"
+                                                             "u = [3.0, 0.0, 0.0]\nv = [0.0, 3.0, 0.0]\nreflectance = 0.5\n"
+                                                             "[[shapes]]\ntype = \"quad\"\ncenter = [0.5, -0.5, 0.5]\n"
+                                                             "u = [3.0, 0.0, 0.0]\nv = [0.0, 0.0, -3.0]\nreflectance = 0.5\n"),
+                                   sets);
+    ASSERT_TRUE(floor.stats.auto_gather);
+    EXPECT_NE(floor.stats.auto_gather->chosen, "continue");
+    EXPECT_TRUE(floor.stats.auto_gather->photon_pass);
+    EXPECT_EQ(floor.stats.photons->emitted, 3u * 5000u);
+}
+
+// The furnace (radiance 0.5 everywhere) with balls bounded to 0.01 mean free paths: no estimate can
+// use the map, the plan drops the photon pass, and the continuation keeps the image unbiased.
+TEST(AutoGather, FurnaceStaysUnbiasedWithoutTheMap) {
+    const std::string f = write("furnace_nomap.toml",
+                                "[render]\nwidth = 8\nheight = 8\nintegrator = \"photon_map\"\nspp = 8\n\n"
+                                "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
+                                "[photons]\nk = 8\ncount = 2000\ndirect = \"photon_map\"\nmax_radius_mfp = 0.01\n\n"
+                                "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
+                                "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.6\nalbedo = 1.0\n");
+    const RunConfig config = RunConfig::load(f);
+    const RunResult one = render(f, {});
+    ASSERT_TRUE(one.stats.auto_gather);
+    EXPECT_EQ(one.stats.auto_gather->chosen, "continue");
+    const test::Sample s = test::repeated_run_brightness(config, 6);
+    EXPECT_NEAR(s.mean(), 0.5, 3.0 * s.se() + 0.005);
+}
+
+// The plan of one photon-map pass 0 under a 1 s limit at 32x32, and whether later passes are stateless.
+static std::pair<std::string, bool> planned_gather_and_stateless(const std::string& file) {
+    const RunConfig config = RunConfig::load(file, {"render.time_limit=1", "render.width=32", "render.height=32"});
+    PhotonMapIntegrator pm(*config.scene, photon_map_settings(config));
+    EXPECT_FALSE(pm.stateless_passes());   // a photon pass per pass until a plan says otherwise
+    PassContext context;
+    context.progress = false;
+    context.configured_spp = 16;
+    RunStats stats;
+    pm.prepare(context, stats);
+    pm.collect(stats, nullptr);
+    EXPECT_TRUE(stats.auto_gather);
+    // The pilot is one-off work: a time limit does not reckon later passes by it (render/run/run.cpp).
+    double pilot_seconds = 0.0;
+    for (const PhaseStats& phase : stats.phases)
+        if (phase.name == "pilot") pilot_seconds += phase.seconds;
+    EXPECT_GT(pilot_seconds, 0.0);
+    EXPECT_GE(pm.one_off_seconds(), pilot_seconds);
+    return {stats.auto_gather ? stats.auto_gather->chosen : std::string(), pm.stateless_passes()};
+}
+
+TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
+    // The dense cube (optical thickness 1000, every kNN ball wider than max_radius_mfp) is planned
+    // without a map ("continue": counts only, the same on any machine). From then on no pass traces
+    // photons, so the run loop may group passes and must not take pass 0's photon pass and pilot for
+    // what each later pass costs (render/run/run.cpp).
+    const auto dense = planned_gather_and_stateless(write("dense.toml", thin_cube(1.0, 1000.0, 0.9)));
+    EXPECT_EQ(dense.first, "continue");
+    EXPECT_TRUE(dense.second);
+    // A run that keeps its map keeps a photon pass per pass: the cube at optical thickness 1 and
+    // albedo 0.9, where the plan takes the march.
+    const auto thin = planned_gather_and_stateless(write("cube1.toml", thin_cube(1.0, 1.0, 0.9)));
+    EXPECT_NE(thin.first, "continue");
+    EXPECT_FALSE(thin.second);
+}
+
+TEST(AutoGather, APlanWithoutTheMapRendersThePathTracersImage) {
+    // "continue" is the path tracer's estimator: where the plan drops the map every pass, pass 0
+    // included, is the path tracer's, the same samples in the same streams, so the image is the path
+    // tracer's to the bit (and no slower per sample than it: the map's bookkeeping at every collision
+    // cost 1.2-1.5x, BENCHMARKS.md section 23).
+    const std::string dense = write("dense_same.toml", thin_cube(1.0, 1000.0, 0.9));
+    const std::vector<std::string> sets = {"render.width=16", "render.height=16", "render.spp=8", "render.passes=2"};
+    std::vector<std::string> pm = sets, path = sets;
+    pm.push_back("render.integrator=\"photon_map\"");
+    path.push_back("render.integrator=\"path\"");
+    const RunResult a = render(dense, pm), b = render(dense, path);
+    ASSERT_TRUE(a.stats.auto_gather);
+    EXPECT_EQ(a.stats.auto_gather->chosen, "continue");
+    ASSERT_GT(b.image.mean(), 0.0);
+    EXPECT_EQ(a.image.rgb, b.image.rgb);
+}

@@ -1,0 +1,37 @@
+// The photon-map renderer on the default scene (smoke plume, floor, spot light, sky) against
+// the reference path tracer: mean image brightness over independent runs. The tolerance is three
+// combined standard errors plus a stated 3% allowance for the kNN estimate's proximity and
+// boundary bias at the plume's edges, which the corrected estimator does not remove.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "render/run/run.h"
+#include "support/render_statistics.h"
+
+using namespace vpm;
+
+namespace {
+
+// Mean image value over `repeats` independent runs (photon maps and camera samples), with its SE.
+test::Sample mean_brightness(const std::vector<std::string>& overrides, int repeats) {
+    return test::repeated_run_brightness(
+        RunConfig::load(VPM_SOURCE_DIR "/configs/default_photon_map.toml", overrides), repeats);
+}
+
+}  // namespace
+
+TEST(DefaultScene, PhotonMapMatchesPathTracerBrightness) {
+    const std::vector<std::string> small = {"render.width=48", "render.height=48"};
+    auto with = [&](std::vector<std::string> extra) {
+        extra.insert(extra.end(), small.begin(), small.end());
+        return extra;
+    };
+    const test::Sample pt = mean_brightness(with({"render.integrator=path", "render.spp=32"}), 6);
+    const test::Sample pm = mean_brightness(with({"render.spp=8", "photons.count=400000", "photons.k=32"}), 6);
+    const double tolerance = 3.0 * std::hypot(pt.se(), pm.se()) + 0.03 * pt.mean();
+    std::printf("mean brightness: path %.5f +- %.5f, photon map (corrected, k = 32) %.5f +- %.5f, tolerance %.5f\n",
+                pt.mean(), pt.se(), pm.mean(), pm.se(), tolerance);
+    EXPECT_NEAR(pm.mean(), pt.mean(), tolerance);
+    EXPECT_GT(pt.se(), 0.0);
+}
