@@ -95,7 +95,7 @@ TEST(DocPaths, ConfigCommentsNameExistingFiles) {
 TEST(DocPaths, DocumentsNameExistingFiles) {
     std::vector<fs::path> docs = {kRoot / "README.md", kRoot / "BENCHMARKS.md", kRoot / "STRESS.md"};
     for (const char* folder : {"docs", "media", "tests/data/vdb"})
-        for (const auto& e : fs::directory_iterator(kRoot / folder))
+        for (const auto& e : fs::recursive_directory_iterator(kRoot / folder))
             if (e.path().extension() == ".md") docs.push_back(e.path());
     for (const fs::path& d : docs) {
         ASSERT_TRUE(fs::exists(d)) << d;

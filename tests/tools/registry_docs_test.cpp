@@ -1,4 +1,4 @@
-// The README's key table and docs/kernels.md list exactly the registered names of every registry
+// The config reference's table of tables (docs/config.md) and docs/kernels.md list exactly the registered names of every registry
 // (lights, media, integrators, estimators, kernels): adding an entry without documenting it, or
 // removing one and leaving its documentation, fails here; `vpm render --help` lists them from the
 // registries themselves.
@@ -30,9 +30,9 @@ std::string read(const std::string& relative) {
     return s.str();
 }
 
-// The README key-table row of `table` (e.g. "`[[lights]]`").
-std::string readme_row(const std::string& table) {
-    std::istringstream in(read("README.md"));
+// The row of `table` (e.g. "`[[lights]]`") in docs/config.md's table of tables.
+std::string config_reference_row(const std::string& table) {
+    std::istringstream in(read("docs/config.md"));
     for (std::string line; std::getline(in, line);)
         if (line.rfind("| " + table + " |", 0) == 0) return line;
     return "";
@@ -66,12 +66,12 @@ std::set<std::string> as_set(const std::vector<std::string>& v) { return {v.begi
 
 }  // namespace
 
-TEST(RegistryDocs, ReadmeKeyTableListsEveryRegistryExactly) {
-    EXPECT_EQ(listed_values(readme_row("`[[lights]]`"), "type"), as_set(light_names()));
-    EXPECT_EQ(listed_values(readme_row("`[[media]]`"), "type"), as_set(medium_names()));
-    EXPECT_EQ(listed_values(readme_row("`[render]`"), "integrator"), as_set(integrator_names()));
-    EXPECT_EQ(listed_values(readme_row("`[photons]`"), "estimator"), as_set(Estimator::names()));
-    EXPECT_EQ(listed_values(readme_row("`[photons]`"), "kernel"), as_set(Kernel::names()));
+TEST(RegistryDocs, ConfigReferenceListsEveryRegistryExactly) {
+    EXPECT_EQ(listed_values(config_reference_row("`[[lights]]`"), "type"), as_set(light_names()));
+    EXPECT_EQ(listed_values(config_reference_row("`[[media]]`"), "type"), as_set(medium_names()));
+    EXPECT_EQ(listed_values(config_reference_row("`[render]`"), "integrator"), as_set(integrator_names()));
+    EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "estimator"), as_set(Estimator::names()));
+    EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "kernel"), as_set(Kernel::names()));
 }
 
 TEST(RegistryDocs, KernelDocumentListsEveryKernelExactly) {

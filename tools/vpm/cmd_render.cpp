@@ -40,7 +40,7 @@ std::string toml_string(const std::string& s) {
 // The names users choose from, read from the registries so that --help cannot drift from them.
 std::string registered_names() {
     using vpm::registry_list;
-    return "Registered names (README.md lists the keys of each):\n"
+    return "Registered names (docs/config.md lists the keys of each):\n"
            "  render.integrator  " + registry_list(vpm::integrator_names()) + "\n"
            "  lights.N.type      " + registry_list(vpm::light_names()) + "\n"
            "  media.N.type       " + registry_list(vpm::medium_names()) + "\n"
