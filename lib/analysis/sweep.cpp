@@ -536,7 +536,7 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
     std::ostringstream md;
     md << "# Sweep: " << title << "\n\n"
        << table.rows.size() << " runs in " << points.size() << " configurations; errors relative to the reference's mean "
-       << "luminance (see README, Parameter sweeps). Times are means over the repeats (trace + build + render, seconds).\n\n";
+       << "luminance (see docs/experiments.md, Parameter sweeps). Times are means over the repeats (trace + build + render, seconds).\n\n";
     if (nonfinite_total)
         md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
            << "metrics. See the nonfinite_pixels column.**\n\n";

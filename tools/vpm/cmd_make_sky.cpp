@@ -128,7 +128,7 @@ CLI::Validator finite_in(double lo, double hi) {
 
 int run_make_sky(int argc, char** argv) {
     CLI::App app{"Write a procedural sun-and-sky environment map (lat-long OpenEXR; +Y up, the image centre "
-                 "looks along -Z; README \"Environment maps\")",
+                 "looks along -Z; docs/rendering.md, \"Environment maps\")",
                  "vpm make-sky"};
     std::string out = "media/sky.exr";
     SkyOptions o;

@@ -71,7 +71,7 @@ int run_sweep_command(int argc, char** argv) {
                  "axes (k, estimator, photons.count, any scene key), R repeats each, plus the path tracer at\n"
                  "increasing spp, and reports each run's error against a reference and its run time.\n"
                  "Resumable (finished rows are skipped), shardable (--shard i/N, then `vpm sweep merge`).\n"
-                 "See README, \"Parameter sweeps\", for the file format and the metrics.\n\n"
+                 "See docs/experiments.md, \"Parameter sweeps\", for the file format and the metrics.\n\n"
                  "  vpm sweep merge DIR... [--out DIR]   merge shard folders",
                  "vpm sweep"};
     std::string file, out, shard = "0/1";
