@@ -3,7 +3,7 @@
 unlike `vpm bench equal-time`, which renders fixed photon and sample counts, each run here sets only
 render.integrator and render.time_limit, so the automatic plan is what is measured. Per scene and
 seed, `vpm render SCENE --set render.time_limit=BUDGET` with the path tracer and with the photon map
-(each binary of --vpm, interleaved), error against a long path-traced reference (rendered once with
+and with each of --integrators (photon_map and auto; each binary of --vpm, interleaved), error against a long path-traced reference (rendered once with
 --reference-seconds on seed 99 and cached beside the outputs by scene file name), and the photon map's
 time to equal error over the path tracer's: (relative RMSE ratio)^2 x (wall time ratio), < 1 where the
 photon map wins. Prints the plan each photon-map run chose and its mean bias against the reference.
@@ -21,6 +21,7 @@ ap.add_argument('--seeds', default='1,2')
 ap.add_argument('--vpm', default='build/vpm', help='a binary, or NAME=PATH,... to compare binaries (the first also runs the path tracer)')
 ap.add_argument('--reference-seconds', type=float, default=90.0)
 ap.add_argument('--threads', type=int, default=2)
+ap.add_argument('--integrators', default='photon_map,auto', help='the integrators compared with the path tracer (render.integrator values)')
 ap.add_argument('--out', default='out/heldout')
 a = ap.parse_args()
 try:
@@ -43,9 +44,12 @@ def render(binary, scene, integrator, seed, seconds, out):
     if r.returncode != 0:
         sys.exit(f'heldout_check: {scene}: vpm failed: {r.stderr.strip().splitlines()[-1] if r.stderr.strip() else r.returncode}')
     wall = time.monotonic() - t0
-    ag = json.load(open(out[:-4] + '.json')).get('photons', {}).get('auto_gather')
-    # A plan without the map ("continue") makes no photon pass: its photon count means nothing.
+    side = json.load(open(out[:-4] + '.json'))
+    ag = side.get('photons', {}).get('auto_gather')
+    # A plan without the map ("continue", the "auto" integrator's path tracer) makes no photon pass: its photon count means nothing.
     plan = '' if not ag else (f"{ag['chosen']} {ag['count']}x{ag['spp']}" if ag.get('photon_pass', True) else f"{ag['chosen']} x{ag['spp']}")
+    if integrator == 'auto':
+        plan = f"{side.get('integrator_used')}: {plan}"
     return np.asarray(vpm.read_exr(out), dtype=np.float64), wall, plan
 
 
@@ -62,7 +66,10 @@ for scene in a.scenes:
         base = np.mean((img - ref) ** 2) / mean ** 2 * wall
         cols = []
         for label, binary in bins:
-            img, wall, plan = render(binary, scene, 'photon_map', seed, a.budget, os.path.join(a.out, f'{name}-{label}-{seed}.exr'))
-            ratio = np.mean((img - ref) ** 2) / mean ** 2 * wall / base
-            cols.append(f'{label} {ratio:.2f} ({plan}, bias {100 * (img.mean() - mean) / mean:+.1f}%)')
+            for integrator in a.integrators.split(','):
+                tag = label if integrator == 'photon_map' else f'{label} {integrator}'
+                img, wall, plan = render(binary, scene, integrator, seed, a.budget,
+                                         os.path.join(a.out, f'{name}-{label}-{integrator}-{seed}.exr'))
+                ratio = np.mean((img - ref) ** 2) / mean ** 2 * wall / base
+                cols.append(f'{tag} {ratio:.2f} ({plan}, bias {100 * (img.mean() - mean) / mean:+.1f}%)')
         print(f'{name} seed {seed}: ' + '  '.join(cols), flush=True)

@@ -93,6 +93,7 @@ const std::vector<MatrixMethod>& matrix_methods() {
         {"pm march", {"render.integrator=\"photon_map\"", "photons.gather=\"march\""}},
         {"pm pilot", {"render.integrator=\"photon_map\"", "photons.gather=\"pilot\""}},
         {"pm beam", {"render.integrator=\"photon_map\"", "photons.gather=\"beam\""}},
+        {"auto", {"render.integrator=\"auto\""}},   // the path tracer or the photon map, chosen per run (docs/integrator_choice.md)
     };
     return m;
 }
@@ -321,7 +322,7 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
             r.nonfinite_pixels = e.nonfinite_pixels;
             if (res.stats.gather_pilot) r.chosen = res.stats.gather_pilot->chosen;
             if (const auto& a = res.stats.auto_gather)   // the defaults: the plan's gather and pass size
-                r.chosen = a->chosen + (a->photon_pass ? " " + std::to_string(a->count) : std::string()) + " x " +
+                r.chosen = (method.label == "auto" ? res.stats.integrator_used + ": " : std::string()) + a->chosen + (a->photon_pass ? " " + std::to_string(a->count) : std::string()) + " x " +
                            std::to_string(res.stats.render.samples / std::max<uint64_t>(1, res.stats.pass_summary.count) /
                                           uint64_t(o.size) / uint64_t(o.size));
             if (res.stats.march_weight_max) r.march_weight_max = *res.stats.march_weight_max;
@@ -357,7 +358,7 @@ std::string MatrixReport::to_csv() const {
         std::replace(k.begin(), k.end(), ' ', '_');
         s << "," << k << "_over_path";
     }
-    s << ",default_over_best_forced,pilot_chose,march_weight_max,march_weight_mean,beam_over_best_point,beam_crossed_per_query,default_chose\n";
+    s << ",default_over_best_forced,pilot_chose,march_weight_max,march_weight_mean,beam_over_best_point,beam_crossed_per_query,default_chose,auto_chose\n";
     for (const auto& r : rows) {
         const auto& c = r.cell;
         s << '"' << c.group << "\"," << c.id() << "," << c.shape << "," << c.tau << "," << c.albedo << "," << c.g << ","
@@ -366,7 +367,7 @@ std::string MatrixReport::to_csv() const {
         for (size_t i = 1; i < r.methods.size(); ++i) s << "," << r.ratio(i);
         s << "," << r.best_forced_ratio() << "," << r.methods.at(4).chosen << "," << r.methods.at(3).march_weight_max << ","
           << r.methods.at(3).march_weight_mean << "," << r.beam_over_best_point() << "," << r.methods.at(5).beam_crossed_per_query << ","
-          << r.methods.at(1).chosen << "\n";
+          << r.methods.at(1).chosen << "," << r.methods.at(6).chosen << "\n";
     }
     return s.str();
 }
@@ -392,9 +393,11 @@ std::string MatrixReport::to_markdown(const std::string& command, const std::str
       << "weights relative to the medium's own (albedo P / n: 1 with one medium, the other media's transmittance otherwise), largest and mean. "
       << "beam: photons.gather = \"beam\" (one BVH query per camera segment, docs/beam_estimate.md); beam / best point = its "
       << "error^2 x seconds over the best of the point-query photon maps (default, collision, march, pilot; issue 22 target <= 2). "
+      << "auto: render.integrator = \"auto\" (the path tracer or the photon map, chosen per run: docs/integrator_choice.md), "
+      << "and what ran. "
       << "Scaled cells are compared with the unscaled cell's reference and must reproduce its figures.\n\n";
-    s << "| group | shape | tau | albedo | g | light | scale | path tracer: s, rmse | photon map: s, rmse | pm / path | collision / path | march / path | pilot / path | default / best forced | pilot chose | march weight max / mean | beam / path | beam / best point | default chose: gather, photons x spp |\n";
-    s << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    s << "| group | shape | tau | albedo | g | light | scale | path tracer: s, rmse | photon map: s, rmse | pm / path | collision / path | march / path | pilot / path | default / best forced | pilot chose | march weight max / mean | beam / path | beam / best point | default chose: gather, photons x spp | auto / path | auto chose |\n";
+    s << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : rows) {
         const auto& c = r.cell;
         s << "| " << c.group << " | " << c.shape << " | " << g(c.tau) << " | " << g(c.albedo) << " | " << g(c.g) << " | " << c.light
@@ -402,7 +405,8 @@ std::string MatrixReport::to_markdown(const std::string& command, const std::str
           << g(r.methods[1].seconds, 2) << ", " << g(r.methods[1].rel_rmse) << " | **" << g(r.ratio(1)) << "** | "
           << g(r.ratio(2)) << " | " << g(r.ratio(3)) << " | " << g(r.ratio(4)) << " | " << g(r.best_forced_ratio()) << " | "
           << r.methods[4].chosen << " | " << g(r.methods[3].march_weight_max) << " / " << g(r.methods[3].march_weight_mean) << " | "
-          << g(r.ratio(5)) << " | " << g(r.beam_over_best_point()) << " | " << r.methods[1].chosen << " |\n";
+          << g(r.ratio(5)) << " | " << g(r.beam_over_best_point()) << " | " << r.methods[1].chosen << " | " << g(r.ratio(6)) << " | "
+          << r.methods[6].chosen << " |\n";
     }
     s << "\nReferences rendered " << references_rendered << ", reused from the cache " << references_reused << ".\n";
     return s.str();

@@ -4,7 +4,7 @@
 // smooth Gaussian blob or the plume of media/, fitted into [-1, 1]^3, seen from (0, 0, 4), no
 // surfaces) at one optical thickness, albedo, g, light and scale. Per cell, at equal time (every
 // method gets render.time_limit = budget): the path tracer, the photon map with its defaults, and
-// the photon map with each gather forced (the beam gather last); each image's error against a long path-traced
+// the photon map with each gather forced (the beam gather), then render.integrator = "auto"; each image's error against a long path-traced
 // reference, cached by scene hash under OUT/references/ and reused by later runs.
 //
 // Figures per method (error_metrics.h: luminance, relative to the reference's mean):

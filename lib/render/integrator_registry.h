@@ -6,6 +6,7 @@
 //   name          file                       reads
 //   "path"        path_tracer.h              [render] max_depth, rr_depth
 //   "photon_map"  photon_map_integrator.h    [photons], [render] max_depth, rr_depth
+//   "auto"        photon_map_integrator.h    the same: the photon map whose plan may choose the path tracer
 //
 // Adding an integrator: one file pair with its Integrator, its IntegratorSettings and a reader,
 // and one line in the table in integrator_registry.cpp (with the reader's declaration beside it);

@@ -42,8 +42,8 @@ def test_image_is_a_view_on_the_result_not_a_copy():
 
 
 def test_stats_are_the_typed_run_stats():
-    # The collision gather: "auto" may go without the map at 2 spp (lib/render/plan/no_map_candidate.h).
-    result = vpm.render(vpm.load_config(FURNACE, overrides={**SMALL, "photons.gather": "collision"}), progress=False)
+    # The photon map with its defaults estimates from its map (only render.integrator = "auto" may go without it).
+    result = vpm.render(vpm.load_config(FURNACE, overrides=SMALL), progress=False)
     stats = result.stats
     assert set(stats["phases"]) >= {"trace", "build", "render"}
     assert stats["photons"]["emitted"] == SMALL["photons.count"]

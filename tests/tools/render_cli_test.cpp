@@ -173,12 +173,12 @@ TEST(RenderCli, KAboveTheStoredCountWarnsAndIsBounded) {
     const auto j = nlohmann::json::parse(in);
     EXPECT_EQ(j["photons"]["estimate_cases"]["queries"].get<uint64_t>(), 0u);
     EXPECT_LT(j["photons"]["stored"].get<uint64_t>(), 65536u);
-    // The paths go on past the map: continued one by one, or, where the auto plan dropped the map
-    // ("continue"), path traced whole (render/plan/no_map_candidate.h).
+    // The paths go on past the map, continued one by one (the photon map never drops its map).
     const uint64_t continued = j["photons"]["continued_paths"].get<uint64_t>() +
                                j["photons"].value("march_wide_queries", uint64_t(0));
-    const bool no_map = j["photons"].contains("auto_gather") && j["photons"]["auto_gather"]["chosen"] == "continue";
-    EXPECT_TRUE(continued > 0u || no_map) << j["photons"].dump();
+    EXPECT_GT(continued, 0u) << j["photons"].dump();
+    EXPECT_EQ(j["integrator_used"], "photon_map");
+    EXPECT_EQ(j["map_estimates"].get<uint64_t>(), 0u);
 }
 
 // Issue 24: a light of zero power (here a black sky) was blamed on reachability ("none of its light

@@ -64,8 +64,23 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     if (counts && counts->emitted > 0)
         in.photon_cost = (w.collision * double(counts->collisions) + w.path * double(counts->emitted) +
                           w.stored * double(counts->stored)) / double(counts->emitted);
-    const std::vector<PilotCandidate> candidates = {{"collision", true}, {"march", true}, {kNoMapCandidate, false}};
-    const Gather gathers[] = {Gather::collision, Gather::march, Gather::collision};
+    // The map's gathers photons.gather leaves open (both for "auto", else the one given); the "auto"
+    // integrator adds the path tracer ("continue": render/plan/no_map_candidate.h). The photon-map
+    // integrator always estimates from its map.
+    std::vector<PilotCandidate> candidates;
+    std::vector<Gather> gathers;
+    if (settings_.gather != GatherMode::march) {
+        candidates.push_back({"collision", true});
+        gathers.push_back(Gather::collision);
+    }
+    if (settings_.gather != GatherMode::collision) {
+        candidates.push_back({"march", true});
+        gathers.push_back(Gather::march);
+    }
+    if (settings_.chooses_integrator) {
+        candidates.push_back({kNoMapCandidate, false});
+        gathers.push_back(Gather::collision);
+    }
     std::vector<GatherMeasurement> measured;
     const PhotonMap* run_map = map_;
     const PhotonMap* run_surface = surface_map_;
@@ -133,7 +148,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     } else {
         // An empty volume map beside a surface map: the gathers cost the same and "continue" is left
         // out (the empty map costs nothing and the surface map keeps its use).
-        for (size_t c = 0; c + 1 < candidates.size(); ++c) {
+        for (size_t c = 0; c < candidates.size(); ++c) {
+            if (!candidates[c].uses_map) continue;
             GatherMeasurement g;
             g.name = candidates[c].name;
             g.v_map_quarter = -1.0;
@@ -163,6 +179,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     a.beta_measured = plan.beta_measured;
     a.size_photons = in.size_photons;
     a.size_samples = in.size_samples;
+    a.score = plan.score;
     auto_stats_ = a;
     stats.phase("pilot", timer.seconds());
     one_off_seconds_ = one_off_before + timer.seconds();
@@ -191,6 +208,22 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                 log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance";
         }
         log << "; work " << in.photon_cost << " per photon)\n";
+        if (settings_.chooses_integrator) {
+            // The figures behind the choice: each candidate's error^2 x work (pass_plan.h), the best map gather's against the path tracer's.
+            double best_map = kInfinity, path = kInfinity;
+            std::string best_name = "none";
+            for (size_t c = 0; c < measured.size(); ++c) {
+                if (!measured[c].uses_map) path = plan.score[c];
+                else if (plan.score[c] < best_map || best_name == "none") {
+                    best_map = plan.score[c];
+                    best_name = measured[c].name;
+                }
+            }
+            log << "integrator: auto chose " << (no_map_ ? "the path tracer" : "the photon map (gather \"" + a.chosen + "\")")
+                << ": error^2 x work " << (no_map_ ? path : best_map) << " against " << (no_map_ ? best_map : path) << " for "
+                << (no_map_ ? "the photon map's best gather (\"" + best_name + "\")" : std::string("the path tracer"))
+                << " (render.integrator = \"photon_map\" or \"path\" pins it)\n";
+        }
         if (no_map_)
             log << "photons: no photon pass after this one: the map " << (measured[0].per_sample.map_used > 0.0 ? "did not pay for its pass" : "was never used (every kNN ball wider than photons.max_radius_mfp)")
                 << ", so every pass, this one included, is the path tracer's (the same estimator, unbiased)\n";

@@ -96,10 +96,10 @@ PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     k_ = size_t(settings_.k_for_pass(context.pass));
     // A run starting at a later pass plans on pass 0's map first: a plan without the map then saves this pass's.
-    if (owns_maps_ && settings_.gather == GatherMode::automatic && !plan_ && context.pass != 0) plan_auto(context, stats);
+    if (owns_maps_ && settings_.plans() && !plan_ && context.pass != 0) plan_auto(context, stats);
     if (!owns_maps_) {
         if (settings_.gather == GatherMode::pilot) choose_gather(context);
-        if (settings_.gather == GatherMode::automatic && !plan_) plan_auto(context, stats);
+        if (settings_.plans() && !plan_) plan_auto(context, stats);
         return;
     }
     std::ostream* log = context.first_of_run ? context.log : nullptr;
@@ -127,7 +127,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
     }
     if (!scene_.has_media() && log) *log << "photons: no media, so the volume photon map is empty\n";
     if (settings_.gather == GatherMode::pilot) choose_gather(context);
-    if (settings_.gather == GatherMode::automatic && !plan_) {
+    if (settings_.plans() && !plan_) {
         plan_auto(context, stats);
         // Rendered with the pilot's small map, pass 0 would keep that map's bias and noise in the
         // image (all of it where the time limit allows one pass): it is traced again at the plan's
@@ -147,7 +147,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
 int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context) {
     if (first_map_photons_ > 0) return first_map_photons_;
     first_map_photons_ = settings_.count;
-    if (owns_maps_ && settings_.gather == GatherMode::automatic && settings_.size_photons && scene_.has_media()) {
+    if (owns_maps_ && settings_.size_photons && scene_.has_media()) {
         const Timer probe_timer;
         const PilotPhotonCount p = pilot_photon_count(scene_, settings_, context, traces_surface_map(), allocation_);
         one_off_seconds_ += probe_timer.seconds();
@@ -239,7 +239,27 @@ uint64_t PhotonMapIntegrator::decision_queries() const {
     return total;
 }
 
+std::string PhotonMapIntegrator::gather_used() const {
+    if (no_map_) return "none";
+    switch (gather_) {
+        case Gather::collision: return "collision";
+        case Gather::march: return "march";
+        case Gather::threshold: return "threshold";
+        case Gather::beam: return "beam";
+    }
+    return "collision";
+}
+
+uint64_t PhotonMapIntegrator::map_estimates() const {
+    uint64_t total = 0;
+    for (const auto& l : threads_->local) total += l.map_used;
+    return total;
+}
+
 void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
+    stats.integrator_used = integrator_used();
+    stats.gather_used = gather_used();
+    stats.map_estimates = map_estimates();
     stats.volume_estimates = this->stats();
     if (pilot_) stats.gather_pilot = pilot_;
     if (auto_stats_) stats.auto_gather = auto_stats_;
@@ -764,6 +784,22 @@ std::unique_ptr<IntegratorSettings> read_photon_map_settings(Params& render, Par
     Params photons = root.table("photons");
     s->settings = PhotonMapSettings::read(render, photons);
     photons.finish();
+    return s;
+}
+
+std::unique_ptr<IntegratorSettings> read_auto_integrator_settings(Params& render, Params& root) {
+    auto s = std::make_unique<PhotonMapIntegratorSettings>();
+    Params photons = root.table("photons");
+    s->settings = PhotonMapSettings::read(render, photons, true);
+    photons.finish();
+    // The plan chooses between the path tracer and the map's collision or march gather: a gather
+    // that is chosen otherwise ("pilot", "threshold", "beam") cannot be honoured with it.
+    const GatherMode g = s->settings.gather;
+    if (render.string("integrator", "path") == "auto" && g != GatherMode::automatic && g != GatherMode::collision &&
+        g != GatherMode::march)
+        photons.fail("gather", "render.integrator = \"auto\" chooses between the path tracer and the photon map's "
+                               "\"collision\" or \"march\" gather: photons.gather must be \"auto\", \"collision\" or "
+                               "\"march\" with it (or set render.integrator = \"photon_map\")");
     return s;
 }
 

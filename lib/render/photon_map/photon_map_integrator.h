@@ -83,10 +83,18 @@ public:
     void prepare(const PassContext& context, RunStats& stats) override;
     Rgb radiance(const Ray& ray, Rng& rng) const override;
     void collect(RunStats& stats, std::ostream* log) const override;
-    std::string name() const override { return "photon_map"; }
+    // "photon_map", or "auto" (photons's settings chooses_integrator): the plan may render the run with
+    // the path tracer instead (render/plan/no_map_candidate.h); integrator_used() says which ran.
+    std::string name() const override { return settings_.chooses_integrator ? "auto" : "photon_map"; }
+    // "path" once the "auto" integrator's plan chose the path tracer, else "photon_map".
+    std::string integrator_used() const { return no_map_ ? "path" : "photon_map"; }
+    // The gather in force, by its name ("collision", "march", "threshold", "beam"); "none" without a map.
+    std::string gather_used() const;
+    // Estimates the camera passes took from a map (volume or surface), not continued past.
+    uint64_t map_estimates() const;
     // gather = "auto" under render.time_limit: the plan's samples per pass (render/plan/pass_plan.h).
     int samples_per_pass(int configured) const override;
-    // Once the plan chose "continue" no pass traces photons: the passes may go in groups, and the
+    // Once the "auto" integrator's plan chose "continue" no pass traces photons: the passes may go in groups, and the
     // first pass's photon pass and pilot are not what a later pass costs (render/run/run.cpp).
     bool stateless_passes() const override { return no_map_; }
     double one_off_seconds() const override { return one_off_seconds_; }
@@ -237,8 +245,10 @@ private:
     CountedOperations counted_operations() const;
 };
 
-// The registry's reader: [photons] and the walk keys of [render].
+// The registry's readers: [photons] and the walk keys of [render], for "photon_map" and for "auto"
+// (the same keys; chooses_integrator set, and photons.gather checked against it where it is chosen).
 std::unique_ptr<IntegratorSettings> read_photon_map_settings(Params& render, Params& root);
+std::unique_ptr<IntegratorSettings> read_auto_integrator_settings(Params& render, Params& root);
 
 // A config's photon-map settings (read whichever integrator it chose).
 const PhotonMapSettings& photon_map_settings(const RunConfig& config);

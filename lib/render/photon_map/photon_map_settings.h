@@ -119,8 +119,12 @@ struct PhotonMapSettings {
     Clustering clustering = Clustering::ignore;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
-    // gather = "auto" with render.time_limit > 0: the plan sizes the photons per pass unless
-    // photons.count is given, the samples per pass unless render.passes is (render.spp is its start).
+    // render.integrator = "auto": the plan may render the run with the path tracer instead of the
+    // map (render/plan/no_map_candidate.h). "photon_map" (false) always estimates from its maps.
+    bool chooses_integrator = false;
+    // A plan (gather = "auto", or the "auto" integrator) with render.time_limit > 0 sizes the photons
+    // per pass unless photons.count is given, the samples per pass unless render.spp or
+    // render.passes is.
     bool size_photons = false, size_samples = false;
     double time_limit = 0.0;   // render.time_limit (the plan's budget)
     double alpha = 2.0 / 3.0;
@@ -131,9 +135,12 @@ struct PhotonMapSettings {
     int k_for_pass(int pass_index) const;
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
+    // Whether a plan runs on the first pass (render/plan/pass_plan.h): gather = "auto" or the "auto" integrator.
+    bool plans() const { return gather == GatherMode::automatic || chooses_integrator; }
     // Reads [photons] and the walk keys of [render]; throws ConfigError (k below the estimator's
-    // minimum names both keys) and warns on stderr about corrected with k = 2.
-    static PhotonMapSettings read(Params& render, Params& photons);
+    // minimum names both keys) and warns on stderr about corrected with k = 2 (not for the "auto"
+    // integrator's reading of the same table: chooses_integrator).
+    static PhotonMapSettings read(Params& render, Params& photons, bool chooses_integrator = false);
 };
 
 }  // namespace vpm

@@ -153,6 +153,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         *options.log << "\n";
     }
     integrator->collect(result.stats, options.log);
+    if (result.stats.integrator_used.empty()) result.stats.integrator_used = integrator->name();
 
     result.record = RunRecord::with_environment();
     result.record.set("config", toml_to_json(config.resolved));

@@ -132,6 +132,9 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("passes.image_mean_mean", s.image_mean_mean);
         record.set("passes.image_mean_std", s.image_mean_std());
     }
+    if (!stats.integrator_used.empty()) record.set("integrator_used", stats.integrator_used);
+    if (stats.gather_used) record.set("gather_used", *stats.gather_used);
+    if (stats.map_estimates) record.set("map_estimates", *stats.map_estimates);
     record.set("render.samples", stats.render.samples);
     record.set("render.samples_per_second", stats.render.samples_per_second());
     record.set("render.nonfinite_samples", stats.render.nonfinite_samples);
@@ -260,6 +263,9 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.auto_gather.dropped", nlohmann::json(dropped));
         record.set("photons.auto_gather.excluded", nlohmann::json(excluded));
         record.set("photons.auto_gather.photon_pass", a->photon_pass);
+        nlohmann::json score = nlohmann::json::array();
+        for (double v : a->score) score.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+        record.set("photons.auto_gather.score", score);
         record.set("photons.auto_gather.photon_cost", a->photon_cost);
         record.set("photons.auto_gather.pilot_count", a->pilot_count);
         record.set("photons.auto_gather.count", a->count);

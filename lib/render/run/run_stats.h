@@ -104,6 +104,7 @@ struct AutoGatherStats {
     bool beta_measured = false;
     bool size_photons = false, size_samples = false;
     bool photon_pass = true;       // false: "continue" chosen, no photon pass after the pilot's (render/plan/no_map_candidate.h)
+    std::vector<double> score;     // per candidate: the plan's error^2 x work at its best pass sizes (infinite: not a choice)
 };
 
 struct RunStats {
@@ -115,6 +116,13 @@ struct RunStats {
     PassSummary pass_summary;         // every pass
     int first_pass = 0;   // render.first_pass: passes are first_pass .. first_pass + pass_summary.count - 1
     RenderStats render;
+    // What ran (the sidecar's top-level "integrator_used", "gather_used", "map_estimates"): the
+    // integrator that rendered ("path" or "photon_map"; for render.integrator = "auto" its plan's
+    // choice), the photon map's gather ("collision", "march", "threshold", "beam"; "none" without a
+    // map) and the estimates its camera passes took from a map (volume or surface).
+    std::string integrator_used;
+    std::optional<std::string> gather_used;
+    std::optional<uint64_t> map_estimates;
     std::optional<PhotonPassStats> photons;            // integrators with a photon pass
     std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
     std::optional<EstimatorStats> surface_estimates;   // surface photon map queries (when any)

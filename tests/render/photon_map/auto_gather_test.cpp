@@ -1,8 +1,10 @@
 // photons.gather = "auto" (issue 20): the map-noise pilot (render/plan/map_noise_pilot.h) measures the
 // collision and march gathers with the pass's map and its independent halves and quarters, and
 // the plan (render/plan/pass_plan.h) picks the gather and, under render.time_limit with photons.count
-// and render.spp not given, the photons and samples per pass. The choices come from counts and
-// fixed streams: the same on 1 and 2 threads and at scale 1e3, and the image stays unbiased.
+// and render.spp not given, the photons and samples per pass. render.integrator = "photon_map"
+// always renders with its map; "auto" (issue 41) also measures the path tracer ("continue") and may
+// render with it. The choices come from counts and fixed streams: the same on 1 and 2 threads and
+// at scale 1e3, and the image stays unbiased.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -72,20 +74,34 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
     EXPECT_TRUE(a.stats.auto_gather->size_samples);
     EXPECT_EQ(a.stats.pass_count(), 1u);
     EXPECT_EQ(a.stats.render.samples, 144u * uint64_t(a.stats.auto_gather->spp));
-    ASSERT_EQ(a.stats.auto_gather->candidates.size(), 3u);   // collision, march, continue
+    ASSERT_EQ(a.stats.auto_gather->candidates.size(), 2u);   // collision, march: the photon map never goes without its map
     for (const auto& c : a.stats.auto_gather->candidates) {
         EXPECT_GT(c.v_camera, 0.0) << c.name;
         EXPECT_GT(c.sample_cost, 0.0) << c.name;
         EXPECT_EQ(c.v_map_quarter, -1.0) << c.name;   // quarters only when the count is sized
     }
-    // render.spp alone is the plan's starting point under a limit; render.passes pins the pass.
+    // render.spp pins the samples per pass under a limit too (spp / passes), as render.passes does.
     const RunResult spp_given = render(f, {"render.time_limit=1e-9", "render.spp=3", "photons.count=20000"});
     ASSERT_TRUE(spp_given.stats.auto_gather);
-    EXPECT_TRUE(spp_given.stats.auto_gather->size_samples);
+    EXPECT_FALSE(spp_given.stats.auto_gather->size_samples);
+    EXPECT_EQ(spp_given.stats.render.samples, 144u * 3u);
+    // The "auto" integrator measures the path tracer too.
+    const RunResult with_path = render(f, {"render.time_limit=1e-9", "photons.count=20000", "render.integrator=\"auto\""});
+    ASSERT_TRUE(with_path.stats.auto_gather);
+    ASSERT_EQ(with_path.stats.auto_gather->candidates.size(), 3u);   // collision, march, continue
+    EXPECT_FALSE(with_path.stats.auto_gather->candidates[2].uses_map);
     const RunResult given = render(f, {"render.time_limit=1e-9", "render.spp=3", "render.passes=1", "photons.count=20000"});
     ASSERT_TRUE(given.stats.auto_gather);
     EXPECT_FALSE(given.stats.auto_gather->size_samples);
     EXPECT_EQ(given.stats.render.samples, 144u * 3u);
+    // photons.gather given: no plan, that gather in every pass, named in the stats.
+    for (const char* g : {"collision", "march"}) {
+        const RunResult pinned = render(f, {"render.time_limit=1e-9", "photons.count=20000", std::string("photons.gather=\"") + g + "\""});
+        EXPECT_FALSE(pinned.stats.auto_gather);
+        EXPECT_EQ(pinned.stats.gather_used, g);
+        EXPECT_EQ(pinned.stats.integrator_used, "photon_map");
+        EXPECT_EQ(pinned.stats.photons->emitted, 20000u * pinned.stats.pass_count());
+    }
     const RunResult no_limit = render(f, {"photons.count=20000"});
     ASSERT_TRUE(no_limit.stats.auto_gather);
     EXPECT_FALSE(no_limit.stats.auto_gather->size_photons || no_limit.stats.auto_gather->size_samples);
@@ -127,10 +143,9 @@ TEST(AutoGather, ThePilotMapIsSmallerWhereWalksStoreManyPhotons) {
     // Pass 0's first photon pass is the pilot's map; a plan that keeps the map traces pass 0 again,
     // at photons.count or more (render/plan/pass_plan.h).
     const AutoGatherStats& plan = *a.stats.auto_gather;
-    EXPECT_EQ(a.stats.photons->emitted, uint64_t(pilot + (plan.photon_pass ? plan.count : 0))) << plan.chosen;
-    if (plan.photon_pass) {
-        EXPECT_GE(plan.count, 100000);
-    }
+    ASSERT_TRUE(plan.photon_pass);   // the photon-map integrator keeps its map
+    EXPECT_EQ(a.stats.photons->emitted, uint64_t(pilot + plan.count)) << plan.chosen;
+    EXPECT_GE(plan.count, 100000);
     // The pilot map's stored photons (its "trace:" line), the probe's projection within a batch's
     // worth and the probe's noise.
     const std::string text = log.str();
@@ -141,15 +156,20 @@ TEST(AutoGather, ThePilotMapIsSmallerWhereWalksStoreManyPhotons) {
     const double stored = std::stod(text.substr(collisions + 12));
     EXPECT_GT(stored, 0.7 * kPilotStoredPhotons);
     EXPECT_LT(stored, 1.3 * kPilotStoredPhotons + 20.0 * double(kPilotProbePhotons));
+    // Under the "auto" integrator (whose plan drops the map here, so that the runs stay short) the
+    // pilot's map is the same, and so is the plan, on 1 and 2 threads and from pass 1.
     std::vector<std::string> one = one_pass, two = one_pass, later = one_pass;
     one.push_back("render.threads=1");
     two.push_back("render.threads=2");
     later.push_back("render.first_pass=1");
-    for (const auto& sets : {one, two, later}) {
+    std::string chosen;
+    for (auto sets : {one, two, later}) {
+        sets.push_back("render.integrator=\"auto\"");
         const RunResult b = render(dense, sets);
         ASSERT_TRUE(b.stats.auto_gather);
         EXPECT_EQ(b.stats.auto_gather->pilot_count, pilot);
-        EXPECT_EQ(b.stats.auto_gather->chosen, a.stats.auto_gather->chosen);
+        if (chosen.empty()) chosen = b.stats.auto_gather->chosen;
+        EXPECT_EQ(b.stats.auto_gather->chosen, chosen);
     }
     // Where walks store fewer (the thin cube), or where photons.count is given, the pilot's map has photons.count.
     // (Where it has fewer the plan still sizes from photons.count up: render/plan/pass_plan.h.)
@@ -191,10 +211,14 @@ TEST(AutoGather, ARunFromALaterPassPlansAsPassZeroOverASurface) {
     }
 }
 
-TEST(AutoGather, SamePlanAndImageOnOneAndTwoThreads) {
+class AutoGatherIntegrators : public ::testing::TestWithParam<const char*> {};
+INSTANTIATE_TEST_SUITE_P(PhotonMapAndAuto, AutoGatherIntegrators, ::testing::Values("photon_map", "auto"));
+
+TEST_P(AutoGatherIntegrators, SamePlanAndImageOnOneAndTwoThreads) {
     const std::string f = write("cube.toml", thin_cube(1.0));
     // render.first_pass = 1: the pilot map is pass 0's, traced apart, and the pass uses the planned count.
-    const std::vector<std::string> sets = {"render.time_limit=1e-9", "render.first_pass=1"};
+    const std::vector<std::string> sets = {"render.time_limit=1e-9", "render.first_pass=1",
+                                           std::string("render.integrator=\"") + GetParam() + "\""};
     std::vector<std::string> one = sets, two = sets;
     one.push_back("render.threads=1");
     two.push_back("render.threads=2");
@@ -212,21 +236,27 @@ TEST(AutoGather, SamePlanAndImageOnOneAndTwoThreads) {
         EXPECT_EQ(x.candidates[c].v_map_quarter, y.candidates[c].v_map_quarter);
         EXPECT_EQ(x.candidates[c].sample_cost, y.candidates[c].sample_cost);
     }
+    EXPECT_EQ(a.stats.integrator_used, b.stats.integrator_used);
     if (x.photon_pass) {
         ASSERT_TRUE(a.stats.photons);
         EXPECT_EQ(a.stats.photons->emitted, uint64_t(x.count));   // pass 1 emits the planned count
-    } else {   // "continue" (the thin cube at this budget): pass 1 traces no photons
+        EXPECT_EQ(a.stats.integrator_used, "photon_map");
+    } else {   // "continue" ("auto" only; the thin cube at this budget): pass 1 traces no photons
+        EXPECT_STREQ(GetParam(), "auto");
         EXPECT_TRUE(!a.stats.photons || a.stats.photons->emitted == 0);
+        EXPECT_EQ(a.stats.integrator_used, "path");
     }
     EXPECT_EQ(a.image.rgb, b.image.rgb);
 }
 
-TEST(AutoGather, SameChoicesAtScale1e3) {
-    const RunResult a = render(write("cube1.toml", thin_cube(1.0)), {"render.time_limit=1e-9"});
-    const RunResult b = render(write("cube1e3.toml", thin_cube(1e3)), {"render.time_limit=1e-9"});
+TEST_P(AutoGatherIntegrators, SameChoicesAtScale1e3) {
+    const std::vector<std::string> sets = {"render.time_limit=1e-9", std::string("render.integrator=\"") + GetParam() + "\""};
+    const RunResult a = render(write("cube1.toml", thin_cube(1.0)), sets);
+    const RunResult b = render(write("cube1e3.toml", thin_cube(1e3)), sets);
     ASSERT_TRUE(a.stats.auto_gather && b.stats.auto_gather);
     const AutoGatherStats &x = *a.stats.auto_gather, &y = *b.stats.auto_gather;
     EXPECT_EQ(x.chosen, y.chosen);
+    EXPECT_EQ(a.stats.integrator_used, b.stats.integrator_used);
     EXPECT_EQ(x.count, y.count);
     EXPECT_EQ(x.spp, y.spp);
     EXPECT_NEAR(y.photon_cost, x.photon_cost, 0.01 * x.photon_cost);
@@ -266,10 +296,11 @@ TEST(AutoGather, GatherKeyNamesItsValues) {
 
 // A box at optical depth 1000 (albedo 0.9): every kNN ball spans far more than max_radius_mfp mean
 // free paths, so no estimate uses the map (render/plan/no_map_candidate.h). The collision gather's pilot
-// samples are then the continuation's, and "continue" wins by the photon pass it saves: the passes
-// after the pilot's trace no photons, on 1 and 2 threads alike and at scale 1e3.
+// samples are then the continuation's, and under render.integrator = "auto" "continue" wins by the
+// photon pass it saves: the passes after the pilot's trace no photons, on 1 and 2 threads alike and
+// at scale 1e3.
 TEST(AutoGather, NoPhotonPassWhereNoQueryUsesTheMap) {
-    const std::vector<std::string> sets = {"photons.count=5000", "render.passes=3", "render.spp=3"};
+    const std::vector<std::string> sets = {"photons.count=5000", "render.passes=3", "render.spp=3", "render.integrator=\"auto\""};
     auto with = [&](std::vector<std::string> v, const std::string& extra) {
         v.push_back(extra);
         return v;
@@ -286,6 +317,9 @@ TEST(AutoGather, NoPhotonPassWhereNoQueryUsesTheMap) {
     EXPECT_GT(x.candidates[0].per_sample.queries, 0.0);    // though it asked
     EXPECT_EQ(x.chosen, "continue") << log.str();
     EXPECT_FALSE(x.photon_pass);
+    EXPECT_EQ(a.stats.integrator_used, "path");
+    EXPECT_EQ(a.stats.gather_used, "none");
+    EXPECT_NE(log.str().find("integrator: auto chose the path tracer: error^2 x work"), std::string::npos) << log.str();
     EXPECT_EQ(a.stats.photons->emitted, 5000u);             // pass 0's only, of 3
     EXPECT_EQ(a.stats.pass_count(), 3u);
     EXPECT_NE(log.str().find("no photon pass after this one"), std::string::npos) << log.str();
@@ -299,13 +333,32 @@ TEST(AutoGather, NoPhotonPassWhereNoQueryUsesTheMap) {
     EXPECT_EQ(a.image.rgb, b.image.rgb);
 }
 
+// The same box with render.integrator = "photon_map": the plan chooses among the map's gathers only,
+// every pass traces its map, and the camera paths continue wherever the estimator's bound says
+// (photon/estimate/bounded_radius.h): the honest photon map, with its figures in the sidecar.
+TEST(AutoGather, ThePhotonMapKeepsItsMapWhereNoQueryUsesIt) {
+    std::ostringstream log;
+    const RunResult a = render(write("dense.toml", thin_cube(1.0, 1000.0, 0.9)),
+                               {"photons.count=5000", "render.passes=3", "render.spp=3"}, &log);
+    ASSERT_TRUE(a.stats.auto_gather && a.stats.photons);
+    const AutoGatherStats& x = *a.stats.auto_gather;
+    ASSERT_EQ(x.candidates.size(), 2u);
+    EXPECT_NE(x.chosen, "continue");
+    EXPECT_TRUE(x.photon_pass);
+    EXPECT_EQ(a.stats.photons->emitted, 3u * 5000u);   // a map per pass
+    EXPECT_EQ(a.stats.integrator_used, "photon_map");
+    EXPECT_EQ(a.stats.gather_used, x.chosen);
+    ASSERT_TRUE(a.stats.map_estimates);
+    EXPECT_EQ(log.str().find("integrator: auto chose"), std::string::npos) << log.str();
+}
+
 // A medium of density 0 and nothing else: the pilot's map is empty and no surface map is stored,
 // so no estimate can use a map and no photon pass follows the pilot's. (Planned with every figure 0
 // it traced 1e5 photons per pass, 185 passes in 2 s, for a black image.) With a wall and a floor the
 // surface map holds the light between them (direct light is NEE's) and is used: the gathers stay,
 // with the photon pass.
 TEST(AutoGather, NoPhotonPassWhereTheMediumIsEmptyAndNothingElseIsLit) {
-    const std::vector<std::string> sets = {"photons.count=5000", "render.passes=3", "render.spp=3"};
+    const std::vector<std::string> sets = {"photons.count=5000", "render.passes=3", "render.spp=3", "render.integrator=\"auto\""};
     std::ostringstream log;
     const RunResult empty = render(write("empty.toml", thin_cube(1.0, 0.0)), sets, &log);
     ASSERT_TRUE(empty.stats.auto_gather);
@@ -315,6 +368,12 @@ TEST(AutoGather, NoPhotonPassWhereTheMediumIsEmptyAndNothingElseIsLit) {
     EXPECT_EQ(empty.stats.photons->stored, 0u);
     EXPECT_EQ(empty.stats.pass_count(), 3u);
     for (float v : empty.image.rgb) EXPECT_EQ(v, 0.0f);
+    // The photon map traces its (empty) map in every pass.
+    const RunResult pm = render(write("empty.toml", thin_cube(1.0, 0.0)), {"photons.count=5000", "render.passes=3", "render.spp=3"});
+    ASSERT_TRUE(pm.stats.auto_gather && pm.stats.photons);
+    EXPECT_NE(pm.stats.auto_gather->chosen, "continue");
+    EXPECT_EQ(pm.stats.photons->emitted, 3u * 5000u);
+    for (float v : pm.image.rgb) EXPECT_EQ(v, 0.0f);
 
     const RunResult floor = render(write("empty_corner.toml", thin_cube(1.0, 0.0) +
                                                              "[[shapes]]\ntype = \"quad\"\ncenter = [0.5, 0.5, -0.5]\n"
@@ -329,10 +388,11 @@ TEST(AutoGather, NoPhotonPassWhereTheMediumIsEmptyAndNothingElseIsLit) {
 }
 
 // The furnace (radiance 0.5 everywhere) with balls bounded to 0.01 mean free paths: no estimate can
-// use the map, the plan drops the photon pass, and the continuation keeps the image unbiased.
+// use the map, the "auto" integrator's plan drops the photon pass, and the continuation keeps the
+// image unbiased.
 TEST(AutoGather, FurnaceStaysUnbiasedWithoutTheMap) {
     const std::string f = write("furnace_nomap.toml",
-                                "[render]\nwidth = 8\nheight = 8\nintegrator = \"photon_map\"\nspp = 8\n\n"
+                                "[render]\nwidth = 8\nheight = 8\nintegrator = \"auto\"\nspp = 8\n\n"
                                 "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
                                 "[photons]\nk = 8\ncount = 2000\ndirect = \"photon_map\"\nmax_radius_mfp = 0.01\n\n"
                                 "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
@@ -346,9 +406,11 @@ TEST(AutoGather, FurnaceStaysUnbiasedWithoutTheMap) {
 }
 
 // The plan of one photon-map pass 0 under a 1 s limit at 32x32, and whether later passes are stateless.
-static std::pair<std::string, bool> planned_gather_and_stateless(const std::string& file) {
+static std::pair<std::string, bool> planned_gather_and_stateless(const std::string& file, const char* integrator = "auto") {
     const RunConfig config = RunConfig::load(file, {"render.time_limit=1", "render.width=32", "render.height=32"});
-    PhotonMapIntegrator pm(*config.scene, photon_map_settings(config));
+    PhotonMapSettings s = photon_map_settings(config);
+    s.chooses_integrator = std::string(integrator) == "auto";
+    PhotonMapIntegrator pm(*config.scene, s);
     EXPECT_FALSE(pm.stateless_passes());   // a photon pass per pass until a plan says otherwise
     PassContext context;
     context.progress = false;
@@ -374,6 +436,10 @@ TEST(AutoGather, APlanWithoutTheMapMakesLaterPassesStateless) {
     const auto dense = planned_gather_and_stateless(write("dense.toml", thin_cube(1.0, 1000.0, 0.9)));
     EXPECT_EQ(dense.first, "continue");
     EXPECT_TRUE(dense.second);
+    // The photon-map integrator keeps a photon pass per pass there.
+    const auto dense_pm = planned_gather_and_stateless(write("dense.toml", thin_cube(1.0, 1000.0, 0.9)), "photon_map");
+    EXPECT_NE(dense_pm.first, "continue");
+    EXPECT_FALSE(dense_pm.second);
     // A run that keeps its map keeps a photon pass per pass: the cube at optical thickness 1 and
     // albedo 0.9, where the plan takes the march.
     const auto thin = planned_gather_and_stateless(write("cube1.toml", thin_cube(1.0, 1.0, 0.9)));
@@ -389,7 +455,7 @@ TEST(AutoGather, APlanWithoutTheMapRendersThePathTracersImage) {
     const std::string dense = write("dense_same.toml", thin_cube(1.0, 1000.0, 0.9));
     const std::vector<std::string> sets = {"render.width=16", "render.height=16", "render.spp=8", "render.passes=2"};
     std::vector<std::string> pm = sets, path = sets;
-    pm.push_back("render.integrator=\"photon_map\"");
+    pm.push_back("render.integrator=\"auto\"");
     path.push_back("render.integrator=\"path\"");
     const RunResult a = render(dense, pm), b = render(dense, path);
     ASSERT_TRUE(a.stats.auto_gather);

@@ -30,7 +30,7 @@ look_at = [0.0, -1.0, 0.0]
 fov = 20
 [photons]
 count = 100000
-# The map's light is what this checks: "auto" may choose to go without it (render/plan/no_map_candidate.h).
+# The collision gather, with which the standard errors below were measured (the map's light is what this checks).
 gather = "collision"
 [[media]]
 type = "homogeneous"

@@ -118,11 +118,12 @@ TEST(PilotTail, AHeavyTailIsReadAndChargedNotExcluded) {
 
 namespace {
 
-// The matrix's point-lit box at optical thickness 1 (BENCHMARKS.md section 11.12), 16 x 16.
+// The matrix's point-lit box at optical thickness 1 (BENCHMARKS.md section 11.12), 16 x 16, under the
+// "auto" integrator (the one whose plan measures the path tracer).
 std::string box(double g) {
     static const vpm::test::ScratchDir dir;   // one per test process, removed when it ends
     const fs::path p = dir.path / ("box_g" + std::to_string(g) + ".toml");
-    std::ofstream(p) << "[render]\nwidth = 16\nheight = 16\nspp = 1\nintegrator = \"photon_map\"\n\n"
+    std::ofstream(p) << "[render]\nwidth = 16\nheight = 16\nspp = 1\nintegrator = \"auto\"\n\n"
                         "[camera]\nposition = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nfov = 40.0\n\n"
                         "[photons]\ncount = 20000\n\n"
                         "[[lights]]\ntype = \"point\"\nposition = [2.0, 2.0, 2.0]\nintensity = 20.0\n\n"

@@ -20,8 +20,6 @@ namespace {
 
 RunResult run_furnace(std::vector<std::string> sets) {
     for (const char* s : {"render.width=16", "render.height=16", "photons.count=40000", "photons.k=8"}) sets.push_back(s);
-    // The estimators' bias needs the map: "auto" could go without it here (render/plan/no_map_candidate.h). First, so a test's gather wins.
-    sets.insert(sets.begin(), "photons.gather=\"collision\"");
     RunOptions o;
     o.progress = false;
     return run(RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml", sets), o);
