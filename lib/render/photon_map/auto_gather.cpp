@@ -54,6 +54,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         pilot_settings.count = in.pilot_count;
         const bool surface = traces_surface_map();
         pilot_maps = run_photon_pass(scene_, pilot_settings, c, surface, pilot_stats, allocation_);
+        ledger_.pilot_only += uint64_t(in.pilot_count);   // pass 0's map, traced for the plan alone
         map = &pilot_maps.volume;
         pilot_surface = surface ? &pilot_maps.surface : nullptr;
         counts = pilot_stats.photons;
@@ -164,6 +165,11 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     plan_ = plan;
     if (!measured[size_t(plan.chosen)].uses_map) {   // render/plan/no_map_candidate.h: from this pass on
         no_map_ = true;
+        if (context.pass == 0 && owns_maps_ && ledger_.pass_maps >= uint64_t(in.pilot_count)) {   // pass 0's map served the pilot only
+            ledger_.pass_maps -= uint64_t(in.pilot_count);
+            ledger_.pilot_only += uint64_t(in.pilot_count);
+            ledger_.passes_traced -= 1;
+        }
         map_ = &empty_map_;
         surface_map_ = nullptr;
     }

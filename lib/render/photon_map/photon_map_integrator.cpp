@@ -137,6 +137,9 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
                 *log << "photons: pass 0 traced again with the plan's " << plan_->count << " photons (the pilot's "
                      << first_map_photons_ << " only chose the plan)\n";
             one_off_seconds_ += last_trace_seconds_;   // the pilot's map
+            ledger_.pass_maps -= uint64_t(first_map_photons_);   // it served the pilot alone
+            ledger_.pilot_only += uint64_t(first_map_photons_);
+            ledger_.passes_traced -= 1;
             trace_maps(context, plan_->count, surface, stats);
         }
     }
@@ -152,6 +155,7 @@ int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context) {
         const PilotPhotonCount p = pilot_photon_count(scene_, settings_, context, traces_surface_map(), allocation_);
         one_off_seconds_ += probe_timer.seconds();
         first_map_photons_ = p.count;
+        ledger_.probe += uint64_t(p.probe_photons);
         if (context.log && context.first_of_run && p.count < settings_.count)
             *context.log << "photons: the pilot's map of " << p.count << " photons, not photons.count = " << settings_.count
                          << ": a probe of " << p.probe_photons << " stored " << p.stored_per_photon << " per photon, and "
@@ -168,6 +172,8 @@ void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, 
     const Timer timer;
     owned_ = run_photon_pass(scene_, pass_settings, context, surface, stats, allocation_);
     last_trace_seconds_ = timer.seconds();
+    ledger_.pass_maps += uint64_t(count);
+    ledger_.passes_traced += 1;
     surface_map_ = surface ? &owned_.surface : nullptr;
     set_map_emitted(double(count));
 }
@@ -199,6 +205,7 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     decision_map_ = &decision_owned_;
     decision_cells_ = PhotonCellCounts(decision_owned_);
     decision_emitted_ = double(decision_settings.count);
+    ledger_.decision_map += uint64_t(decision_settings.count);
     set_map_emitted(map_emitted_);
     double seconds = 0.0;
     for (const PhaseStats& phase : traced.phases) seconds += phase.seconds;
@@ -260,6 +267,17 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     stats.integrator_used = integrator_used();
     stats.gather_used = gather_used();
     stats.map_estimates = map_estimates();
+    if (owns_maps_) {
+        PhotonLedger l = ledger_;
+        l.estimates = *stats.map_estimates;
+        l.decision_queries = decision_map_ ? decision_queries() : 0;
+        stats.photon_ledger = l;
+        if (log)
+            *log << "photons traced per phase: " << l.pass_maps << " in " << l.passes_traced << " passes' maps ("
+                 << l.estimates << " estimates taken from them), " << l.pilot_only << " for the pilot alone, " << l.probe
+                 << " in the probe that sized the pilot's map, " << l.decision_map << " in the decision map ("
+                 << l.decision_queries << " radius decisions queried it)\n";
+    }
     stats.volume_estimates = this->stats();
     if (pilot_) stats.gather_pilot = pilot_;
     if (auto_stats_) stats.auto_gather = auto_stats_;

@@ -173,6 +173,7 @@ private:
     int64_t first_map_photons_ = 0;   // 0: not decided yet
     double one_off_seconds_ = 0.0;    // one_off_seconds(): the probe, the pilot, its map when traced again, the decision map
     double last_trace_seconds_ = 0.0; // trace_maps' last photon pass
+    PhotonLedger ledger_;             // photons traced per phase (RunStats::photon_ledger)
     // gather = "beam": the segment's in-scattering, single scattering by NEE when direct = "nee".
     Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
 

@@ -135,6 +135,15 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (!stats.integrator_used.empty()) record.set("integrator_used", stats.integrator_used);
     if (stats.gather_used) record.set("gather_used", *stats.gather_used);
     if (stats.map_estimates) record.set("map_estimates", *stats.map_estimates);
+    if (const auto& l = stats.photon_ledger) {
+        record.set("photons.traced.pass_maps", l->pass_maps);
+        record.set("photons.traced.passes", l->passes_traced);
+        record.set("photons.traced.estimates", l->estimates);
+        record.set("photons.traced.pilot_only", l->pilot_only);
+        record.set("photons.traced.probe", l->probe);
+        record.set("photons.traced.decision_map", l->decision_map);
+        record.set("photons.traced.decision_queries", l->decision_queries);
+    }
     record.set("render.samples", stats.render.samples);
     record.set("render.samples_per_second", stats.render.samples_per_second());
     record.set("render.nonfinite_samples", stats.render.nonfinite_samples);

@@ -107,6 +107,17 @@ struct AutoGatherStats {
     std::vector<double> score;     // per candidate: the plan's error^2 x work at its best pass sizes (infinite: not a choice)
 };
 
+// The photons a photon-map run traced, per phase, and what used them (issue 41: no discarded work).
+struct PhotonLedger {
+    uint64_t pass_maps = 0;        // emitted into the maps the camera passes estimate from
+    int64_t passes_traced = 0;     // photon passes behind them
+    uint64_t estimates = 0;        // estimates the camera passes took from a map (RunStats::map_estimates)
+    uint64_t pilot_only = 0;       // emitted into maps only the plan's pilot used (pass 0's, traced apart or again at the plan's count)
+    uint64_t probe = 0;            // emitted by the probe that sized the pilot's map (render/photon_map/photon_pass.h)
+    uint64_t decision_map = 0;     // emitted into the radius bound's decision map (photon/estimate/bounded_radius.h)
+    uint64_t decision_queries = 0; // its kNN queries
+};
+
 struct RunStats {
     // Passes are bounded in memory and in the sidecar: `passes` holds the first kPassRecords of
     // them, `pass_summary` all of them (vpm render streams every pass to OUT.passes.csv).
@@ -123,6 +134,7 @@ struct RunStats {
     std::string integrator_used;
     std::optional<std::string> gather_used;
     std::optional<uint64_t> map_estimates;
+    std::optional<PhotonLedger> photon_ledger;         // photon map: photons traced per phase
     std::optional<PhotonPassStats> photons;            // integrators with a photon pass
     std::optional<EstimatorStats> volume_estimates;    // volume photon map queries
     std::optional<EstimatorStats> surface_estimates;   // surface photon map queries (when any)

@@ -102,6 +102,12 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
         EXPECT_EQ(pinned.stats.integrator_used, "photon_map");
         EXPECT_EQ(pinned.stats.photons->emitted, 20000u * pinned.stats.pass_count());
     }
+    // Where the plan keeps the count the pilot's map is pass 0's: nothing is traced for the pilot alone.
+    ASSERT_TRUE(a.stats.photon_ledger);
+    EXPECT_EQ(a.stats.photon_ledger->pilot_only, 0u);
+    EXPECT_EQ(a.stats.photon_ledger->probe, 0u);
+    EXPECT_EQ(a.stats.photon_ledger->pass_maps, 20000u * a.stats.pass_count());
+    EXPECT_EQ(a.stats.photon_ledger->estimates, *a.stats.map_estimates);
     const RunResult no_limit = render(f, {"photons.count=20000"});
     ASSERT_TRUE(no_limit.stats.auto_gather);
     EXPECT_FALSE(no_limit.stats.auto_gather->size_photons || no_limit.stats.auto_gather->size_samples);
@@ -124,6 +130,12 @@ TEST(AutoGather, PassZeroIsTracedAgainAtThePlannedCount) {
     ASSERT_GT(a.count, 100000) << log.str();   // the plan's figure: counts only, the same on any machine
     EXPECT_EQ(r.stats.photons->emitted, uint64_t(100000 + a.count * int64_t(r.stats.pass_count()))) << log.str();
     EXPECT_NE(log.str().find("photons: pass 0 traced again with the plan's"), std::string::npos) << log.str();
+    // The ledger names the pilot's map as the pilot's alone, the rest as the passes' maps.
+    ASSERT_TRUE(r.stats.photon_ledger);
+    EXPECT_EQ(r.stats.photon_ledger->pilot_only, 100000u);
+    EXPECT_EQ(r.stats.photon_ledger->pass_maps, uint64_t(a.count) * r.stats.pass_count());
+    EXPECT_EQ(r.stats.photon_ledger->passes_traced, int64_t(r.stats.pass_count()));
+    EXPECT_NE(log.str().find("photons traced per phase: "), std::string::npos) << log.str();
 }
 
 TEST(AutoGather, ThePilotMapIsSmallerWhereWalksStoreManyPhotons) {
@@ -321,6 +333,9 @@ TEST(AutoGather, NoPhotonPassWhereNoQueryUsesTheMap) {
     EXPECT_EQ(a.stats.gather_used, "none");
     EXPECT_NE(log.str().find("integrator: auto chose the path tracer: error^2 x work"), std::string::npos) << log.str();
     EXPECT_EQ(a.stats.photons->emitted, 5000u);             // pass 0's only, of 3
+    ASSERT_TRUE(a.stats.photon_ledger);
+    EXPECT_EQ(a.stats.photon_ledger->pilot_only, 5000u);    // it served the pilot alone
+    EXPECT_EQ(a.stats.photon_ledger->pass_maps, 0u);
     EXPECT_EQ(a.stats.pass_count(), 3u);
     EXPECT_NE(log.str().find("no photon pass after this one"), std::string::npos) << log.str();
     EXPECT_EQ(log.str().find("exceeds the"), std::string::npos) << log.str();   // no "k exceeds the stored count" warning
