@@ -1,5 +1,5 @@
 #!/bin/bash
-# MIS on vs off at equal samples on configs/small_light_smoke.toml (BENCHMARKS.md section 9), from the
+# MIS on vs off at equal samples on configs/small_light_smoke.toml (docs/studies/area_lights_mis.md section 9), from the
 # repository root: bench/mis_error.sh NAME [--set KEY=VALUE]...
 # A 64x64 reference at 16384 spp (MIS on, seed 4242), then 8 seeds x 64 spp per mode, each against it
 # with vpm compare; prints the relative RMSE per run, their median and root mean square.

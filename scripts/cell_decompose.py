@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Error and time of methods on single cells of a `vpm bench matrix --out OUT` folder, decomposed
-(BENCHMARKS.md 11.11): per cell and method, CPU seconds of the whole process (getrusage, so the
+(docs/studies/scene_matrix.md section 11.11): per cell and method, CPU seconds of the whole process (getrusage, so the
 machine's load does not enter), samples per pixel, squared relative error against the cell's cached
 reference minus the reference's own noise, the variance from the two seeds' difference, the rest
 (bias^2 and the reference's error), C = error^2 x CPU and the per-sample variance (variance x spp).

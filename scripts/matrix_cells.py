@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Interleaved comparisons on single cells of a `vpm bench matrix --out OUT` folder (its scenes/ and
 cached references/), seeds interleaved, error against the cell's reference minus the reference's own
-noise. Three studies (BENCHMARKS.md 11.5 and 11.6):
+noise. Three studies (docs/studies/march.md section 11.5 and 11.6):
 
   gathers     error per sample and render time per sample of photon-map gathers, each method
               NAME=BIN:GATHER with BIN old (--old-vpm) or new (--vpm); GATHER "path" is the path

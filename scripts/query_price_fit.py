@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The kNN query's price against the map's size (lib/render/plan/work_units.cpp, BENCHMARKS.md 25).
+"""The kNN query's price against the map's size (lib/render/plan/work_units.cpp, docs/studies/march.md section 25).
 
 Per matrix cell and photons.count: user CPU per camera sample of the forced collision gather and
 march (288 - 32 spp, one thread, getrusage of the child) and the auto pilot's counted operations per

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The auto plan's cost model against the clock (lib/render/plan/work_units.cpp, BENCHMARKS.md 19): per
+"""The auto plan's cost model against the clock (lib/render/plan/work_units.cpp, docs/studies/auto_plan.md section 19): per
 matrix cell, the pilot's counted work units per camera sample of each candidate (collision, march,
 continue; read from the run's sidecar, so the binary's own weights) over the user CPU nanoseconds per
 sample of that candidate forced. CPU per sample is the difference of two fixed-work runs (288 and 32

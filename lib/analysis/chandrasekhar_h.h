@@ -1,6 +1,6 @@
 #pragma once
 // Chandrasekhar's H function for isotropic scattering, and the radiance a semi-infinite
-// homogeneous medium reflects (Chandrasekhar, Radiative Transfer, 1950, ch. IV; issue 21).
+// homogeneous medium reflects (Chandrasekhar, Radiative Transfer, 1950, ch. IV).
 //
 // A half-space of single-scattering albedo a with isotropic scattering, lit by a collimated beam of
 // irradiance E (measured perpendicular to the beam) at incidence mu0 = cos(theta0), reflects in

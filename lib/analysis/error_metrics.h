@@ -1,6 +1,6 @@
 #pragma once
-// Error metrics of rendered images against a reference, used by `vpm sweep` (issue 5).
-// Every definition the sweep reports lives here; README "Parameter sweeps" documents them.
+// Error metrics of rendered images against a reference, used by `vpm sweep`.
+// Every definition the sweep reports lives here; docs/experiments.md, "Parameter sweeps", documents them.
 //
 // Pixels are compared by luminance Y = 0.2126 R + 0.7152 G + 0.0722 B. "Relative" means divided
 // by the reference's MEAN luminance over the image, L = mean_p Y(ref_p) (squared for squared

@@ -126,7 +126,7 @@ MergedRun merge_runs(const std::vector<std::filesystem::path>& paths) {
     out.image = Image(a.image.width, a.image.height);
     for (size_t i = 0; i < sum.size(); ++i) out.image.rgb[i] = float(sum[i] / double(out.passes));
     out.record = RunRecord::with_environment();
-    // The config `vpm render MERGED.json` renders (issue 24): when the pass ranges are contiguous,
+    // The config `vpm render MERGED.json` renders: when the pass ranges are contiguous,
     // the one-machine run of all of them (first_pass, passes and spp of the union, no time limit),
     // which gives the merged image up to float rounding; with gaps no single run renders those
     // passes, and "reproduces" says what the config does render.

@@ -1,5 +1,5 @@
 #pragma once
-// The scene matrix (issue 20): does the photon map with its defaults beat the path tracer on
+// The scene matrix: does the photon map with its defaults beat the path tracer on
 // scenes nobody tuned it for? Each cell is a generated scene (a homogeneous box or sphere, the
 // smooth Gaussian blob or the plume of media/, fitted into [-1, 1]^3, seen from (0, 0, 4), no
 // surfaces) at one optical thickness, albedo, g, light and scale. Per cell, at equal time (every

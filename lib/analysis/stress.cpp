@@ -180,7 +180,7 @@ std::vector<CellSpec> specs(bool quick) {
         s.note = "64^3 grid; local majorants and the closed-form optical depth keep the tracking cost bounded";
         v.push_back(s);
     }
-    // Grid media at stiff densities (issue 12), each with both integrators: the default plume at
+    // Grid media at stiff densities, each with both integrators: the default plume at
     // sigma_t_scale 4e2 .. 1e8, the dense voxel 1e9 in 1e-3, box.vdb at 1e15, the plume's medium
     // alone scaled by 1e6. @OUT@ is run_stress's output folder (where the VDB is written).
     {

@@ -1,5 +1,5 @@
 #pragma once
-// The stress matrix (issue 6): stiff and extreme cases run one axis at a time around small base
+// The stress matrix: stiff and extreme cases run one axis at a time around small base
 // scenes (configs/stress/), plus special cells. Every cell records what a user needs to trust a
 // run: non-finite pixels and samples (must be 0), the photon pass's energy balance (emitted =
 // absorbed + escaped + truncated, to 1e-6 relative), photon paths cut by the path-length cap,

@@ -3,7 +3,7 @@
 // sweep.h) with their error metrics and tables, and the stress matrix (stress.h). Analyses consume
 // typed results (RunStats), never a run's JSON read back.
 //
-// The estimator study (issue 4): Monte Carlo of the classic, corrected (k-1) and MSE-optimal
+// The estimator study: Monte Carlo of the classic, corrected (k-1) and MSE-optimal
 // (k-2) kNN density estimators against exact order-statistics theory.
 //
 // Every scenario draws n points (photons) with a known density at the query point, normalised so

@@ -1,5 +1,5 @@
 #pragma once
-// Running a sweep plan (issue 5) and reporting it.
+// Running a sweep plan and reporting it.
 //
 // Output folder layout (--out):
 //   runs.csv | runs.shard-I-of-N.csv   one row per finished run (appended, fsynced; see sweep_csv.h)

@@ -1,5 +1,5 @@
 #pragma once
-// A parameter sweep (issue 5): the sweep file, and its expansion into a plan of runs.
+// A parameter sweep: the sweep file, and its expansion into a plan of runs.
 //
 // Sweep file (TOML; relative paths from the sweep file's folder):
 //   scene = "../default_photon_map.toml"   # base scene config (required)

@@ -1,7 +1,7 @@
 #pragma once
 // cos(2 pi u) and sin(2 pi u) for an azimuth given as a fraction u of a turn, u in [0, 1) (any
 // finite u works; accuracy is for |u| < 2^20). The samplers' azimuths are uniforms in [0, 1), and
-// glibc's sincos was 8-11% of photon tracing (BENCHMARKS.md section 14): its argument reduction
+// glibc's sincos was 8-11% of photon tracing (docs/studies/photon_tracing.md section 14): its argument reduction
 // is for any angle in radians, while a fraction of a turn reduces exactly to an octant.
 //
 // 4u - q, with q the integer nearest to 4u,, is exact (Sterbenz), so the only rounding before the

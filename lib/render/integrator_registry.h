@@ -10,7 +10,7 @@
 //
 // Adding an integrator: one file pair with its Integrator, its IntegratorSettings and a reader,
 // and one line in the table in integrator_registry.cpp (with the reader's declaration beside it);
-// README's [render] row names it (tests/tools/registry_docs_test.cpp fails until it does). An
+// docs/config.md's [render] row names it (tests/tools/registry_docs_test.cpp fails until it does). An
 // integrator must leave the scene's image unbiased or document its bias (the photon map's is
 // the estimator's, measured in docs/), give the same image for a seed on any thread count, and
 // report what it built and measured in its typed RunStats.

@@ -2,7 +2,7 @@
 // The region the camera sees: a box around where camera rays first meet a medium (a real collision,
 // sampled) or a surface. Lights at infinity aim part of their photons at it (emission_bounds.h),
 // because in a scene much larger than what the camera looks at, photons spread over the whole
-// scene almost never land where the camera's estimates gather (issue 24: the plume scaled by 1e6
+// scene almost never land where the camera's estimates gather (the plume scaled by 1e6
 // with the camera unchanged rendered 14% dark). Deterministic: fixed rays, its own seed.
 #include "core/math.h"
 

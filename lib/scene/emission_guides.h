@@ -3,7 +3,7 @@
 // media, emits over wide directions; where the medium's mass sits in a small part of them (smoke
 // whose grid box is far larger than its puff, a light beside a small dense cloud), nearly every
 // photon leaves through empty or thin space and nothing is stored: in a third-party smoke lit by
-// a sphere light beside it, 428 of 1e5 photons collided at all (BENCHMARKS.md section 23, h6),
+// a sphere light beside it, 428 of 1e5 photons collided at all (docs/studies/heldout_scenes.md section 23, h6),
 // and the map of 2061 photons set the image's error.
 //
 // For such a light a DirectionGuide (scene/lights/direction_guide.h) is built from rays traced from

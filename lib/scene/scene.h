@@ -26,7 +26,7 @@
 namespace vpm {
 
 // Relative distance within which two area lights' hits along a ray are the same point: coincident
-// or coplanar overlapping emitters add their radiance there and do not shadow each other (issue 24).
+// or coplanar overlapping emitters add their radiance there and do not shadow each other.
 constexpr double kCoincidentEmitters = 1e-9;
 
 // A real collision sampled along a ray among all media.

@@ -1,6 +1,6 @@
 #pragma once
 // How many points a crossed medium gets (photons.march_points; each point costs a kNN query, so
-// this is the march's cost per segment, issue 20 item 4):
+// this is the march's cost per segment):
 //   fixed        n, each weighing P / n: a segment of small P pays n queries for a small share
 //   mass         ceil(n P) (at least 1), each weighing P / ceil(n P) <= 1 / n: the points follow
 //                the segment's mass, so a thin segment pays one query, a thick one n

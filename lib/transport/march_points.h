@@ -8,7 +8,7 @@
 // sum_j T(t_j) sigma_s(t_j) L(t_j) / (n p(t_j)) then weighs each point albedo P / n times the
 // other media's transmittance: this medium's transmittance and extinction cancel exactly, so the
 // weights are bounded by albedo P / n in any density field, where points placed by a majorant's
-// free flight weighed up to e^(tau_majorant - tau) times that (issue 20 item 4).
+// free flight weighed up to e^(tau_majorant - tau) times that.
 #include <cstdint>
 #include <vector>
 

@@ -1,6 +1,6 @@
 #pragma once
 // The sky or area light seen behind a camera segment whose in-scattering the march or the beam
-// gathers apart (PhotonMapIntegrator::trace; BENCHMARKS.md 11.11).
+// gathers apart (PhotonMapIntegrator::trace; docs/studies/scene_matrix.md section 11.11).
 //
 // Those gathers used the segment's free flight only to decide whether the light behind is seen
 // (probability T): a Bernoulli trial of variance T (1 - T) L^2, which under a sky of radiance 1

@@ -1,5 +1,5 @@
 #pragma once
-// Single scattering at a photon-map vertex, estimated as the path tracer does (issue 20, BENCHMARKS.md 11.11).
+// Single scattering at a photon-map vertex, estimated as the path tracer does (docs/studies/scene_matrix.md section 11.11).
 //
 // Where the map's estimate ends the camera path, the map holds only light that scattered before
 // (direct = "nee"), so the unscattered light comes from NEE alone. Light sampling alone is a worse

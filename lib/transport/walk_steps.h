@@ -42,7 +42,7 @@ inline Ray diffuse_bounce(const SurfaceHit& hit, Rng& rng) {
 // With a cap of 0.95 that was every albedo above 0.975: deep walks in dense albedo-0.99 media came
 // back with weights of 700 at 165 collisions (bench/heldout/h25), and the path tracer's relative
 // RMSE there was 0.12-0.16 at 4 s against 0.093 with 0.999, at 1.7x the time per sample
-// (BENCHMARKS.md section 31). At 0.999 the weight stays below 1 / 0.999 up to albedo 0.9995.
+// (docs/studies/heldout_scenes.md section 31). At 0.999 the weight stays below 1 / 0.999 up to albedo 0.9995.
 constexpr double kRouletteMaxSurvival = 0.999;
 inline bool survive_roulette(Rgb& throughput, int vertices, int rr_depth, Rng& rng) {
     if (vertices < rr_depth) return true;

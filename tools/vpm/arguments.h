@@ -11,7 +11,7 @@
 
 namespace vpm::cli {
 
-// Exit codes of `vpm` (README "Exit codes").
+// Exit codes of `vpm` (README.md and docs/rendering.md, "Errors and exit codes").
 constexpr int kExitOk = 0;
 constexpr int kExitError = 1;      // bad input, missing/corrupt file, unwritable output; stress: a cell failed
 constexpr int kExitUsage = 2;      // bad command line (unknown option, bad value, missing argument)

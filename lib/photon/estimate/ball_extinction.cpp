@@ -43,7 +43,7 @@ constexpr uint64_t kCellsPerLookup = 1;   // a lattice cell or column visited co
 // A cell or column visited for the moments (first and second, per cut cell its slab's moments) costs
 // about two: 68-76 ns per visit against 44 ns per lookup of the moments' 15-point rule, which the plan
 // charges 40 units (1 thread, 4000 blob balls crossing the box at r = 0.26-0.35 of it, 488 visits
-// each; BENCHMARKS.md 22).
+// each; docs/studies/march.md section 22).
 constexpr uint64_t kLookupsPerMomentCell = 2;
 
 const std::array<Vec3, kBallPoints>& unit_ball_points() {
@@ -217,7 +217,7 @@ void BallExtinction::entry_integrals(const Entry& e, const Vec3& x, const double
     const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
     const double r2max = std::max(r2a, r2b);
     // The points inside the larger ball are the ones looked up (about half of the cube's): counting all
-    // 4096 charged a clipped ball 2-3x its time (the plume at optical thickness 1, BENCHMARKS 22).
+    // 4096 charged a clipped ball 2-3x its time (the plume at optical thickness 1, docs/studies/march.md section 22).
     uint64_t looked_up = 0;
     for (const Vec3& h : clipped_points()) {
         const Vec3 p = c.lo + h.cwiseProduct(extent);

@@ -12,16 +12,16 @@
 //   a closed form (Medium::ball_integral)  homogeneous: the ball inside the shape, a sphere's lens,
 //                                      a box crossed through one axis's faces (caps); grid: the
 //                                      ball inside one trilinear cell (mean = centre value). Exact,
-//                                      one lookup (issue 20: the quadrature cost 2.8-8.7x the rest
+//                                      one lookup (the quadrature cost 2.8-8.7x the rest
 //                                      of the render in grids, the clipped one 4096 lookups);
 //   ball inside the box, or a continuous medium (grid) crossing its box with r <= 1/4 of the box
 //                                      the ball rule kBallRule over the whole ball (points outside
 //                                      the box count 0, and there is no jump there to resolve);
 //   a continuous medium crossing its box with a ball of at least two of its 16^3 mass cells
 //                                      the mass lattice (photon/estimate/mass_lattice.h: cell masses cached
-//                                      once, about 256 columns per ball, no lookups; issue 20: the
+//                                      once, about 256 columns per ball, no lookups; the
 //                                      clipped rule below was 85% of the march's render in thin grids;
-//                                      moments() too, from the cells' first and second moments: issue 21);
+//                                      moments() too, from the cells' first and second moments);
 //   otherwise                          4096 Halton points over the part of the medium's box that the
 //                                      ball's bounding cube covers, counting those inside the ball.
 //
@@ -41,7 +41,7 @@ namespace vpm {
 
 // Quadratures of the mean of sigma_t over a ball lying inside the medium's box (bench_ball_extinction
 // measures their error and cost; BallExtinction uses kBallRule):
-//   halton32  32 Halton points through the volume-preserving warp (the rule before issue 20)
+//   halton32  32 Halton points through the volume-preserving warp (the rule before the mass lattice)
 //   degree5   15 points, exact for polynomials up to degree 5 over the ball: the centre (weight
 //             11/70), 6 on the axes at r sqrt(2/3) (9/140 each), 8 on the diagonals at
 //             r (1/2, 1/2, 1/2) (2/35 each)

@@ -1,5 +1,5 @@
 #pragma once
-// The radius bound of a volume estimate in dense media (photons.max_radius_mfp; issue 12).
+// The radius bound of a volume estimate in dense media (photons.max_radius_mfp).
 //
 // In a dense medium the photons sit in a skin a few mean free paths deep under the lit surface,
 // and the kNN ball at a camera query spans many mean free paths (median r_k = 2.2, 15, 147, 1460
@@ -23,7 +23,7 @@
 // together N is overdispersed and the band no longer balances (+7% in the dense plume of
 // bench/heldout/h25, 18 photons per storing walk), and a path continued because the map is sparse
 // near x queries the same sparse map at its next collision (the furnace at the bound read 7% low
-// with the decision split between walk halves of one map: BENCHMARKS.md section 31).
+// with the decision split between walk halves of one map: docs/studies/heldout_scenes.md section 31).
 //
 // The integrator therefore decides apart (render/photon_map/photon_map_integrator.h): a decision map, traced
 // once per run with a seed of its own and an eighth of photons.count, holds the photons the pass map
@@ -37,7 +37,7 @@
 // the camera path becomes a path-traced random walk (measured in docs/dense_media.md). When the map holds
 // fewer than k photons (empty, or starved by photons.store_probability or a tiny photons.count) no
 // ball holds k anywhere: the integrator continues the path without a query, bound or no bound, at
-// the collision and at march points alike (issue 24).
+// the collision and at march points alike.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>

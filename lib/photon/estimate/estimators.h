@@ -18,7 +18,7 @@
 //   mse_optimal S = (k-2)/(k-1) * sum_{i=1..k-1} w_i / V(r_k)   bias -1/(k-1), needs k >= 3
 //
 // Definition of mse_optimal for weighted photons: for unit weights it is (k-2)/V(r_k), the scale
-// that minimises the MSE of c/V(r_k) (relative MSE 1/(k-1), DESIGN.md section 1). We write it as
+// that minimises the MSE of c/V(r_k) (relative MSE 1/(k-1), docs/design.md section 1). We write it as
 // the corrected estimate shrunk by (k-2)/(k-1) rather than as (k-2)/k * classic: both agree for
 // unit weights, but the k-1 inner photons are independent of r_k given r_k while the k-th sits
 // exactly on the sphere, so the corrected sum is the lower-variance base. With i.i.d. weights
@@ -27,7 +27,7 @@
 // weights, which is what Russian-roulette photon maps have) so the estimator needs no knowledge
 // of the weight distribution. Its relative bias is -1/(k-1) for any weights.
 //
-// Kernels (photon/estimate/kernels.h, issue 15): with a kernel K every neighbour's weight is multiplied
+// Kernels (photon/estimate/kernels.h): with a kernel K every neighbour's weight is multiplied
 // by omega(t_i) = K(t_i) / n_d, t_i = r_i / r_k, so that the estimators above become
 //   classic     S = sum_{i=1..k}   w_i omega(t_i) / V(r_k)       (the k-th photon kept, t_k = 1)
 //   corrected   S = sum_{i=1..k-1} w_i omega(t_i) / V(r_k)       (the k-th photon discarded)
@@ -49,7 +49,7 @@
 //      Moreover the combination "corrected when r_k <= R, else fixed radius R" is exactly
 //      unbiased for a Poisson process of intensity rho: with N = count in B(R), mu = rho V(R),
 //      E[(k-1)/V(r_k); r_k <= R] = rho P(N >= k-1) and E[N/V(R); N < k] = rho P(N <= k-2), which
-//      sum to rho. (tests/photon/estimators_test.cpp checks this by Monte Carlo.)
+//      sum to rho. (tests/photon/estimate/estimators_test.cpp checks this by Monte Carlo.)
 //  (b) no max_radius (infinite) and fewer than k photons exist in total: use them all, with the
 //      radius at the farthest one, i.e. apply the estimator with k' = count (the kNN estimator
 //      of the whole sample: V(r_n)/|R| ~ Beta(n, 1), corrected stays unbiased for a uniform

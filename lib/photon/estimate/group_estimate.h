@@ -1,5 +1,5 @@
 #pragma once
-// photons.clustering = "leave_group_out" (issue 21): the corrected estimate made exact for the
+// photons.clustering = "leave_group_out": the corrected estimate made exact for the
 // clustered photons of a random walk, at the cost of one ball integral more per query.
 //
 // The k - 1 correction assumes the photons are independent (a Poisson process): given r_k the k - 1

@@ -1,5 +1,5 @@
 #pragma once
-// Kernels of the kNN density estimate (issue 15). A kernel is one profile function and one line
+// Kernels of the kNN density estimate. A kernel is one profile function and one line
 // in the registry table kKernels (kernels.cpp); the config's photons.kernel, the sweep axis
 // `kernel` and the kernel study read that registry. The estimator (photons.estimator:
 // classic keeps the k-th photon, corrected discards it, mse_optimal shrinks corrected) is

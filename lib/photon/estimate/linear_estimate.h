@@ -1,5 +1,5 @@
 #pragma once
-// photons.extinction = "linear" (issue 21): the ball normalisation made exact for a radiance that
+// photons.extinction = "linear": the ball normalisation made exact for a radiance that
 // varies linearly across the kNN ball.
 //
 // The ball normalisation estimates the sigma_t-weighted mean of the incident radiance L over

@@ -12,7 +12,7 @@
 // closed-form volume of a box below a plane), that plane moved inwards by the sphere's mean sag over
 // the cell and against the cell's centroid offset (more of its mass lies where sigma_t is higher);
 // cells outside add nothing. A deterministic rule, no noise. Measured against a 262144-point
-// quadrature (tests/photon/mass_lattice_test.cpp, bench_ball_extinction): a constant box within
+// quadrature (tests/photon/estimate/mass_lattice_test.cpp, bench_ball_extinction): a constant box within
 // 0.5% of the ball's volume from radii of 2 cells (a linear ramp of the centre's distance instead of
 // the plane read +6% to +11%, the plane without the sag +1% to +6%); balls of 4 cells and more in
 // the blob and the plume within 0.16%, of 2 cells and more within 0.83% (without the centroid
@@ -20,7 +20,7 @@
 // kMinCellsPerRadius cells wide (BallExtinction: those crossing the box beyond the ball rule's reach).
 //
 // ball_moments gives the same mass and the first and second sigma_t moments about x (what
-// photons.extinction = "linear" needs; issue 21: without them those balls took the 4096-point
+// photons.extinction = "linear" needs; without them those balls took the 4096-point
 // clipped rule with an outer product per point, 5.4x "ball"'s CPU in the blob at optical thickness
 // 1). Whole cells add their moments from per-column prefix sums; a cut cell adds the moments of
 // its part below the same plane: that slab's mean and variance along the normal in closed form,

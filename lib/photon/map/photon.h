@@ -27,9 +27,9 @@
 //               shared exponent), so a dim channel next to a bright one keeps its own relative
 //               precision, and photons of any power share one map: an earlier map-wide scale (the
 //               largest channel of any photon) flushed photons 2^24 times dimmer than the brightest
-//               to zero or to coarse subnormals (issue 12: a point light's photons next to a sky
+//               to zero or to coarse subnormals (a point light's photons next to a sky
 //               light's in one map came out 2x too bright).
-// Walk groups (issue 21): the photons of one emitted path share a group, photon index mod
+// Walk groups: the photons of one emitted path share a group, photon index mod
 // kWalkGroups, so the leave-group-out estimator (photon/estimate/group_estimate.h) can tell which stored
 // photons may be correlated. A double's binary exponent (-1074 .. 1023) fits the 12 bits left.
 #include <Eigen/Core>

@@ -8,7 +8,7 @@
 // The radius bound's decision map asks "k photons within r?" at every bounded query
 // (render/photon_map/photon_map_integrator.h); in thin media, where the answer is always yes and the ball
 // holds thousands of photons, the certificate answers it from one cell (the kNN queries had cost
-// the thin cube's march 68% more time per pass: BENCHMARKS.md section 31). The answer is the
+// the thin cube's march 68% more time per pass: docs/studies/heldout_scenes.md section 31). The answer is the
 // query's, so the image does not change.
 #include <cstddef>
 #include <cstdint>

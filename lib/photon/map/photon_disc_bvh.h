@@ -5,7 +5,7 @@
 // the ray is below r_i (sample_point_estimate.h's beam_line_density, answered in one query).
 //
 // vpm's own BVH rather than Embree user geometry: a scene without shapes builds no Embree device
-// (DESIGN.md), and the query needs the foot-point rule, not a ray-sphere hit. Nodes are boxes
+// (docs/design.md), and the query needs the foot-point rule, not a ray-sphere hit. Nodes are boxes
 // around the balls, split at the median of the longest axis of the centres; leaves hold up to 4
 // balls. Build and queries are deterministic: the same photons give the same tree and the same
 // visiting order.

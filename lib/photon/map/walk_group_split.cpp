@@ -19,7 +19,7 @@ std::vector<PhotonMap> split_by_walk_group(const PhotonMap& map, int parts) {
         // Within its part a photon's group becomes g / parts, so that every part still holds both
         // parities (photons.clustering = "leave_group_out" splits by parity: with g kept, a part of
         // one parity left its other half empty and every query gathered the whole map, 300 s of
-        // pilot in the thin cube; issue 21).
+        // pilot in the thin cube).
         p.group = uint8_t(g / parts);
         inputs[size_t(g % parts)].push_back(p);
     }

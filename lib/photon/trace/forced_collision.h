@@ -1,6 +1,6 @@
 #pragma once
 // Forced collisions for photons (photons.forced_collisions): in a thin medium most photons cross it
-// without a collision and store nothing (issue 20: 588 photons stored of 1e5 emitted in a blob under
+// without a collision and store nothing (588 photons stored of 1e5 emitted in a blob under
 // a quad light, the kNN balls spanning the blob and the image +7% high from smoothing). A forced step
 // computes the exact optical depth tau of the photon's segment (Medium::optical_depth_profile) and
 // collides inside it when tau <= kForcedMaxDepth, at a distance drawn from the free-flight density conditioned on a

@@ -1,5 +1,5 @@
 #pragma once
-// How many photons each light emits (photons.allocation; issue 12, "photons where they can matter").
+// How many photons each light emits (photons.allocation: photons where they can matter).
 //
 // "power" (the classic rule): light l emits a share of the photons proportional to its power.
 // "importance" (default): a short pilot measures how much of each light's stored photon power lands

@@ -1,5 +1,5 @@
 #pragma once
-// Memory guard and progress lines for the photon pass (issue 12).
+// Memory guard and progress lines for the photon pass.
 //
 // The photon tracer calls PhotonTraceSettings::on_chunk after a 65536-photon pilot chunk and then
 // after every ~1M photons. The guard made here projects the final number of stored photons

@@ -4,7 +4,7 @@
 // on the RGB albedo with weight albedo / q, so the expected power is exact per channel), bounce
 // off Lambertian surfaces the same way, leave the scene, or hit the path-length cap.
 //
-// Storage convention (DESIGN.md section 2): photons are stored at every real collision, with the
+// Storage convention (docs/design.md section 2): photons are stored at every real collision, with the
 // power arriving there. With `store_direct` false (single scattering by NEE) a photon is stored
 // only once its path has scattered at least once (off a medium or a surface), so the map holds
 // exactly the light that NEE does not.

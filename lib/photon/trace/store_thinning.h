@@ -8,7 +8,7 @@
 // photons per walk that stored any. Deterministic from counts; unbiased for any q fixed before
 // the photons it applies to (power / q).
 //
-// kAutoStoredPerWalk = 2, measured (BENCHMARKS.md section 3): in that box q = 0.25 (about 2 per
+// kAutoStoredPerWalk = 2, measured (docs/studies/photon_tracing.md section 3): in that box q = 0.25 (about 2 per
 // walk) gave the least error^2 x time of q = 1, 0.25, 0.0625 (0.186 against 0.426 and 0.651);
 // where walks store fewer than 2 (thin media, the default plume) nothing is thinned.
 #include <algorithm>

@@ -1,5 +1,5 @@
 #pragma once
-// Where a photon pass's photons went, per light (issue 12): fills PhotonPassStats (allocation,
+// Where a photon pass's photons went, per light: fills PhotonPassStats (allocation,
 // stored_per_emitted, lights; run_stats.h) and writes the log lines. A light whose photons mostly
 // reach nothing (landed / emitted < kWastedLightFraction = 1/4: no medium collision, no surface) is
 // marked wasted and gets a warning in the log.

@@ -198,7 +198,7 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     PhotonMapSettings decision_settings = settings_;
     // An eighth of photons.count, also where the auto plan's pilot map is smaller (render/photon_map/photon_pass.h):
     // the passes that keep the map have photons.count or more, and the decision's ball and count were
-    // measured at that ratio (BENCHMARKS.md section 31).
+    // measured at that ratio (docs/studies/heldout_scenes.md section 31).
     decision_settings.count = std::max<int64_t>(1, settings_.count / kDecisionMapShare);
     // The run's photons per light (traced after its first map, which set them).
     decision_owned_ = std::move(run_photon_pass(scene_, decision_settings, c, false, traced, allocation_).volume);
@@ -561,7 +561,7 @@ bool PhotonMapIntegrator::volume_map_starved() const {
     // A query needs k photons: a map of fewer than k (empty, thinned by store_probability, a tiny
     // count, or k above the stored count) has no kNN ball anywhere, bound or no bound. Without the
     // bound (max_radius_mfp = 0) estimator rule (b) would use the whole map instead, at the cost of
-    // a pass over the map per query (issue 24: k = 65536 over 55,265 photons ran for minutes).
+    // a pass over the map per query (k = 65536 over 55,265 photons ran for minutes).
     return map_->size() < k_;
 }
 
@@ -572,7 +572,7 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
         case Gather::beam: return false;
         case Gather::threshold: break;
     }
-    // gather = "threshold" (the default before issue 20's pilot). Thin along this segment: every ray
+    // gather = "threshold" (the default before the measured plan). Thin along this segment: every ray
     // gathers at a few points. Thick: the collision gather puts its one query where the light is and
     // bounds its ball in mean free paths, while the march's points, all a few mean free paths apart,
     // would mostly take continued paths. The walk stops once the threshold is passed,
@@ -691,7 +691,7 @@ Rgb PhotonMapIntegrator::beam_in_scattering(const Ray& ray, double t_end, Rng& r
 
 void PhotonMapIntegrator::choose_gather(const PassContext& context) {
     // Work units per counted operation, in nanoseconds of this machine's single-thread figures
-    // (BENCHMARKS.md section 1 and 3): a kNN query 700 + 280 k (bench_photon_map: 2.9 us at k = 8,
+    // (docs/studies/photon_map_structure.md section 1, photon_tracing.md section 3): a kNN query 700 + 280 k (bench_photon_map: 2.9 us at k = 8,
     // 8.3 at k = 32, 37 at k = 128), a tracked segment 1000 in grids (about one real collision
     // of delta tracking plus the DDA) and 100 in homogeneous media (closed forms), a sigma_t
     // lookup of the ball quadrature 50. Only their ratios matter, and only between candidates

@@ -20,10 +20,10 @@
 // the ratio is consistent like the point version and identical inside a homogeneous medium, but it
 // does not blow up where a ball reaches from a thin plume edge (sigma_t(x) ~ 0) into dense smoke, and
 // it cancels the part of the ball that lies outside the medium (boundary bias). The line integral
-// is still the collision estimator; "point" is DESIGN.md's formula. Measured on the default scene
+// is still the collision estimator; "point" is docs/design.md's formula. Measured on the default scene
 // (256x256, 1e6 photons, corrected, relative RMSE against a 1024-spp path-traced reference):
 // k = 8: 0.161 point / 0.124 ball, k = 32: 0.216 / 0.091; bias +0.013 / +0.004 at k = 32.
-// "linear" (issue 21) divides the same way and weighs each photon so that a radiance linear across
+// "linear" divides the same way and weighs each photon so that a radiance linear across
 // the ball is exact (photon/estimate/linear_estimate.h).
 //
 // With a surface photon map (photons.final_gather = false, the default, in a scene with shapes)
@@ -37,7 +37,7 @@
 // before (off a medium or a surface), with "photon_map" every hit, as for the volume map.
 // Without a surface map (final_gather = true) surfaces behave as described above.
 //
-// k above the stored count (issue 24): a map holding fewer than k photons, an empty one included,
+// k above the stored count: a map holding fewer than k photons, an empty one included,
 // is never queried, at a collision, a march point or a surface hit. No ball there can hold k
 // photons, so the camera path continues past the point like the path tracer's (unbiased), instead
 // of estimator rule (b)'s whole-map estimate, which costs a pass over the map per query (k = 65536
@@ -130,8 +130,8 @@ private:
     // The bound's decision map (photon/estimate/bounded_radius.h): traced once per run with a seed of its own
     // at photons.count / kDecisionMapShare photons, so every pass and machine of a run decides alike.
     // decision_ratio_ = emitted photons of map_ / of the decision map. (At photons.count it cost the
-    // dense box of optical side 100 a second, as much as the pass's own photon pass: BENCHMARKS.md
-    // section 31.)
+    // dense box of optical side 100 a second, as much as the pass's own photon pass: docs/studies/
+    // heldout_scenes.md, section 31.)
     static constexpr int64_t kDecisionMapShare = 8;
     static constexpr size_t kDecisionMinK = 4;
     PhotonMap decision_owned_;
@@ -202,14 +202,14 @@ private:
     Rgb incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight,
                                 int depth, Rng& rng) const;
     // Whether the volume map is too small for any estimate (photon/estimate/bounded_radius.h): then every
-    // query, at a collision or a march point, continues the path instead (issue 24).
+    // query, at a collision or a march point, continues the path instead.
     bool volume_map_starved() const;
     // The volume estimate at x (sigma_t > 0 there) and what photon/estimate/bounded_radius.h's rule makes of
     // it: decided on the decision map where there is one (then the estimate's ball is unbounded),
     // else on the estimate's own list gathered within photons.max_radius_mfp mean free paths. The one
     // query and rule of the collision gather and the march alike. (The march once switched on r_k
     // alone, without the rule's zero at k - 1 photons, and read up to 7% high near the bound:
-    // BENCHMARKS.md section 30.)
+    // docs/studies/heldout_scenes.md section 30.)
     struct BoundedEstimate {
         Estimate<Rgb> estimate;
         double radius = 0.0;                           // the ball's bound: max_radius_ or the mean-free-path one

@@ -75,7 +75,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.time_limit = render.has("time_limit") ? render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) : 0.0;
     if (s.plans() && s.time_limit > 0.0) {
         // A key the user sets is honoured: photons.count pins the photons per pass, render.spp and
-        // render.passes the samples per pass (spp / passes). Unset, the plan sizes them (issue 20: a
+        // render.passes the samples per pass (spp / passes). Unset, the plan sizes them (a
         // thin blob sized at 4 s had 0.17 relative RMSE against 0.52 at 64 samples per pass).
         s.size_photons = !p.has("count");
         s.size_samples = !render.has("passes") && !render.has("spp");

@@ -50,7 +50,7 @@
 //   |                        |             | from counted work (queries, rays, lookups), not the      |
 //   |                        |             | clock (photon_map_integrator.h: choose_gather). Opt-in:  |
 //   |                        |             | its per-sample variance misses the photon map's own      |
-//   |                        |             | noise (BENCHMARKS.md section 11)                         |
+//   |                        |             | noise (docs/studies/auto_plan.md section 11.2)                       |
 //   |                        |             | "beam": one query per segment over a BVH of the photons' |
 //   |                        |             | discs (render/photon_map/beam_gather.h), single scattering by NEE   |
 //   |                        |             | at gather_queries points per segment                     |
@@ -59,7 +59,7 @@
 //   |                        |             | ceil(gather_queries (1 - T)), at least 1; "fixed"        |
 //   |                        |             | gather_queries; "free_flight" gather_queries stratified  |
 //   |                        |             | free flights, those inside the segment                   |
-//   |                        |             | (transport/march_count.h; BENCHMARKS.md section 18)      |
+//   |                        |             | (transport/march_count.h; docs/studies/march.md section 18)      |
 //   | beam_k                 | 32          | "beam": each photon's radius is its beam_k-th nearest    |
 //   |                        |             | other photon (photon/map/photon_radii.h)                     |
 //   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |

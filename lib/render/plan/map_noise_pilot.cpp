@@ -201,7 +201,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             // alone missed where the march's camera noise lives in a sphere lit from the side (1% of
             // the pixels, on its lit rim, held 75% of it: 2.0e-5 read, 1.4e-4 true), and where a thin
             // plume holds the map's noise in a tenth of them, V_map read from those few pixels ranged
-            // over 0.18-2.8x its mean at seeds 1-12 (BENCHMARKS.md section 30).
+            // over 0.18-2.8x its mean at seeds 1-12 (docs/studies/heldout_scenes.md section 30).
             for (size_t m = 0; m < maps.size(); ++m) {
                 hooks.use(int(c), maps[m]);
                 std::vector<double>& out_m = spread_values.emplace_back(size_t(kSpreadPixels) * kPilotSpreadSamples);
@@ -248,7 +248,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         if (halves_too) {
             // A map variance the pilot does not resolve is charged at its standard error, not at 0 (or
             // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
-            // whose map noise then set the image's error (BENCHMARKS.md section 17).
+            // whose map noise then set the image's error (docs/studies/auto_plan.md section 17).
             std::vector<double> t;
             append_map_variance_of_difference(values[1], values[2], kPixels, n, kPilotSamples, t);
             append_map_variance_of_difference(spread_values[1], spread_values[2], kSpreadPixels, kPilotSpreadSamples,

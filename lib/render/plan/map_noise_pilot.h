@@ -14,13 +14,13 @@
 // samples and streams are fixed by the seed, so the figures are the same on any thread count.
 // Each pilot pixel's samples jitter within that one pixel: spread over a block of the image, their
 // variance would count the image's own variation as noise (the "pilot" gather's error: it made the
-// march's variance look 10x larger in the box at optical thickness 1, BENCHMARKS.md section 11.7).
+// march's variance look 10x larger in the box at optical thickness 1, docs/studies/auto_plan.md section 11.7).
 // V_camera and V_map are also measured at the centres of a 16 x 16 grid, 2 samples each with the
 // full map and its halves (a map candidate's cost per sample is its 8 x 8 pixels'): on a sphere lit
 // from the side the 8 x 8 centres missed its lit rim, 1% of the pixels with 75% of the march's
 // camera noise, and read 1/7 of it; in a thin plume under a sun (bench/heldout/h16) a tenth of them
 // held the map's noise, and V_map read from them alone ranged over 0.18-2.8x its mean over seeds
-// (BENCHMARKS.md section 30). A pilot of 16 x 16 pixels at 8 samples for every figure instead was
+// (docs/studies/heldout_scenes.md section 30). A pilot of 16 x 16 pixels at 8 samples for every figure instead was
 // worse in 8 of 11 matrix cells at a 2 s budget (fewer samples per pixel; section 23).
 // Quarter maps (V_map at N0/4, hence the exponent beta) doubled the pilot's cost and changed no
 // plan in the matrix cells tried (the map's share was below the camera's in all of them): not traced.

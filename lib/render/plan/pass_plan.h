@@ -101,11 +101,11 @@ constexpr double kNoMapPassSamples = 65536.0;
 // than the configured pass (N0 photons, at most S0 samples): a pass cannot be cut short, and the
 // counted units run up to 3x below the time in grids (render/plan/work_units.cpp). (A cap of 1/8 of the
 // budget held the dense cells, whose photon pass alone costs more, at 1 sample per pass: 4-20x
-// worse than the forced gathers at 16; BENCHMARKS.md section 11.7.)
+// worse than the forced gathers at 16; docs/studies/auto_plan.md section 11.7.)
 constexpr double kPlanMinPasses = 2.0;
 // A gather whose march points weighed more than this (relative to an exact majorant's: 1 in
 // homogeneous media) is not trusted: its weights are heavy-tailed (up to e^(tau_majorant - tau)),
-// and 512 pilot samples do not see the tail that sets its variance (BENCHMARKS.md section 11.7:
+// and 512 pilot samples do not see the tail that sets its variance (docs/studies/auto_plan.md section 11.7:
 // the forced march lost 40-30000x to the collision gather wherever its largest weight passed 30).
 constexpr double kPlanMaxMarchWeight = 8.0;
 // Every candidate is scored on its camera variance plus this many of its standard errors (from
@@ -114,11 +114,11 @@ constexpr double kPlanMaxMarchWeight = 8.0;
 // The map's variance likewise, plus this many standard errors of its pixels' spread: read from the
 // few pixels that hold it (a thin plume under a sun, bench/heldout/h16), it came out 0.18x its mean
 // at one seed, where the march then took 2.9x the path tracer's time to equal error for the
-// continuation's 1.05 (BENCHMARKS.md section 30).
+// continuation's 1.05 (docs/studies/heldout_scenes.md section 30).
 // Charged to the continuation alone, its cheaper samples' bound (+2-14% where light-tailed) against
 // the gathers' bare figures (their bounds: +25% and more) took the march in 16 of 213 plans of the
 // matrix and held-out scenes where the continuation won 6 of the 9 cells at equal time
-// (BENCHMARKS.md section 29). The bound chooses the candidate; its passes are sized on the figure
+// (docs/studies/heldout_scenes.md section 29). The bound chooses the candidate; its passes are sized on the figure
 // read (on the bound a thin sphere's march took 128 samples per pass for 32: 0.16 of the path
 // tracer's time to equal error for 0.10).
 constexpr double kPlanVarianceSigmas = 2.0;

@@ -9,7 +9,7 @@
 // squared per pixel it is a positive floor that no number of samples removes. In the uniform
 // furnace (zero smoothing bias) that floor read as a squared bias of 3.2e-5 .. 9.4e-4 (1-6% of the
 // radiance 0.5; 11 of 12 above 2.3e-4) for the two map gathers over six seeds, and in the shared smoke sample it flipped the
-// plan between 1e5 photons x 16 samples and 1.6e6 x 128 by seed (BENCHMARKS.md section 17). So the
+// plan between 1e5 photons x 16 samples and 1.6e6 x 128 by seed (docs/studies/auto_plan.md section 17). So the
 // bias is pooled with its sign over the pilot's pixels instead, each pixel's mean of d one
 // observation: their spread, map noise included (the pixels see different parts of the map), gives
 // the standard error, and the squared pooled mean, less its own variance, bounds the mean squared

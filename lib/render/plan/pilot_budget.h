@@ -7,8 +7,8 @@
 // map it traces (3: the map and its halves; 1 without a map). A candidate whose pass of one sample
 // per pixel alone costs more than a planned pass may (the budget over kPlanMinPasses) cannot be
 // planned except at the configured size, where a cheaper candidate always fits: it stops after its
-// probe, dropped. (Matrix v3, BENCHMARKS.md section 11.7: the march pilot in the dense boxes cost
-// 420k-2.25M units per sample, 0.4-2.1 s of a 2 s budget.)
+// probe, dropped: an unbounded march pilot in a dense box could spend most of a short budget
+// (docs/studies/auto_plan.md, section 11.7).
 #include <algorithm>
 #include <cmath>
 #include <limits>

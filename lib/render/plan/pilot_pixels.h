@@ -6,7 +6,7 @@
 // their share of the image (a stratified estimate: the other stratum is exactly 0). The pixels that
 // can vary are found from the centres of a kPilotCandidateSide^2 grid of image blocks (one ray each).
 // Where a small object leaves most of the image empty the 8 x 8 block centres put a few pixels on
-// it: in smoke beside a sphere light (BENCHMARKS.md section 26, h6) about 6 of 64, and the pilot read
+// it: in smoke beside a sphere light (docs/studies/emission_guides.md section 26, h6) about 6 of 64, and the pilot read
 // the map's variance 7x low. Where every candidate sees something the pixels are the block centres
 // as before. Deterministic and scale-invariant (geometry and optical depths only).
 #include <functional>

@@ -7,7 +7,7 @@
 // (render/plan/pass_plan.h). The share held by the largest fraction is reported (the sidecar's
 // tail_share): with the fraction fixed, a light-tailed estimator gives about the same share at any
 // sample count, a tail whose rare samples carry the variance a share near 1. On the pilot's
-// "continue" samples at 64 pixels x 128-1024 samples (BENCHMARKS.md section 16) the top 1/1024 held
+// "continue" samples at 64 pixels x 128-1024 samples (docs/studies/auto_plan.md section 16) the top 1/1024 held
 // 0.84-0.96 in the g = 0.8 cells under a point light and 0.05-0.35 in the g = 0 cells with short
 // continued paths; 0.97 in a thin fog under a spot light (section 29), whose rare collisions are a
 // tail the map shares, so the share alone does not say which candidate the tail favours.

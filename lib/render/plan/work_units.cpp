@@ -8,13 +8,13 @@
 namespace vpm {
 
 namespace {
-// The query's price (BENCHMARKS.md section 25): user CPU per camera sample of the forced collision
+// The query's price (docs/studies/march.md section 25): user CPU per camera sample of the forced collision
 // gather and march (288 - 32 spp, 1 thread) at photons.count 1e4 .. 8e6 (116 .. 1.2e6 stored),
 // per used query (scripts/query_price_fit.py): knn x factor x (1 + kQueryDoubling log2(stored / 16384)).
 // The growth is small in a render, whose queries are coherent (a pixel's samples, its neighbours):
 // random queries over the blob (bench/bench_query_price.cpp) grow ~10% per doubling, mostly past
 // the caches (5.7 us at 1e3 stored, 7.0 at 6.6e4, 13.9 at 1e6). The factors were refitted with the
-// other camera-side weights below (BENCHMARKS.md section 28).
+// other camera-side weights below (docs/studies/auto_plan.md section 28).
 constexpr double kQueryGrids = 0.86;
 constexpr double kQueryHomogeneous = 0.8;
 constexpr double kQueryDoubling = 0.015;
@@ -24,7 +24,7 @@ WorkUnits work_units(const Scene& scene, int k) {
     bool grids = false;   // tracking in grids walks a DDA and takes null collisions; homogeneous media are closed forms
     for (const auto& m : scene.media) grids = grids || !dynamic_cast<const HomogeneousMedium*>(m.get());
     WorkUnits w;
-    // Camera side, refitted on a quiet machine (BENCHMARKS.md section 28; scripts/work_units_check.py:
+    // Camera side, refitted on a quiet machine (docs/studies/auto_plan.md section 28; scripts/work_units_check.py:
     // user CPU per sample of each candidate forced, 288 - 32 spp, 1 thread) over 26 grid and 16
     // homogeneous matrix cells x 3 candidates. The previous weights charged 0.31-1.82x the time in
     // grids (the march 0.42-0.60x: its optical-depth profile was not counted; the continuation 0.31x

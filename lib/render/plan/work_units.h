@@ -2,7 +2,7 @@
 // Work units per counted operation for the photon map's automatic choices (render/plan/pass_plan.h):
 // the costs come from counts, never from the clock, so a seed gives the same choices on any
 // machine. Units are nanoseconds of one core of the development machine, fitted to the render
-// and photon-pass phase times of forced-gather runs over matrix cells (BENCHMARKS.md section 11.7);
+// and photon-pass phase times of forced-gather runs over matrix cells (docs/studies/auto_plan.md section 11.7);
 // only their ratios matter.
 #include "scene/scene.h"
 

@@ -1,6 +1,6 @@
 #pragma once
 // The three files of one run: OUT (EXR), its PNG preview OUT-stem.png and its JSON sidecar
-// OUT-stem.json. Guarantees (README "Output files"): OUT must end in .exr; each file is written
+// OUT-stem.json. Guarantees (docs/rendering.md, "Output files"): OUT must end in .exr; each file is written
 // to a temporary and renamed, the three renames under one advisory lock on the folder, so a
 // failed or interrupted run leaves the old files as they were and concurrent runs to the same
 // OUT leave a set that comes from one run; symlinks are written through; special files are refused.

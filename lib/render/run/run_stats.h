@@ -1,7 +1,7 @@
 #pragma once
 // The typed statistics of one run. Integrators and the run fill them; analysis code (sweeps,
 // the stress matrix, benchmarks) reads them as they are; write_run_stats serialises them into
-// the run's JSON record, once, under the keys the README documents.
+// the run's JSON record, once, under the keys docs/rendering.md documents.
 #include <cstdint>
 #include <optional>
 #include <string>

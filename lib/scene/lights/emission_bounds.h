@@ -15,7 +15,7 @@
 // For a box the disc wasted 1 - A_proj / (pi R^2) of the photons (e.g. 59% for a cube seen along an
 // axis, 86% for a flat floor seen edge-on); here none miss the box.
 //
-// Focus (issue 24): in a scene much larger than the region the camera sees (scene/camera_region.h),
+// Focus: in a scene much larger than the region the camera sees (scene/camera_region.h),
 // nearly every such photon lands where no estimate gathers. Given a focus box F inside B whose
 // surface area is below kFocusMaxAreaRatio of B's, lines are drawn from nested boxes instead:
 // F_0 = F, F_1 = F grown kFocusGrowth times about its centre, F_2, ... (each clipped to B, while

@@ -22,7 +22,7 @@ struct EmissionCone {
         EmissionCone c;
         if (box.empty()) return c;
         const Vec3 centre = 0.5 * (box.lo + box.hi);
-        // Margins relative to the box and its distance from the origin, never absolute (issue 24:
+        // Margins relative to the box and its distance from the origin, never absolute (
         // an absolute 1e-9 widened the cone of a scene scaled by 1e-6 by 3e-4).
         const double radius = 0.5 * (box.hi - box.lo).norm() * 1.001 + 1e-9 * centre.cwiseAbs().maxCoeff();
         const Vec3 to_centre = centre - position;

@@ -11,7 +11,7 @@
 //   "environment" environment_light.cpp    radiance, or file (lat-long EXR), scale, rotate_y
 //
 // Adding a light type: one file with its Light class and factory, and one line in the table in
-// light_registry.cpp (with its declaration beside it); README's [[lights]] row names it
+// light_registry.cpp (with its declaration beside it); docs/config.md's [[lights]] row names it
 // (tests/tools/registry_docs_test.cpp fails until it does).
 //
 // What every light must meet (Scene::build and tests/scene/registry_test.cpp check it):
@@ -50,7 +50,7 @@ std::unique_ptr<Light> make_light(Params& table);
 // environment map's scale times its brightest texel): [0, 1e30]. Images are float32 (largest 3.4e38),
 // and a render multiplies emission by sample counts, 1 / distance^2 and 1 / V(r_k): 1e30 leaves eight
 // orders of magnitude for them, and a scene scaled as a whole by s = 1e6 scales intensities by s^2 =
-// 1e12 only. Larger values gave NaN/Inf images or a photon pass that stopped on a NaN weight (issue 24).
+// 1e12 only. Larger values gave NaN/Inf images or a photon pass that stopped on a NaN weight.
 constexpr double kMaxEmission = 1e30;
 inline Range emission_range() { return Range::closed(0.0, kMaxEmission); }
 

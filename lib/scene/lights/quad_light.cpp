@@ -3,7 +3,7 @@
 // geometry (light.h): rays that meet it see its radiance (zero on the back of a one-sided quad) and
 // stop there, as on a black surface. Next-event estimation samples it uniformly by area.
 //
-// Photons (issue 24): a quad much larger than its distance to what it can light (media, shapes and
+// Photons: a quad much larger than its distance to what it can light (media, shapes and
 // the other area lights: its target) sent nearly all its photons from points and in directions that
 // miss the target (half-edge 1e4 over a unit sphere: the photon map 24% dark; from 1e6 the light was
 // lost). Such a quad emits from a mixture: with probability 1 - a the classic way (uniform point,

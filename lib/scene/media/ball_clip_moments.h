@@ -3,7 +3,7 @@
 // ball's centre: integral of 1, u and u u^T over the region, u = p - x. They are the sigma_t
 // moments of a kNN ball in a homogeneous medium (photons.extinction = "linear",
 // photon/estimate/ball_extinction.h), which took 64 lookups for a whole ball and 4096 (with an outer product
-// each) for a clipped one (issue 21: 2.9x the thin cube's CPU).
+// each) for a clipped one (2.9x the thin cube's CPU).
 //
 //   ball in ball    a lens: two spherical caps glued at the plane of the spheres' circle; every
 //                   term a polynomial in the cap heights (closed form).

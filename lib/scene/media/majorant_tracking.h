@@ -1,6 +1,6 @@
 #pragma once
 // Free-flight sampling and transmittance over a majorant walk, shared by every medium that can
-// give a density lookup and majorants along a ray (DESIGN.md: "a medium gives density and
+// give a density lookup and majorants along a ray (docs/design.md: "a medium gives density and
 // majorants; tracking over them is shared code"). GridMedium uses it with the trilinear field of
 // a DensityGrid; a procedural medium needs one Field type in one file.
 //

@@ -10,7 +10,7 @@
 // A medium gives sigma_t, bounds, free-flight sampling and transmittance (scene/media/medium.h); a
 // medium with a density lookup and majorants can reuse the shared tracking over a majorant walk
 // instead of writing its own. Adding a medium type: one file with its Medium class and factory,
-// and one line in the table in medium_registry.cpp (with its declaration beside it); README's
+// and one line in the table in medium_registry.cpp (with its declaration beside it); docs/config.md's
 // [[media]] row names it (tests/tools/registry_docs_test.cpp fails until it does).
 //
 // What every medium must meet (Scene::build checks what it can, with one error naming the table):

@@ -3,7 +3,7 @@
 // is a cubic in the line parameter (a trilinear voxel cell, a uniform block, a homogeneous shape's
 // chord). Built by Medium::optical_depth_profile; the march (transport/march_points.h) places its
 // points by inverting it, so they follow the medium's own free-flight density and carry no
-// majorant ratio (issue 20: block-majorant points weighed up to 8e4 in smooth grids).
+// majorant ratio (block-majorant points weighed up to 8e4 in smooth grids).
 //
 // Pieces are stored in density units with one sigma_t scale (as majorant_tracking.h's closed
 // forms do), so a piece whose optical depth overflows still inverts to a finite t.

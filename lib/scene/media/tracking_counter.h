@@ -6,8 +6,8 @@
 // thread, give that sample's: counts that do not depend on the thread or the machine. The auto
 // pilot's work units use them (render/plan/work_units.h): without the steps a grid ray's cost was one
 // figure whatever its null collisions (the thin plume's collision gather cost 4x less than counted,
-// BENCHMARKS.md section 11.7); with the steps alone the continuation in the blob at 1000 cost 3x its
-// count and the march 2x (its profile was not counted; BENCHMARKS.md section 28).
+// docs/studies/auto_plan.md section 11.7); with the steps alone the continuation in the blob at 1000 cost 3x its
+// count and the march 2x (its profile was not counted; docs/studies/auto_plan.md section 28).
 #include <cstdint>
 
 #include "scene/media/majorant_tracking.h"

@@ -1,7 +1,7 @@
 // The ball moments' counted work (photons.extinction = "linear", the default): BallExtinction::moments
 // reports the sigma_t lookups and lattice visits it makes, as integral() does, so that the plan's cost
 // model (render/plan/work_units.h) sees them. Uncounted, the march was charged 0.56-0.62x its CPU per
-// sample in the thin blob, where the lattice's moments were a third of its render (BENCHMARKS.md 22).
+// sample in the thin blob, where the lattice's moments were a third of its render (docs/studies/march.md section 22).
 #include <gtest/gtest.h>
 
 #include <memory>

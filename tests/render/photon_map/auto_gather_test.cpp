@@ -466,7 +466,7 @@ TEST(AutoGather, APlanWithoutTheMapRendersThePathTracersImage) {
     // "continue" is the path tracer's estimator: where the plan drops the map every pass, pass 0
     // included, is the path tracer's, the same samples in the same streams, so the image is the path
     // tracer's to the bit (and no slower per sample than it: the map's bookkeeping at every collision
-    // cost 1.2-1.5x, BENCHMARKS.md section 23).
+    // cost 1.2-1.5x, docs/studies/heldout_scenes.md section 23).
     const std::string dense = write("dense_same.toml", thin_cube(1.0, 1000.0, 0.9));
     const std::vector<std::string> sets = {"render.width=16", "render.height=16", "render.spp=8", "render.passes=2"};
     std::vector<std::string> pm = sets, path = sets;

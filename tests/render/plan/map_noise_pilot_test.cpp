@@ -1,7 +1,7 @@
 // The auto pilot's per-sample variance V_camera (render/plan/map_noise_pilot.h) where the camera noise
 // lives in a thin band of the image that the 8 x 8 pilot pixels miss: the lit rim of a sphere held
-// 75% of the march's noise in 1% of the pixels there, and the pilot read 1/7 of it (BENCHMARKS.md
-// section 23), and the map's variance V_map where its noise lives in such a band. Synthetic hooks:
+// 75% of the march's noise in 1% of the pixels there, and the pilot read 1/7 of it (docs/studies/
+// heldout_scenes.md, section 23), and the map's variance V_map where its noise lives in such a band. Synthetic hooks:
 // every pixel returns 1 except one column.
 #include <gtest/gtest.h>
 
@@ -56,7 +56,7 @@ TEST(MapNoisePilot, MapVarianceSeesABandTheCoarsePixelsMiss) {
     // The same band, now as map noise: the two half maps differ by 1 there (every sample alike, so
     // none of it is the samples' own) and agree elsewhere. In a thin plume under a sun a tenth of the
     // 8 x 8 pixels held the map's noise and V_map read from them alone ranged over 0.18-2.8x its mean
-    // over seeds (BENCHMARKS.md section 30); the 16 x 16 grid's halves read it too.
+    // over seeds (docs/studies/heldout_scenes.md section 30); the 16 x 16 grid's halves read it too.
     const Camera camera = test_camera();
     const PhotonMap map;
     const PhotonMap* in_force = nullptr;

@@ -104,7 +104,7 @@ TEST(PilotTail, AHeavyTailIsReadAndChargedNotExcluded) {
     const auto sparse = pilot([](Rng& rng) { return rng.uniform() < 0.04 ? -std::log(1.0 - rng.uniform()) : 0.0; });
     EXPECT_GT(sparse[2].tail_share, 0.15);
     EXPECT_LT(sparse[2].tail_share, 0.5);
-    // The g = 0.8 continuation's shape (BENCHMARKS.md section 16): exponential samples, and one in
+    // The g = 0.8 continuation's shape (docs/studies/auto_plan.md section 16): exponential samples, and one in
     // 5000 worth 2000 times the mean. Its mean and variance at 8 samples per pixel (512) mostly miss it;
     // at 1024 per pixel ~13 such samples hold nearly all of the variance, read to ~1/sqrt(13) = 0.28.
     const auto heavy = pilot([](Rng& rng) { return rng.uniform() < 2e-4 ? 2000.0 : -std::log(1.0 - rng.uniform()); });
@@ -118,7 +118,7 @@ TEST(PilotTail, AHeavyTailIsReadAndChargedNotExcluded) {
 
 namespace {
 
-// The matrix's point-lit box at optical thickness 1 (BENCHMARKS.md section 11.12), 16 x 16, under the
+// The matrix's point-lit box at optical thickness 1 (docs/studies/scene_matrix.md section 11.12), 16 x 16, under the
 // "auto" integrator (the one whose plan measures the path tracer).
 std::string box(double g) {
     static const vpm::test::ScratchDir dir;   // one per test process, removed when it ends

@@ -85,7 +85,7 @@ TEST(RunConfig, GatherAndThinningKeysNameTheKeyAndTheAllowedValues) {
         EXPECT_NE(error_of({bad}).find("photons.store_probability"), std::string::npos) << bad;
     EXPECT_NE(error_of({"photons.march_max_optical_depth=-1"}).find("photons.march_max_optical_depth"), std::string::npos);
     EXPECT_EQ(error_of({"photons.store_probability=1", "photons.march_max_optical_depth=0"}), "");
-    EXPECT_EQ(photon_map_settings(build()).gather, GatherMode::automatic);   // the default (BENCHMARKS section 5)
+    EXPECT_EQ(photon_map_settings(build()).gather, GatherMode::automatic);   // the default (docs/studies/equal_time.md section 5)
 }
 
 TEST(RunConfig, KBelowTheEstimatorsMinimumNamesTheEstimator) {

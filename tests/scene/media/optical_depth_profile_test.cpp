@@ -64,7 +64,7 @@ TEST(OpticalDepthProfile, PlumeTotalAndInverseMatchQuadrature) {
 TEST(OpticalDepthProfile, TheWalkIsCountedForThePlansWork) {
     // The auto plan prices the march by these counts (render/plan/work_units.h): the profile's blocks as
     // steps and its voxel cells as closed-form cells, on this thread. Uncounted, the march cost about
-    // 2x what the plan charged in grids (BENCHMARKS.md section 28).
+    // 2x what the plan charged in grids (docs/studies/auto_plan.md section 28).
     const GridMedium m = plume();
     double L;
     const Ray ray = plume_chord(m, L);
