@@ -10,7 +10,7 @@ ForcedStep forced_step(const Scene& scene, const Ray& ray, Rng& rng, OpticalDept
     ForcedStep out;
     PathVertex& v = out.vertex;
     v.on_surface = scene.intersect(ray, kInfinity, v.hit);
-    if (v.on_surface && (v.hit.reflectance > 0.0).any()) {   // the analog step, without a second intersect
+    if (v.on_surface && ((v.hit.reflectance > 0.0).any() || v.hit.specular)) {   // the analog step, without a second intersect
         v.medium = scene.sample_medium(ray, v.hit.t, rng);
         out.forced = false;
         return out;

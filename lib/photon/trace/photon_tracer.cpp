@@ -12,6 +12,7 @@
 #include "core/sampling.h"
 #include "photon/trace/forced_collision.h"
 #include "photon/trace/store_thinning.h"
+#include "transport/specular_step.h"
 #include "transport/walk_steps.h"
 
 namespace vpm {
@@ -154,10 +155,14 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             } else {
                 ++out.surface_hits;
                 if (hit.emitter) ++out.light_hits;
-                if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
-                    out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power, group});
-                alive = roulette(power, hit.reflectance, rng);
-                if (alive) ray = diffuse_bounce(hit, rng);
+                if (hit.specular) {   // mirror or glass: on without storing (a caustic photon from here on)
+                    alive = photon_specular_step(hit, ray, power, rng);
+                } else {
+                    if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
+                        out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power, group});
+                    alive = roulette(power, hit.reflectance, rng);
+                    if (alive) ray = diffuse_bounce(hit, rng);
+                }
             }
             if (!alive) power = Rgb::Zero();
             out.energy.absorbed += power_in - power;

@@ -17,6 +17,12 @@
 // stored. Black surfaces (reflectance 0) store nothing: they reflect no light. Storing changes no
 // power, so the energy balance is the same with or without it.
 //
+// Mirrors and glass (transport/specular_step.h): a photon goes on along the material's sampled
+// direction, its power times the material's weight (Russian roulette on it), and stores nothing
+// there. Every photon that has met one counts as scattered: NEE cannot reach through a specular
+// interface, so with `store_direct` false such photons (caustic photons) are stored at their next
+// medium collision or diffuse hit, after any number of specular events.
+//
 // Energy is accounted per run: emitted = absorbed + escaped + truncated, where "absorbed" is the
 // power removed at each event (power in minus power out), so the balance telescopes exactly and
 // a photon that vanishes unaccounted shows up as an imbalance.

@@ -4,6 +4,7 @@
 #include "core/sampling.h"
 #include "transport/direct_light.h"
 #include "transport/mis.h"
+#include "transport/specular_step.h"
 #include "transport/walk_steps.h"
 
 namespace vpm {
@@ -41,6 +42,10 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
             emission = EmissionWeighting::after(mis, x, hg_eval(ray.dir.dot(wo), m.g()));
             ray = Ray{x, wo};
         } else {
+            if (v.hit.specular) {   // a mirror or glass: the chain goes on, nothing is estimated here
+                if (!camera_specular_step(v.hit, ray, throughput, emission, depth + 1, rr_depth, rng)) break;
+                continue;
+            }
             if ((v.hit.reflectance == 0.0).all()) break;
             radiance += throughput * direct_light_on_surface(scene_, v.hit, rng, mis);
             throughput *= v.hit.reflectance;

@@ -5,6 +5,12 @@
 // phase sampling, Lambertian surfaces, Russian roulette from rr_depth on. max_depth < 0 means
 // unlimited path length, which is what makes it unbiased.
 //
+// Mirrors and glass (transport/specular_step.h): the path follows the material's sampled direction
+// and NEE is not taken there. Light reaching a diffuse or medium vertex through glass or by a
+// mirror is found only when the walk's own phase / BSDF sample runs the chain into an area light or
+// the sky (counted with weight 1); delta lights (point, spot, directional) seen through a specular
+// chain contribute nothing: that light, the caustic, is the photon map's (docs/caustics.md).
+//
 // Emission is counted once: the camera sees area lights and the environment directly; after a
 // vertex, light sampling and the walk's phase / BSDF sampling are combined by the power heuristic
 // (render.mis = true, transport/mis.h), or light sampling alone counts (render.mis = false).

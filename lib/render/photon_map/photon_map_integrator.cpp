@@ -17,6 +17,7 @@
 #include "transport/seen_through.h"
 #include "transport/segment_direct_light.h"
 #include "transport/single_scattering.h"
+#include "transport/specular_step.h"
 #include "scene/media/homogeneous_medium.h"
 #include "photon/estimate/group_estimate.h"
 #include "photon/estimate/linear_estimate.h"
@@ -446,6 +447,10 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
             radiance += weight * normalised(b.estimate, x, -ray.dir, m.g(), b.radius, sigma_t, local.buffers, local.linear_weights);
             ++local.map_used;
             break;
+        }
+        if (hit.specular) {   // mirror or glass (transport/specular_step.h): on to the chain's next vertex
+            if (!camera_specular_step(hit, ray, throughput, emission, depth + 1, settings_.walk.rr_depth, rng)) break;
+            continue;
         }
         if ((hit.reflectance == 0.0).all()) break;
         // The surface photon map gives the light the path would gather. A map of fewer than k photons

@@ -3,15 +3,20 @@
 // Parameters of one [[shapes]] entry
 // ---------------------------------------------------------------------------------------------
 //  key          type / default           meaning
-//  type         "mesh" | "quad" | "box"  required
-//  material     "lambertian" | "black"   default "lambertian"; black = reflectance 0 (an occluder)
-//  reflectance  number or [r,g,b] in [0,1], default 0.5; lambertian only (an error with black)
-//  transform    table, optional          object-to-world, see below
+//  type         "mesh" | "quad" | "box" | "sphere"   required
+//  material     "lambertian" (default), "black", "mirror", "dielectric": its keys
+//               (reflectance, ior, transmittance) are read by scene/materials/material_registry.h
+//  transform    table, optional          object-to-world, see below (not for spheres)
 //  type = "mesh":  file    path to .obj or .ply, relative to the config file
 //  type = "quad":  center  [x,y,z]       required; the parallelogram's centre
 //                  u, v    [x,y,z]       required; HALF edge vectors: corners are center +- u +- v
 //                                        (so a 2 x 2 square is u = [1,0,0], v = [0,1,0])
 //  type = "box":   min, max [x,y,z]      required; axis-aligned in object space, min < max
+//  type = "sphere": center [x,y,z], radius (> 0)   required; intersected analytically in double
+//                                        (no Embree geometry), beside the triangles
+// A dielectric needs a closed shape whose inside is known: a box, a sphere, or a mesh in which
+// every edge joins exactly two triangles of opposite winding (vertices welded by position); the
+// mesh is turned to face outwards by the sign of its volume. A quad or an open mesh is an error.
 //  [shapes.transform]: scale     number or [sx,sy,sz], default 1; no zero component
 //                      rotate    [ax,ay,az,degrees], default [1,0,0,0]; axis need not be unit
 //                      translate [x,y,z], default [0,0,0]
@@ -42,6 +47,8 @@
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "config/transform_params.h"
+#include "scene/materials/material.h"
+#include "scene/materials/material_registry.h"
 
 namespace vpm {
 namespace {
@@ -65,11 +72,55 @@ struct Geometry {
     std::vector<Vec3> vertices;   // world space, double
     std::vector<std::array<uint32_t, 3>> triangles;
     Rgb reflectance = Rgb::Zero();
+    std::shared_ptr<const Material> material;
+    const Material* specular = nullptr;   // material.get() when it is specular
+    // type = "sphere": no triangles.
+    Vec3 center = Vec3::Zero();
+    double radius = 0.0;
 };
+
+// A dielectric's mesh must enclose a volume with a known inside: every edge shared by exactly two
+// triangles that run through it in opposite directions. Turns it to wind outwards (positive volume).
+void orient_closed_mesh(TriangleMesh& mesh, const Params& p, const std::string& type) {
+    const std::string why = "material = \"dielectric\" needs a closed, consistently oriented " + type +
+                            " (which side is glass is read from it): ";
+    std::map<std::array<double, 3>, uint32_t> welded;
+    std::vector<uint32_t> id(mesh.vertices.size());
+    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+        const Vec3& v = mesh.vertices[i];
+        id[i] = welded.emplace(std::array<double, 3>{v.x(), v.y(), v.z()}, uint32_t(welded.size())).first->second;
+    }
+    std::map<std::pair<uint32_t, uint32_t>, int> directed;
+    for (const auto& t : mesh.triangles)
+        for (int e = 0; e < 3; ++e) ++directed[{id[t[e]], id[t[(e + 1) % 3]]}];
+    for (const auto& [edge, n] : directed) {
+        const auto back = directed.find({edge.second, edge.first});
+        if (n != 1 || back == directed.end() || back->second != 1)
+            p.fail("material", why + "an edge is used by " + std::to_string(n) + " triangle(s) one way and " +
+                                   std::to_string(back == directed.end() ? 0 : back->second) + " the other");
+    }
+    double volume = 0.0;
+    for (const auto& t : mesh.triangles)
+        volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
+    if (!(std::abs(volume) > 0.0)) p.fail("material", why + "the mesh encloses no volume");
+    if (volume < 0.0)
+        for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+}
 
 Geometry read_shape(Params& p) {
     Geometry g;
-    g.type = p.choice("type", {"mesh", "quad", "box"});
+    g.type = p.choice("type", {"mesh", "quad", "box", "sphere"});
+    if (g.type == "sphere") {
+        g.center = p.vec3("center");
+        g.radius = p.real("radius", Range::positive());
+        if (!std::isfinite(g.radius)) p.fail("radius", "must be finite");
+        if (p.has("transform")) p.fail("transform", "a sphere takes center and radius, not a transform");
+        g.material = make_material(p);
+        g.reflectance = g.material->diffuse_reflectance();
+        if (g.material->specular()) g.specular = g.material.get();
+        p.finish();
+        return g;
+    }
     TriangleMesh mesh;
     if (g.type == "mesh") {
         mesh = load_mesh(p.path("file").string());
@@ -97,8 +148,13 @@ Geometry read_shape(Params& p) {
         tp.finish();
         for (Vec3& v : mesh.vertices) v = m * v;
     }
-    const std::string material = p.choice("material", "lambertian", {"lambertian", "black"});
-    g.reflectance = material == "black" ? Rgb::Zero() : p.rgb("reflectance", Rgb::Constant(0.5), Range::closed(0, 1));
+    g.material = make_material(p);
+    g.reflectance = g.material->diffuse_reflectance();
+    if (g.material->specular()) g.specular = g.material.get();
+    if (g.material->needs_closed_shape()) {
+        if (g.type == "quad") p.fail("material", "material = \"" + g.material->name() + "\" needs a closed shape (box, sphere or closed mesh); a quad is open");
+        orient_closed_mesh(mesh, p, g.type);
+    }
     p.finish();
     g.vertices = std::move(mesh.vertices);
     g.triangles = std::move(mesh.triangles);
@@ -107,17 +163,25 @@ Geometry read_shape(Params& p) {
 
 class EmbreeSurfaces final : public Surfaces {
 public:
-    explicit EmbreeSurfaces(std::vector<Geometry> geoms) : geoms_(std::move(geoms)) {
-        for (const Geometry& g : geoms_) {
+    explicit EmbreeSurfaces(std::vector<Geometry> shapes) {
+        for (Geometry& g : shapes) {
+            ++counts_[g.type];
+            if (g.type == "sphere") {
+                bounds_.extend(g.center - Vec3::Constant(g.radius));
+                bounds_.extend(g.center + Vec3::Constant(g.radius));
+                spheres_.push_back(std::move(g));
+                continue;
+            }
             for (const Vec3& v : g.vertices) bounds_.extend(v);
             triangles_ += g.triangles.size();
-            ++counts_[g.type];
+            geoms_.push_back(std::move(g));
         }
-        if (geoms_.empty()) return;   // no shapes: no Embree device
+        if (geoms_.empty() && spheres_.empty()) return;   // no shapes
         center_ = 0.5 * (bounds_.lo + bounds_.hi);
         const double half = 0.5 * (bounds_.hi - bounds_.lo).maxCoeff();
         eps_ = 1e-6 * std::max(half, 1e-9);
         far_ = 1e6 * std::max(half, 1e-9);
+        if (geoms_.empty()) return;   // spheres only: no Embree device
 
         device_ = rtcNewDevice(nullptr);
         if (!device_)
@@ -156,7 +220,7 @@ public:
     }
 
     bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const override {
-        if (!scene_ || !(tmax > eps_)) return false;
+        if ((!scene_ && spheres_.empty()) || !(tmax > eps_)) return false;
         if (is_far(ray)) {
             Ray near;
             double shift;
@@ -165,6 +229,69 @@ public:
             hit.t += shift;   // hit.position is near's, accurate
             return true;
         }
+        bool found = scene_ && intersect_triangles(ray, tmax, hit);
+        if (!spheres_.empty()) found = intersect_spheres(ray, found ? hit.t : tmax, hit) || found;
+        return found;
+    }
+
+    // Embree's any-hit query; its positives are confirmed by intersect() so that the two agree
+    // (a grazing self-hit must not shadow). Unoccluded rays, the common case, cost one query.
+    bool occluded(const Ray& ray, double tmax) const override {
+        if ((!scene_ && spheres_.empty()) || !(tmax > eps_)) return false;
+        if (is_far(ray)) {
+            Ray near;
+            double shift;
+            return move_near(ray, tmax, near, shift) && occluded(near, tmax - shift);
+        }
+        for (const Geometry& s : spheres_) {
+            double t;
+            if (sphere_hit(s, ray, tmax, t)) return true;
+        }
+        if (!scene_) return false;
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        RTCRay r;
+        setup(ray, tmax, r);
+        rtcOccluded1(scene_, &ctx, &r);
+        if (!(r.tfar < 0.0f)) return false;   // tfar is set to -inf on a hit
+        SurfaceHit h;
+        return intersect(ray, tmax, h);
+    }
+
+    Bounds3 bounds() const override { return bounds_; }
+    size_t triangle_count() const override { return triangles_; }
+
+    std::string describe() const override {
+        std::ostringstream s;
+        s << "surfaces: " << geoms_.size() + spheres_.size() << " shape" << (geoms_.size() + spheres_.size() == 1 ? "" : "s");
+        if (!counts_.empty()) {
+            s << " (";
+            bool first = true;
+            for (const auto& [type, n] : counts_) {
+                s << (first ? "" : ", ") << n << " " << type;
+                first = false;
+            }
+            s << ")";
+        }
+        s << ", " << triangles_ << " triangles";
+        if (!geoms_.empty() || !spheres_.empty()) {
+            s << ", bounds [" << bounds_.lo.x() << ", " << bounds_.lo.y() << ", " << bounds_.lo.z() << "] to ["
+              << bounds_.hi.x() << ", " << bounds_.hi.y() << ", " << bounds_.hi.z() << "], ray epsilon " << eps_;
+            if (!geoms_.empty()) s << ", Embree " << RTC_VERSION_STRING;
+            else s << ", no Embree device (spheres only)";
+        } else {
+            s << ", no Embree device";
+        }
+        std::map<std::string, size_t> materials;
+        for (const auto* list : {&geoms_, &spheres_})
+            for (const Geometry& g : *list)
+                if (g.material->name() != "lambertian" && g.material->name() != "black") ++materials[g.material->describe()];
+        for (const auto& [m, n] : materials) s << "; " << n << " x " << m;
+        return s.str();
+    }
+
+private:
+    bool intersect_triangles(const Ray& ray, double tmax, SurfaceHit& hit) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         RTCRayHit rh;
@@ -202,58 +329,58 @@ public:
             hit.position = ray.at(t);
             hit.normal = cos > 0.0 ? Vec3(-n) : n;
             hit.reflectance = g.reflectance;
+            hit.specular = g.specular;
+            hit.exiting = cos > 0.0;   // along the outward winding (dielectric meshes are oriented so)
             hit.epsilon = eps_;
             return true;
         }
         return false;
     }
 
-    // Embree's any-hit query; its positives are confirmed by intersect() so that the two agree
-    // (a grazing self-hit must not shadow). Unoccluded rays, the common case, cost one query.
-    bool occluded(const Ray& ray, double tmax) const override {
-        if (!scene_ || !(tmax > eps_)) return false;
-        if (is_far(ray)) {
-            Ray near;
-            double shift;
-            return move_near(ray, tmax, near, shift) && occluded(near, tmax - shift);
-        }
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRay r;
-        setup(ray, tmax, r);
-        rtcOccluded1(scene_, &ctx, &r);
-        if (!(r.tfar < 0.0f)) return false;   // tfar is set to -inf on a hit
-        SurfaceHit h;
-        return intersect(ray, tmax, h);
+    // The nearest root of |o + t d - c| = r in (epsilon, tmax), in double. The roots come from the
+    // ray's closest approach (no cancellation of |o - c|^2 against r^2 far from the sphere) and the
+    // stable quadratic form; a root within epsilon is the sphere the ray starts on.
+    bool sphere_hit(const Geometry& s, const Ray& ray, double tmax, double& t) const {
+        const Vec3 oc = ray.origin - s.center;
+        const double a = ray.dir.squaredNorm();
+        const double b = oc.dot(ray.dir);
+        const Vec3 h = oc - (b / a) * ray.dir;
+        const double disc = s.radius * s.radius - h.squaredNorm();
+        if (!(disc >= 0.0)) return false;
+        const double q = -(b + std::copysign(std::sqrt(a * disc), b));
+        if (q == 0.0) return false;
+        const double dist = oc.norm();
+        const double c = (dist - s.radius) * (dist + s.radius);
+        double t0 = c / q, t1 = q / a;
+        if (t0 > t1) std::swap(t0, t1);
+        t = t0 > eps_ ? t0 : t1;
+        return t > eps_ && t < tmax;
     }
 
-    Bounds3 bounds() const override { return bounds_; }
-    size_t triangle_count() const override { return triangles_; }
-
-    std::string describe() const override {
-        std::ostringstream s;
-        s << "surfaces: " << geoms_.size() << " shape" << (geoms_.size() == 1 ? "" : "s");
-        if (!counts_.empty()) {
-            s << " (";
-            bool first = true;
-            for (const auto& [type, n] : counts_) {
-                s << (first ? "" : ", ") << n << " " << type;
-                first = false;
+    bool intersect_spheres(const Ray& ray, double tmax, SurfaceHit& hit) const {
+        const Geometry* best = nullptr;
+        double best_t = tmax;
+        for (const Geometry& s : spheres_) {
+            double t;
+            if (sphere_hit(s, ray, best_t, t)) {
+                best = &s;
+                best_t = t;
             }
-            s << ")";
         }
-        s << ", " << triangles_ << " triangles";
-        if (!geoms_.empty()) {
-            s << ", bounds [" << bounds_.lo.x() << ", " << bounds_.lo.y() << ", " << bounds_.lo.z() << "] to ["
-              << bounds_.hi.x() << ", " << bounds_.hi.y() << ", " << bounds_.hi.z() << "], ray epsilon " << eps_
-              << ", Embree " << RTC_VERSION_STRING;
-        } else {
-            s << ", no Embree device";
-        }
-        return s.str();
+        if (!best) return false;
+        const Vec3 outward = (ray.at(best_t) - best->center).normalized();
+        const double cos = outward.dot(ray.dir);
+        hit = SurfaceHit{};
+        hit.t = best_t;
+        hit.position = best->center + best->radius * outward;
+        hit.normal = cos > 0.0 ? Vec3(-outward) : outward;
+        hit.reflectance = best->reflectance;
+        hit.specular = best->specular;
+        hit.exiting = cos > 0.0;
+        hit.epsilon = eps_;
+        return true;
     }
 
-private:
     // Rays that start far from the surfaces (more than 1e6 x their half extent: photons emitted
     // around a medium of 1e32 units, paths inside it) would reach Embree with float origins
     // beyond its valid range (|org| <= ~1.8e18, asserted by the library) or with no precision
@@ -306,7 +433,8 @@ private:
         throw Error("surfaces: " + what + ": " + msg);
     }
 
-    std::vector<Geometry> geoms_;
+    std::vector<Geometry> geoms_;     // triangle meshes, by Embree geometry id
+    std::vector<Geometry> spheres_;   // analytic spheres
     std::map<std::string, size_t> counts_;
     Bounds3 bounds_;
     size_t triangles_ = 0;

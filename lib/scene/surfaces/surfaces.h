@@ -12,12 +12,17 @@
 namespace vpm {
 
 class Light;
+class Material;
 
 struct SurfaceHit {
     double t = kInfinity;
     Vec3 position = Vec3::Zero();
     Vec3 normal = Vec3::UnitZ();   // unit geometric normal, flipped to face the incoming ray
-    Rgb reflectance = Rgb::Zero(); // Lambertian albedo; zero for black
+    Rgb reflectance = Rgb::Zero(); // Lambertian albedo; zero for black and specular materials
+    // Set when the material is specular (mirror, dielectric: scene/materials/material.h); walks
+    // follow it with transport/specular_step.h. Null for Lambertian and black surfaces.
+    const Material* specular = nullptr;
+    bool exiting = false;          // the ray leaves the inside of a closed, oriented shape (dielectrics)
     double epsilon = 0.0;          // the surfaces' self-intersection epsilon (relative to their size)
     // Set by Scene::intersect when the hit is an area light (black, so paths end there): the light
     // and the radiance it sends back along the ray.

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "scene/materials/material.h"
 #include "scene/surfaces/surfaces.h"
 #include "support/scratch_dir.h"
 
@@ -262,10 +263,17 @@ TEST(Surfaces, ConfigErrorsNameTheKey) {
     EXPECT_NE(e.find("shapes.0.reflectance"), std::string::npos) << e;
     e = config_error(quad + "material = 'black'\nreflectance = 0.5\n");   // black takes no reflectance
     EXPECT_NE(e.find("shapes.0.reflectance"), std::string::npos) << e;
-    e = config_error(quad + "material = 'mirror'\n");
+    e = config_error(quad + "material = 'dielectric'\n");   // glass needs a closed shape
     EXPECT_NE(e.find("shapes.0.material"), std::string::npos) << e;
+    EXPECT_NE(e.find("closed"), std::string::npos) << e;
     e = config_error("[[shapes]]\ntype = 'sphere'\n");
-    EXPECT_NE(e.find("shapes.0.type"), std::string::npos) << e;
+    EXPECT_NE(e.find("shapes.0.center"), std::string::npos) << e;
+    e = config_error("[[shapes]]\ntype = 'sphere'\ncenter = [0, 0, 0]\nradius = 0\n");
+    EXPECT_NE(e.find("shapes.0.radius"), std::string::npos) << e;
+    e = config_error("[[shapes]]\ntype = 'sphere'\ncenter = [0, 0, 0]\nradius = 1\ntransform = { scale = 2 }\n");
+    EXPECT_NE(e.find("shapes.0.transform"), std::string::npos) << e;
+    e = config_error("[[shapes]]\ntype = 'cone'\n");
+    EXPECT_NE(e.find("sphere"), std::string::npos) << e;   // the allowed types
     e = config_error("[[shapes]]\ncenter = [0, 0, 0]\n");
     EXPECT_NE(e.find("shapes.0.type"), std::string::npos) << e;
     e = config_error("[[shapes]]\ntype = 'quad'\ncenter = [0, 0, 0]\nu = [1, 0, 0]\nv = [2, 0, 0]\n");
@@ -322,4 +330,102 @@ TEST(Surfaces, ConcurrentQueriesMatchSerialOnes) {
         });
     for (auto& t : threads) t.join();
     EXPECT_EQ(serial, parallel);
+}
+
+TEST(Surfaces, SphereHitsFromOutsideAndInsideInDouble) {
+    const size_t before = Surfaces::devices_created();
+    auto s = build("[[shapes]]\ntype = 'sphere'\ncenter = [1, 2, 3]\nradius = 0.5\nmaterial = 'dielectric'\n");
+    EXPECT_EQ(Surfaces::devices_created(), before);   // spheres alone build no Embree device
+    EXPECT_EQ(s->triangle_count(), 0u);
+    EXPECT_TRUE(s->bounds().lo.isApprox(Vec3(0.5, 1.5, 2.5)));
+    SurfaceHit h;
+    ASSERT_TRUE(s->intersect(ray({1, 2, 10}, {0, 0, -1}), kInfinity, h));
+    EXPECT_NEAR(h.t, 6.5, 1e-12);
+    EXPECT_TRUE(h.normal.isApprox(Vec3(0, 0, 1), 1e-12));
+    EXPECT_FALSE(h.exiting);
+    ASSERT_NE(h.specular, nullptr);
+    EXPECT_EQ(h.specular->name(), "dielectric");
+    EXPECT_TRUE((h.reflectance == 0.0).all());
+    ASSERT_TRUE(s->intersect(ray({1, 2, 3}, {1, 0, 0}), kInfinity, h));   // from the centre
+    EXPECT_NEAR(h.t, 0.5, 1e-12);
+    EXPECT_TRUE(h.normal.isApprox(Vec3(-1, 0, 0), 1e-12));   // faces the ray
+    EXPECT_TRUE(h.exiting);
+    EXPECT_FALSE(s->intersect(ray({1, 2, 10}, {0, 0, -1}), 6.4, h));
+    EXPECT_TRUE(s->occluded(ray({1, 2, 10}, {0, 0, -1}), 6.6));
+    EXPECT_FALSE(s->occluded(ray({1, 2, 10}, {0, 0, -1}), 6.4));
+    EXPECT_FALSE(s->intersect(ray({1.6, 2, 10}, {0, 0, -1}), kInfinity, h));   // misses
+    // Random chords: both ends on the sphere, the second found from just inside the first.
+    std::mt19937_64 rng(4);
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 o = Vec3(1, 2, 3) + 3.0 * random_dir(rng);
+        const Vec3 target = Vec3(1, 2, 3) + 0.45 * random_dir(rng);
+        ASSERT_TRUE(s->intersect(ray(o, target - o), kInfinity, h));
+        EXPECT_NEAR((h.position - Vec3(1, 2, 3)).norm(), 0.5, 1e-12);
+        EXPECT_FALSE(h.exiting);
+        const Vec3 d = (target - o).normalized();
+        const Ray inside{h.position - 2.0 * h.epsilon * h.normal, d};
+        SurfaceHit far;
+        ASSERT_TRUE(s->intersect(inside, kInfinity, far));
+        EXPECT_TRUE(far.exiting);
+        EXPECT_NEAR((far.position - Vec3(1, 2, 3)).norm(), 0.5, 1e-12);
+        EXPECT_GT(far.t, 1e-6);
+    }
+}
+
+TEST(Surfaces, SpheresAndTrianglesTogetherGiveTheClosestHit) {
+    auto s = build("[[shapes]]\ntype = 'quad'\ncenter = [0, 0, 1]\nu = [1, 0, 0]\nv = [0, 1, 0]\nmaterial = 'mirror'\n"
+                   "[[shapes]]\ntype = 'sphere'\ncenter = [0, 0, 3]\nradius = 0.5\nreflectance = 0.7\n");
+    SurfaceHit h;
+    ASSERT_TRUE(s->intersect(ray({0, 0, 0}, {0, 0, 1}), kInfinity, h));
+    EXPECT_NEAR(h.t, 1.0, 1e-12);
+    ASSERT_NE(h.specular, nullptr);
+    EXPECT_EQ(h.specular->name(), "mirror");
+    ASSERT_TRUE(s->intersect(ray({0, 0, 1.5}, {0, 0, 1}), kInfinity, h));
+    EXPECT_NEAR(h.t, 1.0, 1e-12);
+    EXPECT_EQ(h.specular, nullptr);
+    EXPECT_TRUE(h.reflectance.isApprox(Rgb::Constant(0.7)));
+    ASSERT_TRUE(s->intersect(ray({0, 0, 5}, {0, 0, -1}), kInfinity, h));
+    EXPECT_NEAR(h.t, 1.5, 1e-12);
+    const std::string d = s->describe();
+    EXPECT_NE(d.find("1 sphere"), std::string::npos) << d;
+    EXPECT_NE(d.find("mirror"), std::string::npos) << d;
+}
+
+TEST(Surfaces, DielectricMeshesAreClosedAndTurnedOutwards) {
+    const vpm::test::ScratchDir scratch;
+    const fs::path& dir = scratch.path;
+    // The tetrahedron wound inwards: every face reversed.
+    std::ofstream(dir / "inward.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
+    std::ofstream(dir / "open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\n";
+    std::ofstream(dir / "mixed.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
+    for (const char* file : {"tetra.obj", "inward.obj"}) {
+        const fs::path base = std::string(file) == "tetra.obj" ? fs::path(VPM_TEST_DATA_DIR) : dir;
+        auto s = build(std::string("[[shapes]]\ntype = 'mesh'\nfile = '") + file + "'\nmaterial = 'dielectric'\n", base);
+        SurfaceHit h;
+        ASSERT_TRUE(s->intersect(ray({0.2, 0.2, -1}, {0, 0, 1}), kInfinity, h)) << file;
+        EXPECT_FALSE(h.exiting) << file;
+        ASSERT_TRUE(s->intersect(ray({0.2, 0.2, 0.1}, {0, 0, 1}), kInfinity, h)) << file;
+        EXPECT_TRUE(h.exiting) << file;
+        ASSERT_TRUE(s->intersect(ray({0.2, 0.2, 0.1}, {0, 0, -1}), kInfinity, h)) << file;
+        EXPECT_TRUE(h.exiting) << file;
+    }
+    auto box = build("[[shapes]]\ntype = 'box'\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nmaterial = 'dielectric'\n"
+                     "[shapes.transform]\nscale = [-1, 1, 1]\n");   // a mirroring transform turns the winding
+    SurfaceHit h;
+    ASSERT_TRUE(box->intersect(ray({-0.5, 0.5, 2}, {0, 0, -1}), kInfinity, h));
+    EXPECT_FALSE(h.exiting);
+    ASSERT_TRUE(box->intersect(ray({-0.5, 0.5, 0.5}, {0, 0, -1}), kInfinity, h));
+    EXPECT_TRUE(h.exiting);
+    for (const char* bad : {"open.obj", "mixed.obj"}) {
+        std::string e;
+        try {
+            build(std::string("[[shapes]]\ntype = 'mesh'\nfile = '") + bad + "'\nmaterial = 'dielectric'\n", dir);
+        } catch (const ConfigError& err) {
+            e = err.what();
+        }
+        EXPECT_NE(e.find("shapes.0.material"), std::string::npos) << bad << ": " << e;
+        EXPECT_NE(e.find("closed"), std::string::npos) << bad << ": " << e;
+    }
+    // An open mesh is fine for a mirror.
+    EXPECT_NO_THROW(build("[[shapes]]\ntype = 'mesh'\nfile = 'open.obj'\nmaterial = 'mirror'\n", dir));
 }
