@@ -16,6 +16,7 @@
 #include "photon/estimate/kernels.h"
 #include "render/integrator_registry.h"
 #include "scene/lights/light_registry.h"
+#include "scene/materials/material_registry.h"
 #include "scene/media/medium_registry.h"
 #include "support/vpm_process.h"
 
@@ -69,6 +70,7 @@ std::set<std::string> as_set(const std::vector<std::string>& v) { return {v.begi
 TEST(RegistryDocs, ConfigReferenceListsEveryRegistryExactly) {
     EXPECT_EQ(listed_values(config_reference_row("`[[lights]]`"), "type"), as_set(light_names()));
     EXPECT_EQ(listed_values(config_reference_row("`[[media]]`"), "type"), as_set(medium_names()));
+    EXPECT_EQ(listed_values(config_reference_row("`[[shapes]]`"), "material"), as_set(material_names()));
     EXPECT_EQ(listed_values(config_reference_row("`[render]`"), "integrator"), as_set(integrator_names()));
     EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "estimator"), as_set(Estimator::names()));
     EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "kernel"), as_set(Kernel::names()));
@@ -114,6 +116,6 @@ TEST(RegistryDocs, RenderHelpListsEveryRegisteredName) {
     const vpm::test::Outcome o = vpm::test::run_vpm("render --help", dir);
     std::filesystem::remove_all(dir);
     ASSERT_EQ(o.code, 0) << o.err;
-    for (const auto& names : {light_names(), medium_names(), integrator_names(), Estimator::names(), Kernel::names()})
+    for (const auto& names : {light_names(), medium_names(), material_names(), integrator_names(), Estimator::names(), Kernel::names()})
         for (const std::string& n : names) EXPECT_NE(o.out.find(n), std::string::npos) << n << "\n" << o.out;
 }

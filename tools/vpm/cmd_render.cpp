@@ -24,6 +24,7 @@
 #include "render/run/staged_file.h"
 #include "scene/lights/light_registry.h"
 #include "scene/media/medium_registry.h"
+#include "scene/materials/material_registry.h"
 
 namespace {
 
@@ -44,6 +45,7 @@ std::string registered_names() {
            "  render.integrator  " + registry_list(vpm::integrator_names()) + "\n"
            "  lights.N.type      " + registry_list(vpm::light_names()) + "\n"
            "  media.N.type       " + registry_list(vpm::medium_names()) + "\n"
+           "  shapes.N.material  " + registry_list(vpm::material_names()) + "\n"
            "  photons.estimator  " + registry_list(vpm::Estimator::names()) + "\n"
            "  photons.kernel     " + registry_list(vpm::Kernel::names()) + "\n";
 }
