@@ -13,7 +13,7 @@
 #include "core/sampling.h"
 #include "scene/materials/fresnel.h"
 #include "scene/materials/material_registry.h"
-#include "../support/sample_statistics.h"
+#include "support/sample_statistics.h"
 
 using namespace vpm;
 using vpm::test::Sample;
