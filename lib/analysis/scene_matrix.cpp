@@ -252,8 +252,30 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
     };
     std::map<std::string, Ref> refs;   // by unscaled cell id
 
-    for (const MatrixCell& cell : matrix_cells(o.quick)) {
-        if (o.filter && !o.filter(cell)) continue;
+    // Before any reference: some cell is selected, and every compared run's config is valid (a bad
+    // --set failed only after the first reference had been rendered).
+    std::vector<MatrixCell> cells;
+    for (const MatrixCell& cell : matrix_cells(o.quick))
+        if (!o.filter || o.filter(cell)) cells.push_back(cell);
+    if (cells.empty()) {
+        std::string groups;
+        for (const MatrixCell& cell : matrix_cells(o.quick))
+            if (groups.find(cell.group) == std::string::npos) groups += (groups.empty() ? "" : ", ") + cell.group;
+        throw Error("vpm bench matrix: no cell passes --only / --max-tau (groups: " + groups +
+                    "; cell ids look like box-tau10-a0.9-g0-point-s1)");
+    }
+    {
+        const MatrixCell& first = cells.front();
+        const fs::path scene = m.write_scene(first, first.tau / m.unit_depth(first));
+        for (const MatrixMethod& method : matrix_methods()) {
+            std::vector<std::string> sets = o.method_sets;
+            sets.insert(sets.end(), method.sets.begin(), method.sets.end());
+            sets.insert(sets.end(), o.sets.begin(), o.sets.end());
+            RunConfig::load(scene.string(), sets);
+        }
+    }
+
+    for (const MatrixCell& cell : cells) {
         MatrixRow row;
         row.cell = cell;
         row.sigma_t_scale = cell.tau / m.unit_depth(cell);

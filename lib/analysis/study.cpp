@@ -508,17 +508,29 @@ size_t run_photon_map(const StudyOptions& opt, const SampleGrid& grid, tbb::comb
 }
 
 // beam: one torus cloud per trial gives the point (3D) and beam (2D) estimates of every k and kernel.
-// Both are kept, so the second dimension reuses the first's trials.
-void run_beam(const StudyOptions& opt, const SampleGrid& grid, std::vector<double>& point, std::vector<double>& beam) {
-    const size_t trials = opt.trials;
+// Both are kept, so the second dimension reuses the first's trials. The trials go in 20 slices
+// with a progress line after each (the defaults take tens of minutes); every trial has its own
+// stream, so the slicing changes nothing.
+void run_beam(const StudyOptions& opt, const SampleGrid& grid, std::vector<double>& point, std::vector<double>& beam,
+              const std::function<void(const std::string&)>& say) {
+    const size_t trials = opt.trials, slices = std::min<size_t>(20, std::max<size_t>(1, trials));
     point.assign(trials * grid.stride(), 0.0);
     beam.assign(trials * grid.stride(), 0.0);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, trials), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t t = range.begin(); t != range.end(); ++t) {
-            Rng rng = trial_rng(opt.seed, stream_id(StudyScenario::beam, 0, t));
-            sample_point_trial(opt.n, kBeamStudyLength, opt.ks, opt.kernels, rng, &point[grid.at(t, 0, 0)], &beam[grid.at(t, 0, 0)]);
+    const Timer timer;
+    for (size_t s = 0; s < slices; ++s) {
+        const size_t begin = trials * s / slices, end = trials * (s + 1) / slices;
+        tbb::parallel_for(tbb::blocked_range<size_t>(begin, end), [&](const tbb::blocked_range<size_t>& range) {
+            for (size_t t = range.begin(); t != range.end(); ++t) {
+                Rng rng = trial_rng(opt.seed, stream_id(StudyScenario::beam, 0, t));
+                sample_point_trial(opt.n, kBeamStudyLength, opt.ks, opt.kernels, rng, &point[grid.at(t, 0, 0)], &beam[grid.at(t, 0, 0)]);
+            }
+        });
+        if (slices > 1) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "study: beam       %zu of %zu trials (n=%zu), %.1f s", end, trials, opt.n, timer.seconds());
+            say(buf);
         }
-    });
+    }
 }
 
 // The theory column of one row, where the estimator's registry entry and the scenario give one.
@@ -595,7 +607,7 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
             const SampleGrid grid{opt.ks.size(), opt.kernels.size()};
             std::vector<double> point, beam;
             Timer t_sc;
-            run_beam(opt, grid, point, beam);
+            run_beam(opt, grid, point, beam, say);
             for (int dim : opt.dims)
                 for (size_t ki = 0; ki < grid.nk; ++ki)
                     for (size_t ei = 0; ei < grid.ne; ++ei) {

@@ -2,6 +2,7 @@
 // Command-line parsing for every subcommand, so they all fail the same way: a bad command line
 // becomes a UsageError, which main prints as one line "vpm <cmd>: error: <what> (see vpm <cmd>
 // --help)" and turns into exit code 2 (kExitUsage). --help prints the help to stdout.
+#include <cmath>
 #include <iostream>
 #include <string>
 
@@ -21,6 +22,25 @@ class UsageError : public vpm::Error {
 public:
     using vpm::Error::Error;
 };
+
+// A finite number in [lo, hi] (hi may be infinite: "at least lo"). CLI::Range lets NaN through
+// (every comparison with it is false) and prints its bounds in full (1e300 as 301 digits).
+inline CLI::Validator finite_in(double lo, double hi, const std::string& shown) {
+    return CLI::Validator(
+        [lo, hi, shown](std::string& text) -> std::string {
+            double v = 0.0;
+            size_t used = 0;
+            try {
+                v = std::stod(text, &used);
+            } catch (const std::exception&) {
+                return "'" + text + "' is not a number (allowed: " + shown + ")";
+            }
+            if (used != text.size() || !std::isfinite(v) || v < lo || v > hi)
+                return "'" + text + "' is out of range (allowed: " + shown + ")";
+            return std::string();
+        },
+        shown);
+}
 
 // Parses argv into `app`. Returns false when --help was answered (the command returns 0);
 // throws UsageError for anything CLI11 rejects.

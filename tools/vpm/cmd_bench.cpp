@@ -200,14 +200,14 @@ int run_matrix(int argc, char** argv) {
     double budget = -1, reference = -1, max_tau = 0;
     app.add_option("--out", out, "Folder for scenes/, references/ (the cache), MATRIX.md, matrix.csv")->capture_default_str();
     app.add_flag("--quick", quick, "4 cells (one scaled), 32x32, 1 s per method, 4 s references: about a minute");
-    app.add_option("--budget", budget, "Seconds per method and cell (default 4; --quick 1)")->check(CLI::Range(0.01, 3600.0));
+    app.add_option("--budget", budget, "Seconds per method and cell (default 4; --quick 1)")->check(vpm::cli::finite_in(0.01, 3600.0, "a number in [0.01, 3600]"));
     app.add_option("--reference-seconds", reference, "Path tracer seconds per reference (default 30; --quick 4)")
-        ->check(CLI::Range(0.01, 1e6));
+        ->check(vpm::cli::finite_in(0.01, 1e6, "a number in [0.01, 1e6]"));
     app.add_option("--size", o.size, "Image width = height (default 64; --quick 32)")->check(CLI::Range(4, 4096));
     app.add_option("--threads", threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
     app.add_option("--only", only, "Run only cells whose id (e.g. box-tau10-a0.9-g0-point-s1) or group contains TEXT");
     app.add_option("--max-tau", max_tau, "Run only cells of optical thickness <= T (with --only: both must hold; 0: no limit)")
-        ->check(CLI::Range(0.0, 1e300));
+        ->check(vpm::cli::finite_in(0.0, HUGE_VAL, "a finite number >= 0"));
     app.add_option("--media", media, "Folder with blob.vdb and plume.vdb")->capture_default_str()->check(CLI::ExistingDirectory);
     app.add_flag("--no-plot", no_plot, "Do not run tools/plot_matrix.py");
     app.add_option("--set", o.method_sets,

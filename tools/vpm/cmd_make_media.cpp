@@ -1,4 +1,4 @@
-// `vpm make-media [--out DIR]`: writes plume.vdb, box.vdb, blob.vdb and sphere.vdb, each with one
+// `vpm make-media --out DIR`: writes plume.vdb, box.vdb, blob.vdb and sphere.vdb, each with one
 // float grid "density" in [0, 1]. Fully deterministic (own hash-based value noise, no RNG state).
 #include "cmd_make_media.h"
 #include "arguments.h"
@@ -115,8 +115,10 @@ void write_one(const std::filesystem::path& dir, const std::string& file, const 
 
 int run_make_media(int argc, char** argv) {
     CLI::App app{"Write the procedural media (plume, box, blob, sphere) as OpenVDB files", "vpm make-media"};
-    std::string out = "media";
-    app.add_option("--out", out, "Output folder (created if missing)")->capture_default_str();
+    std::string out;
+    // Required: a default folder would rewrite ./media of whatever the working directory is.
+    app.add_option("--out", out, "Output folder (created if missing; existing files of the same names are replaced), "
+                                 "e.g. --out media")->required();
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     {
         prepare_output_folder(out);

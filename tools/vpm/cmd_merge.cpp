@@ -36,6 +36,10 @@ int run_merge(int argc, char** argv) {
     if (const size_t bad = vpm::count_nonfinite_pixels(result.image))
         std::cerr << "vpm merge: warning: " << bad << " of " << size_t(result.image.width) * size_t(result.image.height)
                   << " pixels are NaN or Inf (render.nonfinite_pixels in " << vpm::sidecar_path_for(output).string() << ")\n";
+    if (const size_t negative = vpm::count_negative_pixels(result.image))
+        std::cerr << "vpm merge: warning: " << negative << " of " << size_t(result.image.width) * size_t(result.image.height)
+                  << " pixels are negative, which no radiance is (render.negative_pixels in "
+                  << vpm::sidecar_path_for(output).string() << ")\n";
     return 0;
 }
 

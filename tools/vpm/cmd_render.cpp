@@ -164,6 +164,10 @@ int run_render(int argc, char** argv) {
         std::cerr << "vpm render: warning: " << bad << " of " << size_t(result.image.width) * size_t(result.image.height)
                   << " pixels are NaN or Inf (render.nonfinite_pixels in " << vpm::sidecar_path_for(render.output).string()
                   << ")\n";
+    if (const size_t negative = vpm::count_negative_pixels(result.image))
+        std::cerr << "vpm render: warning: " << negative << " of " << size_t(result.image.width) * size_t(result.image.height)
+                  << " pixels are negative, which no radiance is (render.negative_pixels in "
+                  << vpm::sidecar_path_for(render.output).string() << ")\n";
     return 0;
 }
 

@@ -84,7 +84,9 @@ int run_sweep_command(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--jobs", opt.jobs, "runs at once (each run also uses --threads)")->capture_default_str()->check(CLI::Range(1, 256));
     app.add_option("--threads", threads, "worker threads per process (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
-    app.add_option("--max-runs", opt.max_runs, "stop after this many new runs (0: all); rerun to continue")->capture_default_str();
+    // Unsigned: a sign is refused (CLI11 would wrap -1 to 2^64 - 1).
+    app.add_option("--max-runs", opt.max_runs, "stop after this many new runs (0: all); rerun to continue")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
     app.add_flag("--references-only", opt.references_only,
                  "render the references of the whole sweep and stop (before a job array shares --out)");
     app.add_flag("--dry-run", dry_run, "validate the sweep and print the plan, run nothing");

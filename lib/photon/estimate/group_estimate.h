@@ -38,6 +38,7 @@ namespace vpm {
 struct GroupEstimate {
     Rgb value = Rgb::Zero();   // incident radiance (the sum above), when used
     bool used = false;         // false: no finite, positive radius for some half; use the plain estimate
+    bool linear_fell_back = false;   // linear: the corrected sum was negative; value is the h = 1 sum (linear_estimate.h)
     size_t want = 0;           // > 0: some half's m-th photon lies beyond the list; gather this many and call again
 };
 
@@ -52,7 +53,8 @@ inline size_t leave_half_out_gather(size_t k) { return k + 2 * size_t(std::ceil(
 
 // buf holds the `found` nearest photons (sorted, buf.w the weighted powers); complete: no more exist
 // within max_radius (then a half with fewer than m photons bounds the other half's ball at
-// max_radius). linear: h as in linear_estimate.h, else h = 1. lookups as BallExtinction::integral.
+// max_radius). linear: h as in linear_estimate.h, else h = 1 (and h = 1 where the linear sum of the
+// two halves is negative, as linear_estimate.h falls back). lookups as BallExtinction::integral.
 inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool complete, size_t k, double max_radius,
                                     const PhotonMap& map, const Vec3& x, const BallExtinction& ball, bool linear,
                                     uint64_t* lookups = nullptr) {
@@ -78,9 +80,10 @@ inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool
     std::array<BallMoments, 2> mo;
     if (linear) mo = ball.moments(x, r[0], r[1], lookups);
     else m0 = ball.integrals(x, r[0], r[1], lookups);
+    Rgb plain = Rgb::Zero();   // the h = 1 sum, for the fallback
     for (int h = 0; h < 2; ++h) {
         const double r2 = r[h] * r[h];
-        Rgb sum = Rgb::Zero();
+        Rgb sum = Rgb::Zero(), sum_plain = Rgb::Zero();
         if (linear) {
             const BallMoments& mh = mo[size_t(h)];
             m0[size_t(h)] = mh.m0;
@@ -94,9 +97,13 @@ inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool
             if (g.isZero(0.0)) {
                 for (size_t i = 0; i < found && buf.d2[i] < r2; ++i)
                     if (walk_half(buf.list[i].group) == h) sum += buf.w[i];
+                sum_plain = sum;
             } else {
                 for (size_t i = 0; i < found && buf.d2[i] < r2; ++i)
-                    if (walk_half(buf.list[i].group) == h) sum += buf.w[i] * (1.0 - (map.position(buf.list[i].index) - c).dot(g));
+                    if (walk_half(buf.list[i].group) == h) {
+                        sum += buf.w[i] * (1.0 - (map.position(buf.list[i].index) - c).dot(g));
+                        sum_plain += buf.w[i];
+                    }
             }
         } else {
             for (size_t i = 0; i < found && buf.d2[i] < r2; ++i)
@@ -104,6 +111,11 @@ inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool
         }
         if (!(m0[size_t(h)] > 0.0)) return GroupEstimate{};
         out.value += sum / m0[size_t(h)];
+        if (linear) plain += sum_plain / m0[size_t(h)];
+    }
+    if (linear && linear_sum_negative(out.value)) {
+        out.value = plain;
+        out.linear_fell_back = true;
     }
     out.used = true;
     return out;

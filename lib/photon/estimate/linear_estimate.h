@@ -16,8 +16,19 @@
 // E[sum h w | r_k] = (k - 1) m0 L(x) / Lambda(r_k), and E[(k - 1) / Lambda(r_k)] = 1 (Lambda(r_k) ~
 // Gamma(k)): the k - 1 correction carries over unchanged. Where c = x (a ball of constant sigma_t
 // inside the medium) every h_i is 1 and the estimate is the ball normalisation's, bit for bit up to
-// rounding. Weights can be negative near the boundary (a single estimate can be < 0; the mean is
-// right). A covariance too flat to invert (the medium's mass in a sheet) keeps h = 1.
+// rounding. A covariance too flat to invert (the medium's mass in a sheet) keeps h = 1.
+//
+// Non-negative by construction: the weights h_i are negative for photons deep in a clipped ball
+// (h ranges over about [-3, 3.4] in a half-ball), so where a few photons carry most of the sum
+// (a strongly anisotropic phase function, g near -1 or 1, or a tiny k) the corrected sum can go
+// negative, which no radiance is (no boundary correction unbiased for every linear radiance is
+// non-negative for every sample). Such an estimate falls back to the ball normalisation (every
+// h_i = 1, >= 0 since the powers and kernel weights are), counted in photons.linear_fallbacks.
+// Every estimate that does not fall back is unchanged bit for bit. The fallback raises the mean by
+// E[(ball - linear) 1{linear < 0}]: nothing where no query falls back, +1.9% at g = -0.95 in
+// configs/homogeneous.toml, where the linear mean is right only through its negative estimates
+// (docs/linear_fallback.md).
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -27,10 +38,14 @@
 
 namespace vpm {
 
+// True if any channel of a linear-corrected sum is negative (NaN is not: it is counted elsewhere).
+inline bool linear_sum_negative(const Rgb& v) { return (v.array() < 0.0).any(); }
+
 // Incident radiance (sigma_t-normalised estimate) at x from the estimate s gathered into buf with
-// estimator e, the ball's moments m (m.m0 > 0), and the map for the photon positions.
+// estimator e, the ball's moments m (m.m0 > 0), and the map for the photon positions. fallbacks (may
+// be null) counts the estimates that fell back to the ball normalisation (negative corrected sum).
 inline Rgb linear_estimate(const Estimate<Rgb>& s, const Estimator& e, const GatherBuffers& buf, const PhotonMap& map,
-                           const Vec3& x, const BallMoments& m, std::vector<Rgb>& scratch) {
+                           const Vec3& x, const BallMoments& m, std::vector<Rgb>& scratch, uint64_t* fallbacks = nullptr) {
     const double volume = ball_volume(3, s.radius);
     const double mean = m.m0 / volume;
     const bool used = s.kind == EstimateCase::knn || s.kind == EstimateCase::extended ||
@@ -48,6 +63,10 @@ inline Rgb linear_estimate(const Estimate<Rgb>& s, const Estimator& e, const Gat
     for (size_t i = 0; i < s.k_used; ++i) scratch[i] = buf.w[i] * (1.0 - (map.position(buf.list[i].index) - c).dot(g));
     const Neighbours<Rgb> n{scratch.data(), buf.d2.data(), s.k_used, s.radius, volume, 3};
     const Rgb value = s.kind == EstimateCase::fixed_radius ? e.fixed_radius(n) : e.apply(n);
+    if (linear_sum_negative(value)) {
+        if (fallbacks) ++*fallbacks;
+        return s.value / mean;
+    }
     return value / mean;
 }
 

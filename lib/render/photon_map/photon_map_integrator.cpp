@@ -61,6 +61,7 @@ struct PhotonMapIntegrator::ThreadState {
         GatherBuffers buffers;
         EstimatorStats stats, surface_stats;
         uint64_t continued = 0;   // camera paths continued past a collision (bounded radius)
+        uint64_t linear_fallbacks = 0;   // linear estimates that fell back to the ball's (photon/estimate/linear_estimate.h)
         uint64_t march_wide = 0;  // march queries whose kNN ball exceeds max_radius_mfp mean free paths
         uint64_t rays = 0;        // tracked segments: free flights, shadow rays, march transmittances (pilot cost)
         uint64_t lookups = 0;     // sigma_t lookups of the ball quadrature (pilot cost)
@@ -283,6 +284,14 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     if (pilot_) stats.gather_pilot = pilot_;
     if (auto_stats_) stats.auto_gather = auto_stats_;
     stats.continued_paths = continued_paths();
+    if (settings_.extinction == ExtinctionNormalisation::linear) {
+        uint64_t fallbacks = 0;
+        for (const auto& l : threads_->local) fallbacks += l.linear_fallbacks;
+        stats.linear_fallbacks = fallbacks;
+        if (fallbacks && log)
+            *log << "linear: " << fallbacks << " of " << stats.volume_estimates->queries << " estimates fell back to the "
+                 << "ball normalisation (their linear-corrected sum was negative; photon/estimate/linear_estimate.h)\n";
+    }
     if (decision_map_) stats.decision_queries = decision_queries();
     if (log)
         *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
@@ -486,7 +495,10 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
         for (;;) {
             const GroupEstimate e = leave_half_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear,
                                                    &threads_->local.local().lookups);
-            if (e.used) return e.value;
+            if (e.used) {
+                if (e.linear_fell_back) ++threads_->local.local().linear_fallbacks;
+                return e.value;
+            }
             if (e.want == 0) break;   // no finite ball for some half: the plain estimate below
             found = map_->knn(x, e.want, max_radius, buffers.list);
             complete = found < e.want || found == map_->size();
@@ -502,7 +514,8 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     }
     if (linear) {
         const BallMoments m = threads_->ball.moments(x, s.radius, &threads_->local.local().lookups);
-        if (m.m0 > 0.0) return linear_estimate(s, settings_.estimator, buffers, *map_, x, m, scratch);
+        if (m.m0 > 0.0)
+            return linear_estimate(s, settings_.estimator, buffers, *map_, x, m, scratch, &threads_->local.local().linear_fallbacks);
         return s.value / sigma_t;
     }
     const double ball = threads_->ball.mean(x, s.radius, &threads_->local.local().lookups);
@@ -528,10 +541,7 @@ CountedOperations PhotonMapIntegrator::counted_operations() const {
     return c;
 }
 
-bool PhotonMapIntegrator::leaves_half_out() const {
-    return settings_.clustering == Clustering::leave_group_out && std::string(settings_.estimator.name()) == "corrected" &&
-           settings_.estimator.kernel().is_constant() && settings_.extinction != ExtinctionNormalisation::point;
-}
+bool PhotonMapIntegrator::leaves_half_out() const { return settings_.leaves_group_out(); }
 
 size_t PhotonMapIntegrator::gather_count() const { return leaves_half_out() ? leave_half_out_gather(k_) : k_; }
 

@@ -30,6 +30,25 @@ void read_store_probability(Params& p, PhotonMapSettings& s) {
     s.store_probability = p.real(key, s.store_probability, range);
 }
 
+// photons.clustering = "leave_group_out" is honoured or refused: it applies to the corrected
+// estimator with the constant kernel and ball or linear extinction, and splits k into two halves of
+// k / 2 photons (photon/estimate/group_estimate.h), so k is even.
+void check_leave_group_out(Params& p, const PhotonMapSettings& s) {
+    if (s.clustering != Clustering::leave_group_out) return;
+    if (!s.leaves_group_out())
+        p.fail("clustering", std::string("\"leave_group_out\" applies to photons.estimator = \"corrected\" with photons.kernel = "
+                             "\"constant\" and photons.extinction = \"linear\" or \"ball\" (got estimator \"") +
+                                 s.estimator.name() + "\", kernel \"" + s.estimator.kernel().name() + "\", extinction \"" +
+                                 (s.extinction == ExtinctionNormalisation::point      ? "point"
+                                  : s.extinction == ExtinctionNormalisation::ball ? "ball"
+                                                                                  : "linear") +
+                                 "\"); set photons.clustering = \"ignore\" or change those keys");
+    if (s.k % 2)
+        p.fail("k", "photons.clustering = \"leave_group_out\" bounds each half of the walk groups by the other half's (k / 2)-th "
+                    "photon, so k must be even (got " + std::to_string(s.k) + "; use " + std::to_string(s.k - 1) + " or " +
+                    std::to_string(s.k + 1) + ")");
+}
+
 }  // namespace
 
 PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool chooses_integrator) {
@@ -87,6 +106,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
     s.clustering = p.choice("clustering", s.clustering,
                             {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
+    check_leave_group_out(p, s);
     read_store_probability(p, s);
     s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});
     s.alpha = p.real("alpha", s.alpha, Range::open(0.0, 1.0));
@@ -97,10 +117,17 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     return s;
 }
 
+bool PhotonMapSettings::leaves_group_out() const {
+    return clustering == Clustering::leave_group_out && std::string(estimator.name()) == "corrected" &&
+           estimator.kernel().is_constant() && extinction != ExtinctionNormalisation::point;
+}
+
 int PhotonMapSettings::k_for_pass(int pass_index) const {
     if (schedule == KSchedule::fixed) return k;
     const double shrunk = std::round(double(k) * std::pow(double(pass_index) + 1.0, alpha - 1.0));
-    return std::max(std::min(k_floor, k), int(shrunk));
+    const int kp = std::max(std::min(k_floor, k), int(shrunk));
+    // leave_group_out splits k into two halves of k / 2 (photon/estimate/group_estimate.h).
+    return leaves_group_out() && kp % 2 ? kp + 1 : kp;
 }
 
 }  // namespace vpm

@@ -63,9 +63,11 @@
 //   | beam_k                 | 32          | "beam": each photon's radius is its beam_k-th nearest    |
 //   |                        |             | other photon (photon/map/photon_radii.h)                     |
 //   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
-//   |                        |             | linear extinction): each half of the walk groups counted |
-//   |                        |             | within the ceil(k/2)-th photon of the other half, exact  |
-//   |                        |             | for clustered walks (photon/estimate/group_estimate.h)            |
+//   |                        |             | linear extinction, even k; else refused): each half of   |
+//   |                        |             | the walk groups counted within the (k/2)-th photon of    |
+//   |                        |             | the other half ("shrink" rounds a pass's k up to even),  |
+//   |                        |             | exact for clustered walks                                |
+//   |                        |             | (photon/estimate/group_estimate.h)                       |
 //   | store_probability      | 1           | each volume collision stored with this probability and   |
 //   |                        |             | its power divided by it (thinning; photon_tracer.h);     |
 //   |                        |             | "auto": min(1, 2 / stored per storing walk of the pass's |
@@ -133,6 +135,9 @@ struct PhotonMapSettings {
 
     // k of pass `pass_index` (0-based, counting from render.first_pass) under the schedule.
     int k_for_pass(int pass_index) const;
+    // photons.clustering = "leave_group_out" applies: the corrected estimator, constant kernel,
+    // ball or linear extinction (from_params refuses it elsewhere, and an odd k).
+    bool leaves_group_out() const;
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
     // Whether a plan runs on the first pass (render/plan/pass_plan.h): gather = "auto" or the "auto" integrator.

@@ -27,7 +27,7 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
     const size_t pixels = size_t(o.width) * size_t(o.height), rows = size_t(o.height);
     if (sum.size() != 3 * pixels) throw Error("render_passes: the sum must hold 3 doubles per pixel");
     std::vector<double> row_sums(size_t(passes) * rows, 0.0);   // [pass][row]
-    std::atomic<uint64_t> nonfinite{0};
+    std::atomic<uint64_t> nonfinite{0}, negative{0};
     Progress progress("render", uint64_t(o.height), o.progress);
     const Timer timer;
     tbb::parallel_for(tbb::blocked_range<int>(0, o.height, 1), [&](const tbb::blocked_range<int>& range) {
@@ -36,7 +36,7 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
             // A cancelled task group (the Python module's Ctrl-C) stops at the next row; the caller
             // discards the image. A range may hold many rows, so checking between ranges is not enough.
             if (tbb::is_current_task_group_canceling()) return;
-            uint64_t bad = 0;
+            uint64_t bad = 0, below_zero = 0;
             std::fill(row.begin(), row.end(), 0.0);
             for (int x = 0; x < o.width; ++x) {
                 const uint64_t pixel = uint64_t(y) * uint64_t(o.width) + uint64_t(x);
@@ -48,8 +48,12 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
                     for (int k = 0; k < o.spp; ++k) {
                         const double jx = rng.uniform(), jy = rng.uniform();
                         const Rgb l = integrator.radiance(camera.generate_ray(x + jx, y + jy), rng);
-                        if (all_finite(l)) s += l;
-                        else ++bad;
+                        if (all_finite(l)) {
+                            s += l;
+                            below_zero += (l.array() < 0.0).any();
+                        } else {
+                            ++bad;
+                        }
                     }
                     const Rgb v = s / double(o.spp);
                     for (int c = 0; c < 3; ++c) {
@@ -61,6 +65,7 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
             }
             for (int g = 0; g < passes; ++g) row_sums[size_t(g) * rows + size_t(y)] = row[size_t(g)];
             if (bad) nonfinite += bad;
+            if (below_zero) negative += below_zero;
             progress.advance();
         }
     });
@@ -73,6 +78,7 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
     }
     stats.samples = uint64_t(pixels) * uint64_t(o.spp) * uint64_t(passes);
     stats.nonfinite_samples = nonfinite.load();
+    stats.negative_samples = negative.load();
     stats.seconds = timer.seconds();
 }
 

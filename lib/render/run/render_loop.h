@@ -2,7 +2,9 @@
 // Renders an image by averaging an integrator's estimates over spp jittered camera rays per pixel.
 // Every pixel draws from its own Rng stream (seed, pixel index), so the image is the same for
 // any thread count. Non-finite estimates are counted and left out of the average, never clamped
-// or hidden: the count is returned and written to the sidecar.
+// or hidden: the count is returned and written to the sidecar. Negative estimates (no radiance is
+// negative: a wrong estimator) are kept in the average, so the mean stays the estimator's, and
+// counted the same way.
 #include <cstdint>
 #include <vector>
 
@@ -15,6 +17,7 @@ namespace vpm {
 struct RenderStats {
     uint64_t samples = 0;
     uint64_t nonfinite_samples = 0;
+    uint64_t negative_samples = 0;   // finite, with a channel < 0 (kept in the average)
     double seconds = 0.0;
     double samples_per_second() const { return seconds > 0 ? double(samples) / seconds : 0.0; }
 };

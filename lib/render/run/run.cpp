@@ -104,6 +104,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         result.stats.phase("render", group_render.seconds);
         render.samples += group_render.samples;
         render.nonfinite_samples += group_render.nonfinite_samples;
+        render.negative_samples += group_render.negative_samples;
         render.seconds += group_render.seconds;
         const double seconds = group_timer.seconds(), each = seconds / double(n);
         double mean_of_means = 0.0;
@@ -150,6 +151,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         if (passes > 1) *options.log << " in " << passes << " passes";
         *options.log << " in " << render.seconds << " s (" << render.samples_per_second() / 1e6 << " M samples/s)";
         if (render.nonfinite_samples) *options.log << ", " << render.nonfinite_samples << " non-finite samples left out";
+        if (render.negative_samples) *options.log << ", " << render.negative_samples << " NEGATIVE samples (non-physical) kept";
         *options.log << "\n";
     }
     integrator->collect(result.stats, options.log);

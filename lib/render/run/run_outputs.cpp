@@ -49,6 +49,12 @@ size_t count_nonfinite_pixels(const Image& image) {
     return n;
 }
 
+size_t count_negative_pixels(const Image& image) {
+    size_t n = 0;
+    for (size_t i = 0; i + 2 < image.rgb.size(); i += 3) n += image.rgb[i] < 0.0f || image.rgb[i + 1] < 0.0f || image.rgb[i + 2] < 0.0f;
+    return n;
+}
+
 void write_run_outputs(const fs::path& output, RunResult& result, double exposure,
                        const std::vector<std::pair<fs::path, std::string>>& extra_text, std::vector<StagedFile> staged) {
     std::vector<fs::path> extra;
@@ -58,6 +64,7 @@ void write_run_outputs(const fs::path& output, RunResult& result, double exposur
     const Timer timer;
     // The final image, not the samples: finite samples can still sum to an Inf pixel.
     result.record.set("render.nonfinite_pixels", uint64_t(count_nonfinite_pixels(result.image)));
+    result.record.set("render.negative_pixels", uint64_t(count_negative_pixels(result.image)));
     std::vector<StagedFile> files;
     files.push_back(stage_exr(output, result.image));
     files.push_back(stage_png_preview(preview_path_for(output), result.image, exposure));

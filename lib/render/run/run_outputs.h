@@ -24,7 +24,10 @@ void check_run_outputs(const std::filesystem::path& output, const std::vector<st
 // Pixels with a NaN or Inf in any channel.
 size_t count_nonfinite_pixels(const Image& image);
 
-// Records render.nonfinite_pixels and the write phase, then writes OUT, its PNG preview, its
+// Pixels with a negative channel (non-physical: no radiance is negative).
+size_t count_negative_pixels(const Image& image);
+
+// Records render.nonfinite_pixels, render.negative_pixels and the write phase, then writes OUT, its PNG preview, its
 // JSON sidecar and the `extra_text` files (path, contents) as one set (see above). Creates OUT's
 // folder. Throws FileError.
 // `staged` are further files already written to their temporaries (e.g. a table streamed during

@@ -147,6 +147,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     record.set("render.samples", stats.render.samples);
     record.set("render.samples_per_second", stats.render.samples_per_second());
     record.set("render.nonfinite_samples", stats.render.nonfinite_samples);
+    record.set("render.negative_samples", stats.render.negative_samples);
     if (const auto& p = stats.photons) {
         record.set("photons.emitted", p->emitted);
         record.set("photons.stored", p->stored);
@@ -190,6 +191,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         }
     }
     if (stats.continued_paths) record.set("photons.continued_paths", *stats.continued_paths);
+    if (stats.linear_fallbacks) record.set("photons.linear_fallbacks", *stats.linear_fallbacks);
     if (stats.decision_queries) record.set("photons.decision_queries", *stats.decision_queries);
     if (stats.decision_map_photons) record.set("photons.decision_map_photons", *stats.decision_map_photons);
     if (stats.march_wide_queries) record.set("photons.march_wide_queries", *stats.march_wide_queries);

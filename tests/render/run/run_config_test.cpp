@@ -116,3 +116,31 @@ TEST(RunConfig, PhotonMapIntegratorRunsItsOwnPhotonPass) {
     EXPECT_EQ(stats.photons->emitted, 100000u);
     EXPECT_GT(stats.seconds("trace"), 0.0);
 }
+
+// Issue 47: leave_group_out splits k into two halves of k / 2 (photon/estimate/group_estimate.h);
+// an odd k was rounded up silently (k 3 and 4 gave bit-identical images), and the key was ignored
+// where it does not apply. Both are refused, naming the key; an even k and "ignore" are accepted.
+TEST(RunConfig, LeaveGroupOutRefusesAnOddKAndWhereItDoesNotApply) {
+    const std::string odd = error_of({"photons.clustering=\"leave_group_out\"", "photons.k=31"});
+    EXPECT_NE(odd.find("photons.k:"), std::string::npos) << odd;
+    EXPECT_NE(odd.find("must be even (got 31; use 30 or 32)"), std::string::npos) << odd;
+    EXPECT_EQ(error_of({"photons.clustering=\"leave_group_out\"", "photons.k=32"}), "");
+    EXPECT_EQ(error_of({"photons.clustering=\"ignore\"", "photons.k=31"}), "");
+    for (const char* other : {"photons.estimator=\"classic\"", "photons.kernel=\"epanechnikov\"", "photons.extinction=\"point\""}) {
+        const std::string msg = error_of({"photons.clustering=\"leave_group_out\"", "photons.k=32", other});
+        EXPECT_NE(msg.find("photons.clustering: \"leave_group_out\" applies to"), std::string::npos) << other << ": " << msg;
+    }
+}
+
+// A shrinking k under leave_group_out is rounded up to even per pass, as the halves use it.
+TEST(RunConfig, LeaveGroupOutShrinkScheduleKeepsKEven) {
+    PhotonMapSettings s;
+    s.k = 32;
+    s.schedule = KSchedule::shrink;
+    s.alpha = 2.0 / 3.0;
+    s.clustering = Clustering::leave_group_out;
+    for (int pass : {0, 1, 2, 5, 7, 20, 63, 1000}) EXPECT_EQ(s.k_for_pass(pass) % 2, 0) << pass;
+    EXPECT_EQ(s.k_for_pass(7), 16);
+    s.clustering = Clustering::ignore;
+    EXPECT_EQ(s.k_for_pass(1), 25);   // round(32 * 2^(-1/3)) = 25, odd where the halves are not used
+}
