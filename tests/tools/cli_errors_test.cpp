@@ -30,6 +30,12 @@ TEST(CliErrors, BadCommandLinesGiveOneLineAndExitCode2) {
         {"bench nope", "vpm bench: error: "},
         {"bench equal-time --size 12", "vpm bench: error: "},
         {"make-media --bogus", "vpm make-media: error: "},
+        {"make-media", "vpm make-media: error: "},                                           // issue 47: rewrote ./media
+        {"bench matrix --only zzz --no-plot --out " + quote(dir.path / "m"), "vpm bench: error: "},   // issue 47: exit 0
+        {"bench matrix --budget nan --out " + quote(dir.path / "m"), "vpm bench: error: "},   // issue 47: accepted
+        {"bench matrix --reference-seconds nan --out " + quote(dir.path / "m"), "vpm bench: error: "},
+        {"bench matrix --max-tau -1 --out " + quote(dir.path / "m"), "vpm bench: error: "},
+        {"sweep " + cfg + " --max-runs -1", "vpm sweep: error: "},                              // issue 47: ran all
         {"make-sky --width 1", "vpm make-sky: error: "},
         {"make-sky --out sky.png", "vpm make-sky: error: "},
         {"merge", "vpm merge: error: "},

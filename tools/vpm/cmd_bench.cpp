@@ -227,6 +227,13 @@ int run_matrix(int argc, char** argv) {
             const bool named = only.empty() || c.id().find(only) != std::string::npos || c.group.find(only) != std::string::npos;
             return named && (max_tau <= 0 || c.tau <= max_tau);
         };
+    if (o.filter) {   // a selection that matches nothing is a bad command line, before any output
+        bool any = false;
+        for (const vpm::MatrixCell& c : vpm::matrix_cells(o.quick)) any = any || o.filter(c);
+        if (!any)
+            throw vpm::cli::UsageError("--only '" + only + "'" + (max_tau > 0 ? " with --max-tau" : std::string()) +
+                                       ": no cell of the matrix matches (see vpm bench matrix --help)");
+    }
     vpm::prepare_output_folder(out);   // before the work
     const fs::path md = fs::path(out) / "MATRIX.md", csv = fs::path(out) / "matrix.csv";
     vpm::check_output_file(md);
