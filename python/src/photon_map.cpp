@@ -170,7 +170,8 @@ double scene_g(const PyPhotonMap& m) {
 
 py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::handle& directions,
                    std::optional<std::string> estimator, std::optional<size_t> k, std::optional<std::string> kernel,
-                   std::optional<double> g, std::optional<double> max_radius, bool return_radius) {
+                   std::optional<double> g, std::optional<double> max_radius, bool return_radius,
+                   std::optional<int> pass_index) {
     if (m.kind != "volume") throw Error("estimate: only the volume photon map has an in-scattering estimate");
     const Points q = rows_of_three(points, "points"), w = rows_of_three(directions, "directions");
     if (w.shape(0) != q.shape(0))
@@ -179,7 +180,15 @@ py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::ha
     const PhotonMapSettings& s = m.config ? photon_map_settings(*m.config) : defaults;
     Estimator e = estimator ? Estimator::named(*estimator).with_kernel(s.estimator.kernel()) : s.estimator;
     if (kernel) e = e.with_kernel(Kernel::named(*kernel));
-    const size_t kk = k ? *k : size_t(s.k);
+    size_t kk = k ? *k : size_t(s.k);
+    if (pass_index) {   // the config's photons.schedule at that pass, starting from k: the pass's k and radius scale
+        if (*pass_index < 0) throw Error("estimate: pass_index must be >= 0, got " + std::to_string(*pass_index));
+        PhotonMapSettings scheduled = s;
+        scheduled.k = int(kk);
+        const PassRadii r = scheduled.radii_for_pass(*pass_index, true, false);
+        kk = size_t(r.k);
+        e = e.with_radius_scale(r.volume_scale);
+    }
     e.validate_k(kk);
     const double gg = g ? *g : scene_g(m);
     if (!(gg > -1.0 && gg < 1.0)) throw Error("estimate: g must be in (-1, 1), got " + std::to_string(gg));
@@ -236,11 +245,13 @@ void bind_photon_map(py::module_& m) {
              "(ties by index). Missing neighbours (k above the map size, or beyond max_radius) are inf and -1.")
         .def("estimate", &estimate, py::arg("points"), py::arg("directions"), py::arg("estimator") = py::none(),
              py::arg("k") = py::none(), py::arg("kernel") = py::none(), py::arg("g") = py::none(),
-             py::arg("max_radius") = py::none(), py::arg("return_radius") = false,
+             py::arg("max_radius") = py::none(), py::arg("return_radius") = false, py::arg("pass_index") = py::none(),
              "The in-scattering estimate S(x, w_o) (RGB, (m, 3) float64) at each point for the outgoing travel "
              "direction w_o (towards the viewer), as the renderer computes it (estimate_in_scattering in "
              "lib/photon/estimate/estimators.h, rules (a)-(c) included). Unset arguments come from the config's [photons] "
-             "(estimator, k, kernel, max_radius) and its media (g). return_radius: also the radius of each ball.");
+             "(estimator, k, kernel, max_radius) and its media (g). return_radius: also the radius of each ball (the "
+             "one counted in). pass_index: the estimate of that pass under photons.schedule starting from k (the pass's own k "
+             "and radius scale: docs/progressive.md).");
     m.def("_trace_photons", &trace, py::arg("config"), py::arg("stream_offset") = 0, py::arg("threads") = py::none(),
           py::arg("progress") = false, py::arg("log") = false);
 }

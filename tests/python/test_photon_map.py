@@ -100,3 +100,19 @@ def test_bad_estimate_arguments_raise_with_the_message():
         m.estimate(p, wo, k=8)
     with pytest.raises(vpm.Error, match=r"shape \(n, 3\)"):
         m.knn(np.zeros((3, 2)), 4)
+
+
+def test_estimate_at_a_pass_follows_the_schedule():
+    # photons.schedule = "progressive" (docs/progressive.md): pass_index takes that pass's k and radius
+    # scale; the ball counted in shrinks, and pass 0 is the plain estimate.
+    config = vpm.load_config(FURNACE, overrides=dict(SMALL, **{"photons.k": 16, "photons.schedule": "progressive"}))
+    photons = vpm.trace_photons(config)
+    points = np.zeros((4, 3))
+    wo = np.tile([0.0, 0.0, 1.0], (4, 1))
+    plain, r0 = photons.estimate(points, wo, return_radius=True)
+    first, r_first = photons.estimate(points, wo, return_radius=True, pass_index=0)
+    assert np.array_equal(first, plain) and np.array_equal(r_first, r0)
+    _, r_late = photons.estimate(points, wo, return_radius=True, pass_index=100)
+    assert (r_late < 0.8 * r0).all()
+    with pytest.raises(vpm.Error, match="pass_index"):
+        photons.estimate(points, wo, pass_index=-1)

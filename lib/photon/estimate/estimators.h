@@ -100,6 +100,9 @@ struct Neighbours {
     double volume = 0.0;          // V(r_k) > 0
     int dim = 3;
     const Kernel* kernel = nullptr;   // null: the constant kernel (Estimator::apply sets it)
+    // Radius scale s in (0, 1] (photons.schedule = "progressive", radius_schedule.h): the estimate
+    // counts the photons within s r_k over V(s r_k); 1: the estimators exactly as above.
+    double scale = 1.0;
 };
 template <class T>
 using EstimateFn = T (*)(const Neighbours<T>&);
@@ -130,18 +133,47 @@ inline double kernel_variance_factor(const Kernel* k, int dim) {
     return k ? k->moments(dim).variance_factor() : 1.0;
 }
 
+// Under a radius scale s < 1 (docs/progressive.md): the first m photons' weights within s r,
+// each with the kernel at t = r_i / (s r), over V(s r) = s^dim V(r). Given r_k the k - 1 inner
+// photons are i.i.d. uniform in B(r_k), so each lands in B(s r_k) with probability s^dim and is
+// then uniform there: E[sum | r_k] = (k - 1) s^dim m1, and the s^dim cancels against the volume.
+// The corrected estimate is therefore unbiased on a uniform density for every k and s.
+template <class T>
+inline T scaled_inner_sum(const Neighbours<T>& n, size_t m) {
+    const double rs = n.scale * n.radius;
+    const double rs2 = rs * rs;
+    const double volume = n.volume * std::pow(n.scale, double(n.dim));
+    T s = zero_value<T>();
+    if (!n.kernel || n.kernel->is_constant()) {
+        for (size_t i = 0; i < m && n.d2[i] <= rs2; ++i) s += n.w[i];
+    } else {
+        const double inv = 1.0 / rs2;
+        for (size_t i = 0; i < m && n.d2[i] <= rs2; ++i) s += n.w[i] * n.kernel->weight(std::min(1.0, n.d2[i] * inv), n.dim);
+    }
+    return s / volume;
+}
+inline bool scaled(double scale) { return scale < 1.0; }
+
+// Under a scale s < 1 each estimator keeps its own difference from corrected: classic adds the k-th
+// photon's term w_k omega(1) / V(r_k) (bias k1/(k-1), as at s = 1), mse_optimal its shrink.
 template <class T>
 inline T estimate_classic(const Neighbours<T>& n) {
+    if (scaled(n.scale)) {
+        const double k1 = n.kernel ? n.kernel->weight(1.0, n.dim) : 1.0;
+        return scaled_inner_sum(n, n.k - 1) + n.w[n.k - 1] * (k1 / n.volume);
+    }
     return kernel_sum(n, n.k) / n.volume;
 }
 template <class T>
 inline T estimate_corrected(const Neighbours<T>& n) {
+    if (scaled(n.scale)) return scaled_inner_sum(n, n.k - 1);
     return kernel_sum(n, n.k - 1) / n.volume;   // drop the k-th (farthest) photon
 }
 template <class T>
 inline T estimate_mse_optimal(const Neighbours<T>& n) {
     // (k-2)/(k-2+q); q = 1 exactly for the constant kernel, so k-2+q == k-1 in floating point.
     const double q = kernel_variance_factor(n.kernel, n.dim);
+    if (scaled(n.scale)) return scaled_inner_sum(n, n.k - 1) * (double(n.k - 2) / (double(n.k - 2) + q));
     return kernel_sum(n, n.k - 1) * (double(n.k - 2) / ((double(n.k - 2) + q) * n.volume));
 }
 
@@ -182,6 +214,15 @@ public:
         return e;
     }
     const Kernel& kernel() const { return kernel_; }
+    // The same estimator counting within s times its ball's radius (radius_schedule.h), s in (0, 1].
+    Estimator with_radius_scale(double s) const {
+        if (!(s > 0.0 && s <= 1.0))
+            throw Error("estimator: radius scale " + std::to_string(s) + " is out of range (allowed: (0, 1])");
+        Estimator e = *this;
+        e.scale_ = s;
+        return e;
+    }
+    double radius_scale() const { return scale_; }
     // "corrected" for the constant kernel, else "corrected/epanechnikov" (kernel label).
     std::string label() const;
     // Exact uniform-density theory of this estimator with its kernel in `dim` dimensions
@@ -199,6 +240,7 @@ public:
     T apply(const Neighbours<T>& n) const {
         Neighbours<T> m = n;
         m.kernel = kernel_.is_constant() ? nullptr : &kernel_;
+        m.scale = scale_;
         if constexpr (std::is_same_v<T, Rgb>) return entry_->rgb(m);
         else return entry_->scalar(m);
     }
@@ -207,15 +249,18 @@ public:
     T fixed_radius(const Neighbours<T>& n) const {
         Neighbours<T> m = n;
         m.kernel = kernel_.is_constant() ? nullptr : &kernel_;
+        m.scale = scale_;
+        if (scaled(scale_)) return scaled_inner_sum(m, m.k);   // every photon within s R over V(s R)
         return kernel_sum(m, m.k) / m.volume;
     }
-    bool operator==(const Estimator& o) const { return entry_ == o.entry_ && kernel_ == o.kernel_; }
+    bool operator==(const Estimator& o) const { return entry_ == o.entry_ && kernel_ == o.kernel_ && scale_ == o.scale_; }
     bool operator!=(const Estimator& o) const { return !(*this == o); }
 
 private:
     explicit Estimator(const EstimatorEntry* e) : entry_(e), kernel_(Kernel::constant()) {}
     const EstimatorEntry* entry_;
     Kernel kernel_;
+    double scale_ = 1.0;
 };
 
 // Ball volume: dim 2 -> pi r^2, dim 3 -> 4/3 pi r^3 (throws vpm::Error for other dims).
@@ -246,7 +291,8 @@ struct EstimatorStats {
 template <class T>
 struct Estimate {
     T value = zero_value<T>();
-    double radius = 0.0;   // radius of the ball used
+    double radius = 0.0;   // radius of the ball used: the estimator's radius scale times knn_radius
+    double knn_radius = 0.0;   // r_k (or R for a fixed-radius estimate) before the scale
     size_t k_used = 0;     // the k the estimator was applied with (count for fixed radius)
     EstimateCase kind = EstimateCase::empty;
 };
@@ -254,7 +300,8 @@ struct Estimate {
 // w[i], d2[i]: the `found` nearest photons sorted by distance. complete: no further photons exist
 // (within max_radius) beyond these. max_radius: kInfinity for none. dim: 2 or 3.
 // Throws vpm::Error if k < e.min_k(). stats may be null; need_more is not counted.
-// coincident_radius: distances <= it count as 0 for rule (c).
+// coincident_radius: distances <= it count as 0 for rule (c). Under e's radius scale s < 1 every
+// rule keeps its k (or R) and counts within s times its radius (rule (a): s R; docs/progressive.md).
 template <class T>
 Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t found, bool complete,
                              size_t k, double max_radius, int dim, EstimatorStats* stats = nullptr,
@@ -263,6 +310,8 @@ Estimate<T> estimate_density(Estimator e, const T* w, const double* d2, size_t f
     Estimate<T> out;
     auto finish = [&](EstimateCase c) {
         out.kind = c;
+        out.knn_radius = out.radius;
+        out.radius *= e.radius_scale();   // the ball the estimate counted in (radius_schedule.h)
         if (stats && c != EstimateCase::need_more) stats->count(c);
         return out;
     };

@@ -55,9 +55,11 @@ inline size_t leave_half_out_gather(size_t k) { return k + 2 * size_t(std::ceil(
 // within max_radius (then a half with fewer than m photons bounds the other half's ball at
 // max_radius). linear: h as in linear_estimate.h, else h = 1 (and h = 1 where the linear sum of the
 // two halves is negative, as linear_estimate.h falls back). lookups as BallExtinction::integral.
+// scale in (0, 1] (radius_schedule.h): each half's ball is that times the other half's m-th radius,
+// still independent of the half it counts, so each term stays exact (docs/progressive.md).
 inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool complete, size_t k, double max_radius,
                                     const PhotonMap& map, const Vec3& x, const BallExtinction& ball, bool linear,
-                                    uint64_t* lookups = nullptr) {
+                                    uint64_t* lookups = nullptr, double scale = 1.0) {
     GroupEstimate out;
     const size_t m = half_rank(k);
     size_t count[2] = {0, 0}, end[2] = {found, found};   // list index of each half's m-th photon
@@ -74,6 +76,7 @@ inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool
     double r[2];   // r[h]: the radius of half h's ball, bounded by the other half's m-th photon
     for (int h = 0; h < 2; ++h) {
         r[h] = end[1 - h] < found ? std::sqrt(buf.d2[end[1 - h]]) : max_radius;
+        if (scale < 1.0) r[h] *= scale;
         if (!(r[h] > 0.0) || !std::isfinite(r[h])) return GroupEstimate{};
     }
     std::array<double, 2> m0{0.0, 0.0};

@@ -61,7 +61,9 @@ inline Rgb linear_estimate(const Estimate<Rgb>& s, const Estimator& e, const Gat
     if (scratch.size() < s.k_used) scratch.resize(s.k_used);
     const Vec3 c = x + m.offset;
     for (size_t i = 0; i < s.k_used; ++i) scratch[i] = buf.w[i] * (1.0 - (map.position(buf.list[i].index) - c).dot(g));
-    const Neighbours<Rgb> n{scratch.data(), buf.d2.data(), s.k_used, s.radius, volume, 3};
+    // The estimator's own ball (r_k or R); its radius scale, if any, counts within s.radius again.
+    const double knn_volume = s.knn_radius == s.radius ? volume : ball_volume(3, s.knn_radius);
+    const Neighbours<Rgb> n{scratch.data(), buf.d2.data(), s.k_used, s.knn_radius, knn_volume, 3};
     const Rgb value = s.kind == EstimateCase::fixed_radius ? e.fixed_radius(n) : e.apply(n);
     if (linear_sum_negative(value)) {
         if (fallbacks) ++*fallbacks;

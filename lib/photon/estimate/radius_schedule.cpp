@@ -82,10 +82,10 @@ int progressive_k(int64_t pass, int k, int k_floor, const std::vector<ScheduledK
 double progressive_knn_scale(int64_t pass, int k, int k_pass, const ScheduledKernel& kernel) {
     if (pass == 0 && k_pass == k) return 1.0;
     const double s2 = squared_target(pass, kernel) * knn_bias_moment(k, kernel.dim) / knn_bias_moment(k_pass, kernel.dim);
-    // k_pass from progressive_k makes s2 <= 1; a k_pass above k would ask for a ball wider than r_k.
+    // k_pass from progressive_k makes s2 <= 1; a smaller k_pass would need a ball wider than r_k.
     if (!(s2 <= 1.0 + 1e-12))
         throw Error("radius schedule: k = " + std::to_string(k_pass) + " at pass " + std::to_string(pass) +
-                    " would need a radius beyond the k-th neighbour's (allowed: k at most the schedule's)");
+                    " would need a radius beyond the k-th neighbour's (allowed: k >= progressive_k's)");
     return std::min(1.0, std::sqrt(s2));
 }
 

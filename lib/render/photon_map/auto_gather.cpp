@@ -23,6 +23,13 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     // The whole span is one-off work; what it holds (a probe, the decision map of a run starting at a
     // later pass) counts once, in the span.
     const double one_off_before = one_off_seconds_;
+    // The plan is pass 0's, radii included (photons.schedule), whatever pass the run starts at.
+    struct PassRadiiRestore {
+        PhotonMapIntegrator& self;
+        int pass;
+        ~PassRadiiRestore() { self.schedule_pass(pass); }
+    } restore{*this, context.pass};
+    schedule_pass(0);
     const WorkUnits w = work_units(scene_, int(k_));
     PlanInputs in;
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());

@@ -14,7 +14,7 @@
 namespace vpm {
 
 BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
-                       double max_radius_mfp)
+                       double max_radius_mfp, double radius_scale)
     : scene_(scene), map_(map), kernel_(kernel) {
     for (const auto& m : scene.media) exact_.push_back(dynamic_cast<const HomogeneousMedium*>(m.get()) != nullptr);
     const Timer radii_timer;
@@ -30,7 +30,7 @@ BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const
             for (const auto& m : scene.media) sigma_t += m->sigma_t(centres[i]);
             if (sigma_t > 0.0) r = std::min(r, max_radius_mfp / sigma_t);
         }
-        radii[i] = r;
+        radii[i] = radius_scale < 1.0 ? r * radius_scale : r;
     }
     // Per photon 1 / (mean sigma_t over its ball): query-independent like the radius (photon/estimate/ball_extinction.h).
     // Only media with a jump need it; where every medium is continuous the plain estimate is kept.

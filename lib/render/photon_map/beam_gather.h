@@ -39,9 +39,11 @@ namespace vpm {
 class BeamGather {
 public:
     // Builds the radii (parallel) and the BVH over `map`, which must outlive this object.
-    // max_radius: kInfinity for none; max_radius_mfp: 0 for none.
+    // max_radius: kInfinity for none; max_radius_mfp: 0 for none. radius_scale in (0, 1]: every disc's
+    // radius times it after the bounds (photons.schedule = "progressive", photon/estimate/radius_schedule.h;
+    // still the photon's own, so the estimate stays a sample-point one, unbiased on a uniform density).
     BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
-               double max_radius_mfp);
+               double max_radius_mfp, double radius_scale = 1.0);
 
     // Whether any photon has a disc: a map of at most k photons has no k-th other photon.
     bool usable() const { return bvh_.size() > 0; }

@@ -77,7 +77,8 @@ struct PhotonMapIntegrator::ThreadState {
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
     : scene_(scene), settings_(settings), owns_maps_(true), map_(&owned_.volume), surface_map_(nullptr),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)),
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), volume_estimator_(settings.estimator),
+      surface_estimator_(settings.estimator), threads_(std::make_unique<ThreadState>(scene)),
       continuation_(scene, settings.walk) {
     gather_ = initial_gather(settings.gather);
     both_strategies_ = settings.walk.mis && bounces_find_lights(scene);
@@ -86,17 +87,32 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSett
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings,
                                          const PhotonMap& volume_map, const PhotonMap* surface_map)
     : scene_(scene), settings_(settings), owns_maps_(false), map_(&volume_map), surface_map_(surface_map),
-      max_radius_(settings.search_radius()), k_(size_t(settings.k)), threads_(std::make_unique<ThreadState>(scene)),
+      max_radius_(settings.search_radius()), k_(size_t(settings.k)), volume_estimator_(settings.estimator),
+      surface_estimator_(settings.estimator), threads_(std::make_unique<ThreadState>(scene)),
       continuation_(scene, settings.walk) {
     gather_ = initial_gather(settings.gather);
     both_strategies_ = settings.walk.mis && bounces_find_lights(scene);
+    schedule_pass(0);
     if (gather_ == Gather::beam) build_beam(nullptr, nullptr);
 }
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
 
+void PhotonMapIntegrator::schedule_pass(int pass) {
+    const PassRadii r = settings_.radii_for_pass(pass, scene_.has_media(), surface_map_ != nullptr || traces_surface_map());
+    k_ = size_t(r.k);
+    volume_estimator_ = settings_.estimator.with_radius_scale(r.volume_scale);
+    surface_estimator_ = settings_.estimator.with_radius_scale(r.surface_scale);
+    beam_scale_ = r.beam_scale;
+}
+
 void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
-    k_ = size_t(settings_.k_for_pass(context.pass));
+    schedule_pass(context.pass);
+    if (radii_log_.radii.size() < RunStats::kPassRecords) {
+        radii_log_.pass.push_back(context.pass);
+        radii_log_.radii.push_back(settings_.radii_for_pass(context.pass, scene_.has_media(), surface_map_ != nullptr || traces_surface_map()));
+    }
+    radii_log_.last_pass = context.pass;
     // A run starting at a later pass plans on pass 0's map first: a plan without the map then saves this pass's.
     if (owns_maps_ && settings_.plans() && !plan_ && context.pass != 0) plan_auto(context, stats);
     if (!owns_maps_) {
@@ -281,6 +297,14 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
                  << l.decision_queries << " radius decisions queried it)\n";
     }
     stats.volume_estimates = this->stats();
+    if (!radii_log_.radii.empty()) {
+        PassRadiiStats r = radii_log_;
+        r.schedule = settings_.schedule == KSchedule::fixed ? "fixed" : settings_.schedule == KSchedule::shrink ? "shrink" : "progressive";
+        r.alpha_points = settings_.alpha_for(3);
+        r.alpha_surfaces = settings_.alpha_for(2);
+        r.last = settings_.radii_for_pass(r.last_pass, scene_.has_media(), surface_map_ != nullptr || traces_surface_map());
+        stats.pass_radii = r;
+    }
     if (pilot_) stats.gather_pilot = pilot_;
     if (auto_stats_) stats.auto_gather = auto_stats_;
     stats.continued_paths = continued_paths();
@@ -468,7 +492,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
             if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
             auto& local = threads_->local.local();
             const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
-                                                                settings_.estimator, k_, max_radius_, local.buffers, &local.surface_stats);
+                                                                surface_estimator_, k_, max_radius_, local.buffers, &local.surface_stats);
             radiance += throughput * hit.reflectance * (e.value / kPi);
             ++local.map_used;
             break;
@@ -494,7 +518,7 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
         bool complete = found < gather_count() || found == map_->size();
         for (;;) {
             const GroupEstimate e = leave_half_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear,
-                                                   &threads_->local.local().lookups);
+                                                   &threads_->local.local().lookups, volume_estimator_.radius_scale());
             if (e.used) {
                 if (e.linear_fell_back) ++threads_->local.local().linear_fallbacks;
                 return e.value;
@@ -515,7 +539,7 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     if (linear) {
         const BallMoments m = threads_->ball.moments(x, s.radius, &threads_->local.local().lookups);
         if (m.m0 > 0.0)
-            return linear_estimate(s, settings_.estimator, buffers, *map_, x, m, scratch, &threads_->local.local().linear_fallbacks);
+            return linear_estimate(s, volume_estimator_, buffers, *map_, x, m, scratch, &threads_->local.local().linear_fallbacks);
         return s.value / sigma_t;
     }
     const double ball = threads_->ball.mean(x, s.radius, &threads_->local.local().lookups);
@@ -567,7 +591,7 @@ PhotonMapIntegrator::BoundedEstimate PhotonMapIntegrator::bounded_in_scattering(
         }
         b.radius = max_radius_;
     }
-    b.estimate = estimate_in_scattering(*map_, x, w_o, g, settings_.estimator, k_, b.radius, buffers, stats, gather_count());
+    b.estimate = estimate_in_scattering(*map_, x, w_o, g, volume_estimator_, k_, b.radius, buffers, stats, gather_count());
     if (b.radius < max_radius_) b.rule = bounded_query(b.estimate, k_);   // the mean-free-path bound is in force
     return b;
 }
@@ -677,7 +701,7 @@ void PhotonMapIntegrator::retire_beam() {
 void PhotonMapIntegrator::build_beam(std::ostream* log, RunStats* stats) {
     retire_beam();
     beam_ = std::make_unique<BeamGather>(scene_, *map_, size_t(settings_.beam_k), settings_.estimator.kernel(), max_radius_,
-                                         settings_.max_radius_mfp);
+                                         settings_.max_radius_mfp, beam_scale_);
     const BeamGatherStats b = beam_->stats();
     if (stats) {
         stats->phase("build_radii", b.radii_seconds);

@@ -156,6 +156,12 @@ private:
     void set_map_emitted(double emitted);
     double max_radius_;
     size_t k_;   // this pass's k (photons.schedule)
+    // This pass's estimators with their radius scales, and the beam discs' (photons.schedule;
+    // render/photon_map/photon_map_settings.h: radii_for_pass).
+    Estimator volume_estimator_, surface_estimator_;
+    double beam_scale_ = 1.0;
+    PassRadiiStats radii_log_;   // the sidecar's photons.radii.* (render/run/run_stats.h)
+    void schedule_pass(int pass);
     bool warned_k_ = false;   // "k exceeds the stored count" is logged once per run
     std::unique_ptr<ThreadState> threads_;
     std::unique_ptr<BeamGather> beam_;   // gather = "beam": this pass's radii and disc BVH

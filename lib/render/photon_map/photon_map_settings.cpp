@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "config/params.h"
+#include "photon/estimate/radius_schedule.h"
 
 namespace vpm {
 
@@ -47,6 +48,22 @@ void check_leave_group_out(Params& p, const PhotonMapSettings& s) {
         p.fail("k", "photons.clustering = \"leave_group_out\" bounds each half of the walk groups by the other half's (k / 2)-th "
                     "photon, so k must be even (got " + std::to_string(s.k) + "; use " + std::to_string(s.k - 1) + " or " +
                     std::to_string(s.k + 1) + ")");
+}
+
+// A number in (0, 1] or "auto" (alpha_for).
+void read_alpha(Params& p, PhotonMapSettings& s) {
+    const char* key = "alpha";
+    const char* allowed = "must be a number in (0, 1] or \"auto\" (4/(d+4) per kernel dimension d)";
+    const toml::node* n = p.node(key);
+    if (!n || n->is_string()) {
+        if (n && n->value<std::string>().value_or("") != "auto") p.fail(key, allowed);
+        p.choice(key, "auto", {"auto"});
+        s.alpha = 0.0;
+        return;
+    }
+    const Range range{0.0, 1.0, true, false};
+    if (!n->is_number() || !range.contains(n->value<double>().value_or(-1.0))) p.fail(key, allowed);
+    s.alpha = p.real(key, 0.5, range);
 }
 
 }  // namespace
@@ -108,8 +125,9 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
                             {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
     check_leave_group_out(p, s);
     read_store_probability(p, s);
-    s.schedule = p.choice("schedule", s.schedule, {{"fixed", KSchedule::fixed}, {"shrink", KSchedule::shrink}});
-    s.alpha = p.real("alpha", s.alpha, Range::open(0.0, 1.0));
+    s.schedule = p.choice("schedule", s.schedule,
+                          {{"fixed", KSchedule::fixed}, {"progressive", KSchedule::progressive}, {"shrink", KSchedule::shrink}});
+    read_alpha(p, s);
     s.k_floor = int(p.integer("k_floor", s.k_floor, Range::closed(1, 1 << 20)));
     if (size_t(s.k_floor) < s.estimator.min_k() + 1)
         p.fail("k_floor", std::string("the ") + s.estimator.name() + " estimator needs k_floor >= " +
@@ -122,12 +140,37 @@ bool PhotonMapSettings::leaves_group_out() const {
            estimator.kernel().is_constant() && extinction != ExtinctionNormalisation::point;
 }
 
+double PhotonMapSettings::alpha_for(int dim) const {
+    if (alpha > 0.0) return alpha;
+    return schedule == KSchedule::shrink ? 2.0 / 3.0 : optimal_progressive_alpha(dim);
+}
+
 int PhotonMapSettings::k_for_pass(int pass_index) const {
+    if (schedule == KSchedule::progressive) return radii_for_pass(pass_index, true, false).k;
     if (schedule == KSchedule::fixed) return k;
-    const double shrunk = std::round(double(k) * std::pow(double(pass_index) + 1.0, alpha - 1.0));
+    const double shrunk = std::round(double(k) * std::pow(double(pass_index) + 1.0, alpha_for(3) - 1.0));
     const int kp = std::max(std::min(k_floor, k), int(shrunk));
     // leave_group_out splits k into two halves of k / 2 (photon/estimate/group_estimate.h).
     return leaves_group_out() && kp % 2 ? kp + 1 : kp;
+}
+
+PassRadii PhotonMapSettings::radii_for_pass(int pass_index, bool volume, bool surface) const {
+    PassRadii r;
+    r.k = k;
+    if (schedule == KSchedule::shrink) r.k = k_for_pass(pass_index);
+    if (schedule != KSchedule::progressive) return r;
+    const ScheduledKernel points{3, alpha_for(3)}, discs{2, alpha_for(2)};
+    std::vector<ScheduledKernel> kernels;
+    if (volume) kernels.push_back(points);
+    if (surface) kernels.push_back(discs);
+    r.k = progressive_k(pass_index, k, k_floor, kernels);
+    if (leaves_group_out() && r.k % 2) ++r.k;   // two halves of k / 2 (photon/estimate/group_estimate.h)
+    // A map the run does not query keeps scale 1 (its k may not reach its target).
+    if (volume) r.volume_scale = progressive_knn_scale(pass_index, k, r.k, points);
+    if (surface) r.surface_scale = progressive_knn_scale(pass_index, k, r.k, discs);
+    // The beam radiance estimate keeps beam_k: its discs shrink by the radius scale alone.
+    r.beam_scale = progressive_radius_scale(pass_index, alpha_for(2), 2);
+    return r;
 }
 
 }  // namespace vpm

@@ -73,13 +73,18 @@
 //   |                        |             | "auto": min(1, 2 / stored per storing walk of the pass's |
 //   |                        |             | first 4096 photons) for the rest (store_thinning.h)      |
 //   | march_max_optical_depth| 2           | the "threshold" gather's threshold                       |
-//   | schedule               | "fixed"     | "fixed": k in every pass; "shrink": pass i (1-based,      |
-//   |                        |             | counting from render.first_pass) uses                    |
-//   |                        |             | k_i = max(k_floor, round(k i^(alpha-1))), the kNN form of |
-//   |                        |             | Knaus & Zwicker's r_i^3 ~ i^(alpha-1): with a fixed       |
-//   |                        |             | photon count per pass r^3 ~ k, so the ball shrinks and    |
-//   |                        |             | bias and variance of the pass mean both vanish            |
-//   | alpha                  | 2/3         | in (0, 1): the shrink rate                                |
+//   | schedule               | "fixed"     | radii across passes (docs/progressive.md). "fixed": k and |
+//   |                        |             | the k-th neighbour's ball in every pass; "progressive":  |
+//   |                        |             | Knaus & Zwicker's measure ratio (i + alpha)/(i + 1) per  |
+//   |                        |             | pass, by pass index (render.first_pass counts): k shrinks|
+//   |                        |             | to k_floor, the radius s r_k below it, each estimate     |
+//   |                        |             | exact on a uniform density (photon/estimate/             |
+//   |                        |             | radius_schedule.h); points, surfaces and "beam" alike;   |
+//   |                        |             | "shrink": k_i = max(k_floor, round(k i^(alpha-1))), 1-   |
+//   |                        |             | based i, no radius scale: its bias stops at k_floor      |
+//   | alpha                  | "auto"      | in (0, 1]: the schedule's rate for every estimate; "auto":|
+//   |                        |             | 4/(d+4) per kernel dimension d (4/7 points, 2/3 surfaces |
+//   |                        |             | and "beam"), 2/3 for "shrink"                             |
 //   | k_floor                | 4           | smallest k of the schedule (>= the estimator's min + 1)   |
 #include <cstdint>
 
@@ -97,7 +102,13 @@ enum class ExtinctionNormalisation { ball, point, linear };
 enum class Clustering { ignore, leave_group_out };
 enum class PhotonAllocationRule { importance, power };
 enum class GatherMode { collision, march, automatic, pilot, threshold, beam };
-enum class KSchedule { fixed, shrink };
+enum class KSchedule { fixed, shrink, progressive };
+
+// One pass's k and radius scales (photons.schedule; photon/estimate/radius_schedule.h).
+struct PassRadii {
+    int k = 32;
+    double volume_scale = 1.0, surface_scale = 1.0, beam_scale = 1.0;
+};
 
 struct PhotonMapSettings {
     int64_t count = 100000;
@@ -129,15 +140,20 @@ struct PhotonMapSettings {
     // render.passes is.
     bool size_photons = false, size_samples = false;
     double time_limit = 0.0;   // render.time_limit (the plan's budget)
-    double alpha = 2.0 / 3.0;
+    double alpha = 0.0;   // 0: "auto" (alpha_for)
     int k_floor = 4;
     WalkSettings walk;
 
-    // k of pass `pass_index` (0-based, counting from render.first_pass) under the schedule.
+    // k of pass `pass_index` (0-based, counting from render.first_pass) under the schedule
+    // (the volume estimate's; radii_for_pass for all of a pass).
     int k_for_pass(int pass_index) const;
     // photons.clustering = "leave_group_out" applies: the corrected estimator, constant kernel,
     // ball or linear extinction (from_params refuses it elsewhere, and an odd k).
     bool leaves_group_out() const;
+    // The schedule's alpha for a kernel of dimension dim: photons.alpha, or "auto"'s.
+    double alpha_for(int dim) const;
+    // Pass `pass_index`'s k and radius scales; volume, surface: the maps the run queries (the k serves both).
+    PassRadii radii_for_pass(int pass_index, bool volume, bool surface) const;
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
     // Whether a plan runs on the first pass (render/plan/pass_plan.h): gather = "auto" or the "auto" integrator.

@@ -197,6 +197,30 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (stats.march_wide_queries) record.set("photons.march_wide_queries", *stats.march_wide_queries);
     if (stats.march_weight_max) record.set("photons.march_weight_max", *stats.march_weight_max);
     if (stats.march_weight_mean) record.set("photons.march_weight_mean", *stats.march_weight_mean);
+    if (const auto& r = stats.pass_radii) {
+        record.set("photons.radii.schedule", r->schedule);
+        record.set("photons.radii.alpha_points", r->alpha_points);
+        record.set("photons.radii.alpha_surfaces", r->alpha_surfaces);
+        nlohmann::json pass = nlohmann::json::array(), k = nlohmann::json::array(), vs = nlohmann::json::array(),
+                       ss = nlohmann::json::array(), bs = nlohmann::json::array();
+        for (size_t i = 0; i < r->radii.size(); ++i) {
+            pass.push_back(r->pass[i]);
+            k.push_back(r->radii[i].k);
+            vs.push_back(r->radii[i].volume_scale);
+            ss.push_back(r->radii[i].surface_scale);
+            bs.push_back(r->radii[i].beam_scale);
+        }
+        record.set("photons.radii.pass", pass);
+        record.set("photons.radii.k", k);
+        record.set("photons.radii.volume_scale", vs);
+        record.set("photons.radii.surface_scale", ss);
+        record.set("photons.radii.beam_scale", bs);
+        record.set("photons.radii.last_pass", r->last_pass);
+        record.set("photons.radii.last_k", r->last.k);
+        record.set("photons.radii.last_volume_scale", r->last.volume_scale);
+        record.set("photons.radii.last_surface_scale", r->last.surface_scale);
+        record.set("photons.radii.last_beam_scale", r->last.beam_scale);
+    }
     if (const auto& b = stats.beam) {
         record.set("photons.beam.k", b->k);
         record.set("photons.beam.photons", b->photons);

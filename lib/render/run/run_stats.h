@@ -11,6 +11,7 @@
 #include "photon/trace/photon_tracer.h"
 #include "render/plan/pass_plan.h"
 #include "render/photon_map/beam_gather_stats.h"
+#include "render/photon_map/photon_map_settings.h"
 #include "render/run/render_loop.h"
 
 namespace vpm {
@@ -118,6 +119,17 @@ struct PhotonLedger {
     uint64_t decision_queries = 0; // its kNN queries
 };
 
+// photons.schedule (photon/estimate/radius_schedule.h, docs/progressive.md): each recorded pass's k
+// and radius scales, and the last pass's (a pass's radii depend on its index alone).
+struct PassRadiiStats {
+    std::string schedule;                   // "fixed" | "progressive" | "shrink"
+    double alpha_points = 0.0, alpha_surfaces = 0.0;
+    std::vector<int> pass;                  // the recorded passes' indices (at most RunStats::kPassRecords)
+    std::vector<PassRadii> radii;           // the same passes' k and scales
+    int last_pass = 0;
+    PassRadii last;
+};
+
 struct RunStats {
     // Passes are bounded in memory and in the sidecar: `passes` holds the first kPassRecords of
     // them, `pass_summary` all of them (vpm render streams every pass to OUT.passes.csv).
@@ -143,6 +155,7 @@ struct RunStats {
     std::optional<uint64_t> decision_queries;          // photon map: queries of the bound's decision map
     std::optional<uint64_t> decision_map_photons;      // photon map: the decision map's stored photons
     std::optional<uint64_t> march_wide_queries;        // gather = "march": queries beyond max_radius_mfp
+    std::optional<PassRadiiStats> pass_radii;          // photon map: photons.schedule per pass
     std::optional<GatherPilotStats> gather_pilot;      // gather = "pilot"
     std::optional<AutoGatherStats> auto_gather;        // gather = "auto"
     std::optional<BeamGatherStats> beam;               // gather = "beam": memory, build, queries

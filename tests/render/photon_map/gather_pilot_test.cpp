@@ -32,7 +32,7 @@ std::vector<std::string> small(std::vector<std::string> sets) {
 }
 
 // configs/thin_cube.toml with every length times s (sigma_t / s, point intensity times s^2).
-std::vector<std::string> scaled(double s) {
+std::vector<std::string> scene_scaled(double s) {
     auto v = [s](double x, double y, double z) {
         return "[" + std::to_string(x * s) + ", " + std::to_string(y * s) + ", " + std::to_string(z * s) + "]";
     };
@@ -80,7 +80,7 @@ TEST(GatherPilot, SameChoiceAndFiguresOnOneAndTwoThreads) {
 TEST(GatherPilot, SameChoiceAndFiguresAtScale1e3) {
     // Every random decision is the same up to rounding, so the figures agree closely and the
     // choice is the same. (The image itself: tests/analysis scene_matrix_test, 24a's tests.)
-    std::vector<std::string> sa = scaled(1.0), sb = scaled(1e3);
+    std::vector<std::string> sa = scene_scaled(1.0), sb = scene_scaled(1e3);
     sa.push_back("photons.gather=\"pilot\"");
     sb.push_back("photons.gather=\"pilot\"");
     const RunResult a = render(kThinCube, small(sa));

@@ -1,0 +1,92 @@
+// photons.schedule = "progressive" (issue 44, docs/progressive.md): every pass exact on a uniform
+// density (the furnace), pass ranges that merge exactly and thread counts that agree.
+// (The bias falling by the predicted factor: tests/photon/radius_schedule_test.cpp.)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "photon/estimate/radius_schedule.h"
+#include "render/photon_map/photon_map_settings.h"
+#include "render/run/run.h"
+#include "render/run/run_stats.h"
+#include "../support/sample_statistics.h"
+
+using namespace vpm;
+
+namespace {
+
+RunResult run_with(const char* config, std::vector<std::string> sets) {
+    RunOptions o;
+    o.progress = false;
+    return run(RunConfig::load(std::string(VPM_SOURCE_DIR "/configs/") + config, sets), o);
+}
+
+RunResult furnace(std::vector<std::string> sets) {
+    for (const char* s : {"render.width=16", "render.height=16", "photons.count=40000", "photons.k=8",
+                          "photons.schedule=\"progressive\"", "photons.gather=\"collision\""})
+        sets.push_back(s);
+    return run_with("uniform_furnace.toml", sets);
+}
+
+}  // namespace
+
+// The furnace (radiance 0.5 everywhere): each pass's corrected estimate is unbiased whatever its k
+// and radius scale, the classic one k_i/(k_i - 1) high (paired: same maps and camera rays).
+TEST(Progressive, FurnaceEveryPassCorrectedUnbiasedClassicHighByItsK) {
+    const int passes = 24;
+    const std::vector<std::string> sets = {"render.spp=24", "render.passes=24"};
+    std::vector<std::string> c = sets, k = sets;
+    c.push_back("photons.estimator=\"corrected\"");
+    k.push_back("photons.estimator=\"classic\"");
+    const RunResult corrected = furnace(c), classic = furnace(k);
+    ASSERT_EQ(corrected.stats.passes.size(), size_t(passes));
+    PhotonMapSettings s;
+    s.k = 8;
+    s.schedule = KSchedule::progressive;
+    test::Sample at_k, below_floor, excess;
+    for (int p = 0; p < passes; ++p) {
+        const PassRadii r = s.radii_for_pass(p, true, false);
+        const double u = corrected.stats.passes[size_t(p)].image_mean;
+        (r.volume_scale < 1.0 && r.k == s.k_floor ? below_floor : at_k).add(u);
+        excess.add((classic.stats.passes[size_t(p)].image_mean / u - 1.0) * (r.k - 1));
+    }
+    // The schedule reaches the floor and shrinks the radius below it within these passes.
+    EXPECT_EQ(s.radii_for_pass(passes - 1, true, false).k, 4);
+    EXPECT_LT(s.radii_for_pass(passes - 1, true, false).volume_scale, 0.97);
+    ASSERT_GE(below_floor.n, 4);
+    EXPECT_NEAR(at_k.mean(), 0.5, 3.5 * at_k.se());
+    EXPECT_NEAR(below_floor.mean(), 0.5, 3.5 * below_floor.se());
+    // (k_i - 1) times the classic excess is 1 at every pass (random walks' photons are slightly
+    // clustered: the 5% model tolerance of passes_test.cpp).
+    EXPECT_NEAR(excess.mean(), 1.0, 3.5 * excess.se() + 0.05);
+    EXPECT_GT(excess.mean(), 8.0 * excess.se());
+}
+
+// render.first_pass: passes 0-2 and 3-5 rendered apart average to the 6-pass image (the schedule
+// by pass index), and one and two threads give the same image.
+TEST(Progressive, PassRangesMergeExactlyAndThreadsAgree) {
+    const std::vector<std::string> base = {"render.width=8", "render.height=8", "photons.count=20000", "photons.k=16",
+                                           "photons.schedule=\"progressive\"", "photons.gather=\"march\""};
+    auto with = [&](std::vector<std::string> extra) {
+        std::vector<std::string> s = base;
+        s.insert(s.end(), extra.begin(), extra.end());
+        return run_with("uniform_furnace.toml", s);
+    };
+    RunResult whole;
+    tbb::task_arena(1).execute([&] { whole = with({"render.spp=6", "render.passes=6"}); });
+    const RunResult a = with({"render.spp=3", "render.passes=3"});
+    const RunResult b = with({"render.spp=3", "render.passes=3", "render.first_pass=3"});
+    ASSERT_EQ(whole.stats.passes.size(), 6u);
+    for (int p = 0; p < 3; ++p) {
+        EXPECT_EQ(whole.stats.passes[size_t(p)].image_mean, a.stats.passes[size_t(p)].image_mean);
+        EXPECT_EQ(whole.stats.passes[size_t(p + 3)].image_mean, b.stats.passes[size_t(p)].image_mean);
+    }
+    for (size_t i = 0; i < whole.image.rgb.size(); ++i)
+        EXPECT_NEAR(whole.image.rgb[i], 0.5 * (a.image.rgb[i] + b.image.rgb[i]), 1e-6 * std::abs(whole.image.rgb[i]));
+    const RunResult two = with({"render.spp=6", "render.passes=6"});
+    EXPECT_EQ(two.image.rgb, whole.image.rgb);
+}
