@@ -1,6 +1,6 @@
 // photons.schedule = "progressive" (issue 44, docs/progressive.md): every pass exact on a uniform
 // density (the furnace), pass ranges that merge exactly and thread counts that agree.
-// (The bias falling by the predicted factor: tests/photon/radius_schedule_test.cpp.)
+// (The bias falling by the predicted factor: tests/photon/estimate/radius_schedule_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "render/photon_map/photon_map_settings.h"
 #include "render/run/run.h"
 #include "render/run/run_stats.h"
-#include "../support/sample_statistics.h"
+#include "support/sample_statistics.h"
 
 using namespace vpm;
 

@@ -12,7 +12,7 @@
 #include "core/rng.h"
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/radius_schedule.h"
-#include "../support/sample_statistics.h"
+#include "support/sample_statistics.h"
 
 using namespace vpm;
 
