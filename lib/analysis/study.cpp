@@ -23,6 +23,8 @@
 #include "photon/trace/photon_budget.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "core/hashed_permutation.h"
+#include "core/sampler.h"
 #include "photon/map/photon_map.h"
 #include "analysis/builtin_scenes.h"
 #include "render/run/run_config.h"
@@ -140,6 +142,7 @@ const char* scenario_name(StudyScenario s) {
         case StudyScenario::photon_pass: return "photon_pass";
         case StudyScenario::kernels: return "kernels";
         case StudyScenario::beam: return "beam";
+        case StudyScenario::stratified: return "stratified";
     }
     return "unknown";
 }
@@ -147,16 +150,22 @@ const char* scenario_name(StudyScenario s) {
 StudyScenario parse_scenario(const std::string& name) {
     for (StudyScenario s : {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
                             StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
-                            StudyScenario::photon_pass, StudyScenario::kernels, StudyScenario::beam})
+                            StudyScenario::photon_pass, StudyScenario::kernels, StudyScenario::beam,
+                            StudyScenario::stratified})
         if (name == scenario_name(s)) return s;
     throw Error("study: unknown scenario '" + name +
-                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam)");
+                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, stratified)");
 }
 
 std::vector<StudyScenario> default_scenarios() {
     return {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
             StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
             StudyScenario::photon_pass, StudyScenario::kernels};
+}
+
+const std::vector<std::string>& study_point_sets() {
+    static const std::vector<std::string> sets = {"independent", "stratified", "jittered", "sobol", "lattice"};
+    return sets;
 }
 
 std::vector<Kernel> default_study_kernels() {
@@ -351,6 +360,10 @@ void validate_study_options(StudyOptions& opt) {
     if (!(opt.boundary_distance >= 0.0 && opt.boundary_distance <= 1.0))
         throw Error("study: boundary distance must be in [0, 1]");
     const bool beam = std::find(opt.scenarios.begin(), opt.scenarios.end(), StudyScenario::beam) != opt.scenarios.end();
+    const bool stratified = std::find(opt.scenarios.begin(), opt.scenarios.end(), StudyScenario::stratified) != opt.scenarios.end();
+    if (stratified && opt.n < 4 * kmax)
+        throw Error("study: --n (" + std::to_string(opt.n) + ") must be at least 4 x the largest k (" + std::to_string(4 * kmax) +
+                    ") for the stratified scenario, so that every radius stays below half the unit torus");
     if (beam && opt.n < 3 * kmax)
         throw Error("study: --n (" + std::to_string(opt.n) + ") must be at least 3 x the largest k (" + std::to_string(3 * kmax) +
                     ") for the beam scenario, so that every radius stays below half the unit torus");
@@ -453,6 +466,77 @@ void run_synthetic(const StudyOptions& opt, StudyScenario sc, int dim, const Sam
                 d2[i] = pts[i].d2;
             }
             estimate_all(opt, grid, ests, t, w.data(), d2.data(), kmax, kmax >= n, dim, st, samples);
+        }
+    });
+}
+
+// The stratified scenario, one point set: n points in the unit torus per trial, query uniform in
+// it, every estimator at every k, and the count N_k in the ball of mean mass k around the query
+// (counts[t * nk + ki]) for the Fano factor.
+void run_point_set(const StudyOptions& opt, int dim, size_t set, const SampleGrid& grid,
+                   const std::vector<Estimator>& ests, tbb::combinable<EstimatorStats>& stats,
+                   std::vector<double>& samples, std::vector<double>& counts) {
+    const size_t trials = opt.trials, n = opt.n, kmax = opt.ks.back(), nk = opt.ks.size();
+    const size_t sorted = std::min(n, 2 * kmax + 64);   // enough for the count at every k (checked)
+    samples.assign(trials * grid.stride(), 0.0);
+    counts.assign(trials * nk, 0.0);
+    const double phi = 1.0 / double(n);   // unit volume: truth = 1
+    std::vector<double> mass_r2(nk);      // r^2 of the ball of mean mass k
+    for (size_t ki = 0; ki < nk; ++ki)
+        mass_r2[ki] = std::pow(double(opt.ks[ki]) / (double(n) * unit_volume(dim)), 2.0 / dim);
+    const std::string& name = study_point_sets()[set];
+    const SamplerKind kind = name == "sobol" ? SamplerKind::sobol : name == "stratified" ? SamplerKind::stratified
+                                                                                         : SamplerKind::independent;
+    // jittered and lattice: m^dim >= n cells, point i in cell pi(i) of a hashed permutation
+    size_t m = size_t(std::floor(std::pow(double(n), 1.0 / dim)));
+    while (size_t(std::pow(double(m), dim) + 0.5) < n) ++m;
+    const uint32_t cells = uint32_t(std::pow(double(m), dim) + 0.5);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, trials), [&](const tbb::blocked_range<size_t>& range) {
+        std::vector<Pt> pts(n);
+        std::vector<double> w(kmax), d2(kmax), x(size_t(dim) * n);
+        EstimatorStats& st = stats.local();
+        for (size_t t = range.begin(); t != range.end(); ++t) {
+            Rng rng = trial_rng(opt.seed, stream_id(StudyScenario::stratified, dim, (uint64_t(set) << 40) ^ t));
+            const uint64_t key = mix64(opt.seed ^ mix64((uint64_t(set) << 40) ^ (uint64_t(dim) << 32) ^ t));
+            if (name == "jittered" || name == "lattice") {
+                double shift[3] = {rng.uniform(), rng.uniform(), rng.uniform()};
+                for (size_t i = 0; i < n; ++i) {
+                    uint32_t c = permutation_element(uint32_t(i), cells, key);
+                    for (int j = 0; j < dim; ++j, c /= uint32_t(m)) {
+                        const double u = name == "jittered" ? rng.uniform() : shift[j];
+                        x[i * size_t(dim) + size_t(j)] = (double(c % uint32_t(m)) + u) / double(m);
+                    }
+                }
+            } else {
+                const PathSampler sampler(kind, key, n);
+                for (size_t i = 0; i < n; ++i)
+                    for (int j = 0; j < dim; ++j) x[i * size_t(dim) + size_t(j)] = sampler.sample(i, uint32_t(j));
+            }
+            double q[3];
+            for (int j = 0; j < dim; ++j) q[j] = rng.uniform();
+            for (size_t i = 0; i < n; ++i) {
+                double r2 = 0.0;
+                for (int j = 0; j < dim; ++j) {
+                    double d = std::abs(x[i * size_t(dim) + size_t(j)] - q[j]);
+                    d = std::min(d, 1.0 - d);   // the torus' nearest image
+                    r2 += d * d;
+                }
+                pts[i] = {r2, phi};
+            }
+            auto by_d2 = [](const Pt& a, const Pt& b) { return a.d2 < b.d2; };
+            if (sorted < n) std::nth_element(pts.begin(), pts.begin() + (sorted - 1), pts.end(), by_d2);
+            std::sort(pts.begin(), pts.begin() + sorted, by_d2);
+            if (pts[kmax - 1].d2 >= 0.25) throw Error("study: stratified: a k-th neighbour beyond half the torus (raise --n)");
+            for (size_t i = 0; i < kmax; ++i) {
+                w[i] = pts[i].w;
+                d2[i] = pts[i].d2;
+            }
+            estimate_all(opt, grid, ests, t, w.data(), d2.data(), kmax, kmax >= n, dim, st, samples);
+            for (size_t ki = 0; ki < nk; ++ki) {
+                const size_t c = size_t(std::lower_bound(pts.begin(), pts.begin() + sorted, Pt{mass_r2[ki], 0.0}, by_d2) - pts.begin());
+                if (c == sorted && sorted < n) throw Error("study: stratified: count beyond the sorted neighbours");
+                counts[t * nk + ki] = double(c);
+            }
         }
     });
 }
@@ -632,6 +716,60 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
             std::snprintf(buf, sizeof buf, "study: %-10s 2D+3D  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
                           scenario_name(sc), opt.trials, grid.nk, opt.n, t_sc.seconds(), timer.seconds());
             say(buf);
+            continue;
+        }
+        if (sc == StudyScenario::stratified) {
+            const std::vector<Estimator>& ests = Estimator::all();
+            const SampleGrid grid{opt.ks.size(), ests.size()};
+            for (int dim : opt.dims)
+                for (size_t set = 0; set < study_point_sets().size(); ++set) {
+                    Timer t_sc;
+                    std::vector<double> samples, counts;
+                    run_point_set(opt, dim, set, grid, ests, stats, samples, counts);
+                    const std::string label = "stratified/" + study_point_sets()[set];
+                    std::ostringstream fano_note;
+                    fano_note << label << " " << dim << "D: count Fano factor F(k) = Var N / k";
+                    for (size_t ki = 0; ki < grid.nk; ++ki) {
+                        const size_t k = opt.ks[ki];
+                        double sum = 0, sum2 = 0;
+                        for (size_t t = 0; t < opt.trials; ++t) {
+                            sum += counts[t * grid.nk + ki];
+                            sum2 += counts[t * grid.nk + ki] * counts[t * grid.nk + ki];
+                        }
+                        const double mean = sum / double(opt.trials);
+                        const double fano = (sum2 - sum * mean) / double(opt.trials - 1) / double(k);
+                        fano_note << (ki ? ", " : " ") << k << ": " << fmt_fixed(fano, 3);
+                        for (size_t ei = 0; ei < grid.ne; ++ei) {
+                            StudyRow row;
+                            row.estimator = ests[ei];
+                            row.k = k;
+                            if (row.k < row.estimator.min_k()) continue;
+                            row.scenario = label;
+                            row.dim = dim;
+                            row.n = opt.n;
+                            reduce(samples, opt.trials, grid.stride(), grid.at(0, ki, ei), row);
+                            if (set == 0) {
+                                attach_theory(opt, StudyScenario::uniform, row);
+                            } else if (row.estimator.entry().unit_weight_count) {
+                                // First order in the count's fluctuation (docs/stratified_sampling.md):
+                                // E[1/X] = (1 + (1 + F) / 2k) / k, Var[X] = F k for X = n V(r_k).
+                                const double c = row.estimator.entry().unit_weight_count(k) / double(k);
+                                row.has_theory = true;
+                                row.theory_source = "fano";
+                                row.th_error = c * (1.0 + (1.0 + fano) / (2.0 * double(k))) - 1.0;
+                                row.th_variance = c * c * fano / double(k);
+                                row.th_mse = row.th_variance + row.th_error * row.th_error;
+                                row.th_variance_limit = row.th_variance;
+                            }
+                            res.rows.push_back(row);
+                        }
+                    }
+                    res.notes.push_back(fano_note.str());
+                    char buf[200];
+                    std::snprintf(buf, sizeof buf, "study: %-22s %dD  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
+                                  label.c_str(), dim, opt.trials, grid.nk, opt.n, t_sc.seconds(), timer.seconds());
+                    say(buf);
+                }
             continue;
         }
         const std::vector<Estimator>& ests = sc == StudyScenario::kernels ? kernel_ests : Estimator::all();

@@ -47,6 +47,16 @@
 //              Theory: the mean M_d / n_d exactly (1 for normalised kernels: no k-1 factor), the
 //              variance to first order (docs/beam_estimate.md; theory_source "exact_mean").
 //              Needs n >= 3 k (radii below half the torus).
+//   stratified n points in the unit square / cube (periodic) from each point set of
+//              study_point_sets(): independent, the renderer's samplers "stratified" and "sobol"
+//              (core/sampler.h), a d-dimensional jittered grid and a randomly shifted lattice (the
+//              regular limit); query uniform in the torus, so each trial averages over where the
+//              ball sits on the structure. Rows "stratified/<set>". Every point is uniform, the
+//              density n exactly; only the count's variance changes. Theory: the exact Poisson
+//              (binomial) theory for independent, else the first-order law of docs/stratified_sampling.md
+//              from the count's Fano factor F(k) = Var N / k in a ball of mean k, measured in the same
+//              trials (theory_source "fano"): classic bias (1 + F) / 2k, corrected -(1 - F) / 2k.
+//              Needs n >= 4 k (radii below half the torus). Not in the default list.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -58,10 +68,13 @@
 
 namespace vpm {
 
-enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam };
+enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, stratified };
 const char* scenario_name(StudyScenario s);
 StudyScenario parse_scenario(const std::string& name);   // throws vpm::Error listing allowed names
-std::vector<StudyScenario> default_scenarios();           // all but beam (O(n^2) per trial: ask for it)
+std::vector<StudyScenario> default_scenarios();           // all but beam (O(n^2) per trial) and stratified: ask for them
+
+// The stratified scenario's point sets, in row order.
+const std::vector<std::string>& study_point_sets();
 
 // The kernels scenario's kernels: every registered kernel (default parameters), then the cone at
 // slope 0.5 (Jensen's k = 2, not consistent with the k-th photon kept).

@@ -6,6 +6,17 @@
 
 namespace vpm {
 
+// The dimensions of one sample vector, one per call (core/sampler.h: stratified and Sobol sets).
+// An Rng bound to one (Rng::draw_from) returns its next dimension from uniform(), so walk code that
+// takes an Rng draws from a sampler unchanged.
+class DimensionSource {
+public:
+    virtual double next_dimension() = 0;
+
+protected:
+    ~DimensionSource() = default;
+};
+
 // SplitMix64 finaliser: turns structured inputs (seed, pixel index) into well-mixed 64-bit keys.
 inline uint64_t mix64(uint64_t x) {
     x += 0x9e3779b97f4a7c15ULL;
@@ -34,11 +45,16 @@ public:
         return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
     }
 
-    // Uniform double in [0, 1) with 53 random bits.
+    // Uniform double in [0, 1) with 53 random bits; bound to a sampler, its next dimension.
     double uniform() {
+        if (source_) return source_->next_dimension();
         const uint64_t hi = next_u32(), lo = next_u32();
         return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1.0p-53;
     }
+
+    // From now on uniform() returns the dimensions of `source` (not owned; nullptr: this stream
+    // again). next_u32 and uniform_index stay on the stream.
+    void draw_from(DimensionSource* source) { source_ = source; }
 
     // Uniform integer in [0, n), n > 0 (Lemire's nearly divisionless method, exact).
     uint32_t uniform_index(uint32_t n) {
@@ -57,6 +73,7 @@ public:
 private:
     uint64_t state_ = 0;
     uint64_t inc_ = 1;
+    DimensionSource* source_ = nullptr;
 };
 
 }  // namespace vpm

@@ -11,6 +11,7 @@
 
 #include "arguments.h"
 #include "command.h"
+#include "core/sampler_registry.h"
 #include "core/progress.h"
 #include "analysis/error_metrics.h"
 #include "core/error.h"
@@ -47,7 +48,9 @@ std::string registered_names() {
            "  media.N.type       " + registry_list(vpm::medium_names()) + "\n"
            "  shapes.N.material  " + registry_list(vpm::material_names()) + "\n"
            "  photons.estimator  " + registry_list(vpm::Estimator::names()) + "\n"
-           "  photons.kernel     " + registry_list(vpm::Kernel::names()) + "\n";
+           "  photons.kernel     " + registry_list(vpm::Kernel::names()) + "\n"
+           "  render.sampler     " + registry_list(vpm::sampler_names()) + "\n"
+           "  photons.sampler    " + registry_list(vpm::sampler_names()) + "\n";
 }
 
 int run_render(int argc, char** argv) {

@@ -25,6 +25,7 @@ constexpr uint64_t kBatchSize = 4096;
 constexpr uint64_t kPilotBatches = 16;    // the first chunk: 65536 photons
 constexpr uint64_t kAutoBatches = 1;      // store_probability "auto": its counts come from batch 0 alone
 constexpr uint64_t kChunkBatches = 256;   // then ~1M photons per chunk
+constexpr uint64_t kPhotonSalt = 0x70686f746f6e73ULL;   // photon sample sets apart from camera sets
 
 // Picks a light with probability proportional to its weight: settings.light_weights when given
 // (photon/trace/photon_allocation.h), else its luminance power. A photon's power is divided by the
@@ -85,11 +86,16 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                  BatchOutput& out) {
     Rng rng(s.seed ^ 0x70686f746f6eULL, batch + s.stream_offset * ((s.count + kBatchSize - 1) / kBatchSize));
     const uint64_t begin = batch * kBatchSize, end = std::min(s.count, begin + kBatchSize);
+    const bool whole_pass = s.sampler == SamplerKind::sobol;   // one Sobol' set over the pass's photons
+    PathSampler sampler(s.sampler, sampler_key(s.seed, s.stream_offset, whole_pass ? 0 : batch + 1, kPhotonSalt),
+                        whole_pass ? s.count : end - begin);
+    if (s.sampler != SamplerKind::independent) rng.draw_from(&sampler);
     const double inv_n = 1.0 / double(s.count);
     out.per_light.assign(scene.lights.size(), LightPhotonStats{});
     const bool forced_ok = s.forced_collisions && forced_collisions_possible(scene);
     OpticalDepthProfile profile;
     for (uint64_t i = begin; i < end; ++i) {
+        sampler.start_sample(whole_pass ? i : i - begin);
         double light_pdf = 1.0;
         const size_t light_index = picker.pick(rng.uniform(), light_pdf);
         const Light& light = *scene.lights[light_index];

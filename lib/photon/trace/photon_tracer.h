@@ -30,6 +30,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/sampler.h"
 #include "photon/map/photon.h"
 #include "scene/scene.h"
 
@@ -66,6 +67,9 @@ struct PhotonTraceSettings {
     // Every segment in the medium collides, its power times 1 - exp(-tau) (photon/trace/forced_collision.h).
     bool forced_collisions = false;
     bool progress = true;
+    // photons.sampler (core/sampler.h): independent keeps one PCG32 stream per batch; stratified
+    // makes one sample set per batch (its photons), sobol one per pass (photon i reads point i).
+    SamplerKind sampler = SamplerKind::independent;
     // Called after each chunk; may throw (vpm::Error) to stop the pass, e.g. when the projected
     // map cannot fit in memory (photon/trace/photon_budget.h). Null: no callback.
     std::function<void(const PhotonTraceProgress&)> on_chunk;

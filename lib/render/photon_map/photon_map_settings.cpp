@@ -6,6 +6,7 @@
 
 #include "config/params.h"
 #include "photon/estimate/radius_schedule.h"
+#include "core/sampler_registry.h"
 
 namespace vpm {
 
@@ -125,6 +126,10 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
                             {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
     check_leave_group_out(p, s);
     read_store_probability(p, s);
+    s.sampler = p.choice("sampler", s.sampler, sampler_choices());
+    if (s.sampler == SamplerKind::sobol && s.count >= (int64_t(1) << 32))
+        p.fail("sampler", "\"sobol\" takes at most 2^32 - 1 photons per pass (photons.count = " +
+                              std::to_string(s.count) + ")");
     s.schedule = p.choice("schedule", s.schedule,
                           {{"fixed", KSchedule::fixed}, {"progressive", KSchedule::progressive}, {"shrink", KSchedule::shrink}});
     read_alpha(p, s);

@@ -73,6 +73,8 @@
 //   |                        |             | "auto": min(1, 2 / stored per storing walk of the pass's |
 //   |                        |             | first 4096 photons) for the rest (store_thinning.h)      |
 //   | march_max_optical_depth| 2           | the "threshold" gather's threshold                       |
+//   | sampler                | "independent" | photon paths: "independent", "stratified" (per batch)   |
+//   |                        |             | or "sobol" (over the pass; count < 2^32): core/sampler.h |
 //   | schedule               | "fixed"     | radii across passes (docs/progressive.md). "fixed": k and |
 //   |                        |             | the k-th neighbour's ball in every pass; "progressive":  |
 //   |                        |             | Knaus & Zwicker's measure ratio (i + alpha)/(i + 1) per  |
@@ -89,6 +91,7 @@
 #include <cstdint>
 
 #include "core/math.h"
+#include "core/sampler.h"
 #include "photon/estimate/estimators.h"
 #include "transport/march_count.h"
 #include "transport/walk_settings.h"
@@ -128,6 +131,7 @@ struct PhotonMapSettings {
     MarchCount march_points = MarchCount::mass;   // points per crossed medium (transport/march_points.h)
     int beam_k = 32;
     double store_probability = 1.0;
+    SamplerKind sampler = SamplerKind::independent;   // photons.sampler
     bool store_auto = false;   // store_probability = "auto": from the pass's walk statistics (photon/trace/store_thinning.h)
     Clustering clustering = Clustering::ignore;
     double march_max_optical_depth = 2.0;

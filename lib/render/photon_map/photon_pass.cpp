@@ -30,6 +30,7 @@ PhotonTraceSettings trace_settings(const Scene& scene, const PhotonMapSettings& 
     ts.store_probability = ps.store_probability;
     ts.store_auto = ps.store_auto;
     ts.forced_collisions = ps.forced_collisions;
+    ts.sampler = ps.sampler;
     // Photons per light: by a pilot's importance where the camera looks, or by power.
     if (!cached) {
         PhotonTraceSettings pilot = ts;

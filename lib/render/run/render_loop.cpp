@@ -13,6 +13,10 @@
 
 namespace vpm {
 
+namespace {
+constexpr uint64_t kCameraSalt = 0x63616d657261ULL;   // camera sample sets apart from photon sets
+}  // namespace
+
 Image render_image(const Camera& camera, const Integrator& integrator, const RenderOptions& o, RenderStats& stats) {
     // One pass of render_passes: its sum holds each pixel's value exactly as the float image does.
     std::vector<double> sum(size_t(o.width) * size_t(o.height) * 3, 0.0), means;
@@ -43,9 +47,13 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
                 double* acc = &sum[3 * pixel];
                 for (int g = 0; g < passes; ++g) {
                     const uint64_t stream = o.stream_offset + uint64_t(g) * pass_stride;
-                    Rng rng(o.seed, pixel + stream * uint64_t(o.width) * uint64_t(o.height));
+                    const uint64_t pixel_stream = pixel + stream * uint64_t(o.width) * uint64_t(o.height);
+                    Rng rng(o.seed, pixel_stream);
+                    PathSampler sampler(o.sampler, sampler_key(o.seed, pixel_stream, 0, kCameraSalt), uint64_t(o.spp));
+                    if (o.sampler != SamplerKind::independent) rng.draw_from(&sampler);
                     Rgb s = Rgb::Zero();
                     for (int k = 0; k < o.spp; ++k) {
+                        sampler.start_sample(uint64_t(k));
                         const double jx = rng.uniform(), jy = rng.uniform();
                         const Rgb l = integrator.radiance(camera.generate_ray(x + jx, y + jy), rng);
                         if (all_finite(l)) {

@@ -1,13 +1,17 @@
 #pragma once
 // Renders an image by averaging an integrator's estimates over spp jittered camera rays per pixel.
 // Every pixel draws from its own Rng stream (seed, pixel index), so the image is the same for
-// any thread count. Non-finite estimates are counted and left out of the average, never clamped
+// any thread count. With a sampler other than "independent" (render.sampler, core/sampler.h) that
+// Rng is bound to the pixel's sample set in the pass (spp vectors): dimensions 0 and 1 place the
+// sample in the pixel, the integrator's path reads the next ones.
+// Non-finite estimates are counted and left out of the average, never clamped
 // or hidden: the count is returned and written to the sidecar. Negative estimates (no radiance is
 // negative: a wrong estimator) are kept in the average, so the mean stays the estimator's, and
 // counted the same way.
 #include <cstdint>
 #include <vector>
 
+#include "core/sampler.h"
 #include "render/run/image.h"
 #include "render/integrator.h"
 #include "scene/camera.h"
@@ -28,6 +32,7 @@ struct RenderOptions {
     bool progress = true;
     // Stream offset so that independent renders (e.g. repeats) can share a seed without sharing noise.
     uint64_t stream_offset = 0;
+    SamplerKind sampler = SamplerKind::independent;   // render.sampler
 };
 
 Image render_image(const Camera& camera, const Integrator& integrator, const RenderOptions& options,

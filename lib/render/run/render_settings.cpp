@@ -1,6 +1,7 @@
 #include "render/run/render_settings.h"
 
 #include "core/progress.h"
+#include "core/sampler_registry.h"
 #include "config/params.h"
 
 namespace vpm {
@@ -20,6 +21,7 @@ RenderSettings RenderSettings::read(Params& p) {
                              std::to_string(r.passes) + " (each pass renders spp / passes samples per pixel)");
     r.time_limit = p.real("time_limit", r.time_limit, Range::closed(0.0, 1e9));
     r.first_pass = int(p.integer("first_pass", r.first_pass, Range::closed(0, 1 << 24)));
+    r.sampler = p.choice("sampler", r.sampler, sampler_choices());
     // Film accumulators are 3 doubles per pixel next to the 3-float image; refuse what cannot fit.
     const double bytes = double(r.width) * double(r.height) * 3.0 * (8.0 + 4.0);
     if (bytes > 0.8 * double(physical_memory_bytes()))

@@ -20,8 +20,12 @@
 //   | first_pass | 0              | index of this run's first pass: machines rendering       |
 //   |          |                  | passes 0..7 and 8..15 merge (vpm merge) into the 16-pass |
 //   |          |                  | image                                                    |
+//   | sampler  | "independent"    | camera samples: "independent", "stratified" or "sobol"   |
+//   |          |                  | (core/sampler.h, docs/stratified_sampling.md)            |
 #include <cstdint>
 #include <string>
+
+#include "core/sampler.h"
 
 namespace vpm {
 
@@ -38,6 +42,7 @@ struct RenderSettings {
     int passes = 1;
     double time_limit = 0.0;
     int first_pass = 0;
+    SamplerKind sampler = SamplerKind::independent;
     int spp_per_pass() const { return spp / passes; }
     // Reads the keys above from [render]; throws ConfigError (also for an image that cannot fit in memory).
     static RenderSettings read(Params& render);

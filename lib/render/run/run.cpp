@@ -99,6 +99,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         ro.seed = rs.seed;
         ro.progress = options.progress;
         ro.stream_offset = stream;
+        ro.sampler = rs.sampler;
         RenderStats group_render;
         render_passes(config.scene->camera, *integrator, ro, int(n), kPassStreamStride, sum, means, group_render);
         result.stats.phase("render", group_render.seconds);
