@@ -1,5 +1,7 @@
 #include "core/build_info.h"
 #include "analysis/study.h"
+#include "analysis/photon_beam_trial.h"
+
 
 #include "analysis/sample_point_trial.h"
 
@@ -143,6 +145,7 @@ const char* scenario_name(StudyScenario s) {
         case StudyScenario::kernels: return "kernels";
         case StudyScenario::beam: return "beam";
         case StudyScenario::stratified: return "stratified";
+        case StudyScenario::photon_beams: return "photon_beams";
     }
     return "unknown";
 }
@@ -151,10 +154,11 @@ StudyScenario parse_scenario(const std::string& name) {
     for (StudyScenario s : {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
                             StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
                             StudyScenario::photon_pass, StudyScenario::kernels, StudyScenario::beam,
-                            StudyScenario::stratified})
+                            StudyScenario::stratified, StudyScenario::photon_beams})
         if (name == scenario_name(s)) return s;
     throw Error("study: unknown scenario '" + name +
-                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, stratified)");
+                "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, "
+                "stratified, photon_beams)");
 }
 
 std::vector<StudyScenario> default_scenarios() {
@@ -367,6 +371,10 @@ void validate_study_options(StudyOptions& opt) {
     if (beam && opt.n < 3 * kmax)
         throw Error("study: --n (" + std::to_string(opt.n) + ") must be at least 3 x the largest k (" + std::to_string(3 * kmax) +
                     ") for the beam scenario, so that every radius stays below half the unit torus");
+    const bool beams = std::find(opt.scenarios.begin(), opt.scenarios.end(), StudyScenario::photon_beams) != opt.scenarios.end();
+    if (beams && kmax > 256)
+        throw Error("study: the photon_beams scenario takes k <= 256 (its field has 410 beams within the widest width "
+                    "on average; got " + std::to_string(kmax) + ")");
     check_study_memory(opt);
 }
 
@@ -380,7 +388,7 @@ void check_study_memory(const StudyOptions& opt) {
     const double nk = double(opt.ks.size()), kmax = double(opt.ks.back());
     const double ne = double(Estimator::all().size());
     for (StudyScenario sc : opt.scenarios) {
-        if (sc == StudyScenario::photon_pass) continue;
+        if (sc == StudyScenario::photon_pass || sc == StudyScenario::photon_beams) continue;   // small per trial
         const double stride = nk * ne * (sc == StudyScenario::kernels ? double(opt.kernels.size()) : 1.0);
         double estimates = double(opt.trials), per_thread_points = double(opt.n), point_bytes = double(sizeof(Pt));
         const char* size_option = "--n";
@@ -617,6 +625,17 @@ void run_beam(const StudyOptions& opt, const SampleGrid& grid, std::vector<doubl
     }
 }
 
+// photon_beams: one field of beams per trial gives the balloon estimates of every k, kernel and numerator.
+void run_photon_beams(const StudyOptions& opt, std::vector<double>& samples, size_t stride) {
+    samples.assign(opt.trials * stride, 0.0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, opt.trials), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t t = range.begin(); t != range.end(); ++t) {
+            Rng rng = trial_rng(opt.seed, stream_id(StudyScenario::photon_beams, 1, t));
+            photon_beam_trial(opt.ks, opt.kernels, rng, &samples[t * stride]);
+        }
+    });
+}
+
 // The theory column of one row, where the estimator's registry entry and the scenario give one.
 void attach_theory(const StudyOptions& opt, StudyScenario sc, StudyRow& row) {
     const Estimator e = row.estimator;
@@ -687,6 +706,39 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     tbb::combinable<EstimatorStats> stats;
 
     for (StudyScenario sc : opt.scenarios) {
+        if (sc == StudyScenario::photon_beams) {
+            const size_t stride = opt.ks.size() * opt.kernels.size() * 2;
+            std::vector<double> samples;
+            Timer t_sc;
+            run_photon_beams(opt, samples, stride);
+            for (size_t ki = 0; ki < opt.ks.size(); ++ki)
+                for (size_t kk = 0; kk < opt.kernels.size(); ++kk)
+                    for (int c = 0; c < 2; ++c) {
+                        const Kernel& kernel = opt.kernels[kk];
+                        StudyRow row;
+                        row.estimator = Estimator::named(c == 0 ? "classic" : "corrected").with_kernel(kernel);
+                        row.method = std::string("balloon_") + (c == 0 ? "classic" : "corrected") +
+                                     (kernel.is_constant() ? std::string() : "/" + kernel.label());
+                        row.k = opt.ks[ki];
+                        row.scenario = scenario_name(sc);
+                        row.dim = 1;
+                        row.n = 0;   // a Poisson field: no fixed count
+                        reduce(samples, opt.trials, stride, (ki * opt.kernels.size() + kk) * 2 + size_t(c), row);
+                        const BeamBalloonTheory th = photon_beam_balloon_theory(kernel, row.k, c == 0);
+                        row.has_theory = true;
+                        row.theory_source = "exact";
+                        row.th_error = th.mean - 1.0;
+                        row.th_variance = th.variance;
+                        row.th_mse = th.variance + row.th_error * row.th_error;
+                        row.th_variance_limit = th.variance;
+                        res.rows.push_back(row);
+                    }
+            char buf[200];
+            std::snprintf(buf, sizeof buf, "study: %-12s 1D  %zu trials x %zu k  Poisson field of beams  %.2f s (total %.1f s)",
+                          scenario_name(sc), opt.trials, opt.ks.size(), t_sc.seconds(), timer.seconds());
+            say(buf);
+            continue;
+        }
         if (sc == StudyScenario::beam) {
             const SampleGrid grid{opt.ks.size(), opt.kernels.size()};
             std::vector<double> point, beam;

@@ -57,6 +57,13 @@
 //              from the count's Fano factor F(k) = Var N / k in a ball of mean k, measured in the same
 //              trials (theory_source "fano"): classic bias (1 + F) / 2k, corrected -(1 - F) / 2k.
 //              Needs n >= 4 k (radii below half the torus). Not in the default list.
+//   photon_beams the balloon photon-beams estimate (render/photon_map/photon_beam_gather.h) on a
+//              uniform isotropic Poisson field of beams (analysis/photon_beam_trial.h), classic
+//              and corrected with every kernel of StudyOptions::kernels in 1D normalisation;
+//              rows dim 1, estimator "balloon_<numerator>[/<kernel>]". Exact theory
+//              (docs/photon_beams.md): classic E = m1 + k1/(k-1) (k/(k-1) for the constant
+//              kernel), corrected m1, variances with the angular factor pi^2/8. k <= 256; not
+//              among the defaults (ask for it).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -68,10 +75,10 @@
 
 namespace vpm {
 
-enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, stratified };
+enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, stratified, photon_beams };
 const char* scenario_name(StudyScenario s);
 StudyScenario parse_scenario(const std::string& name);   // throws vpm::Error listing allowed names
-std::vector<StudyScenario> default_scenarios();           // all but beam (O(n^2) per trial) and stratified: ask for them
+std::vector<StudyScenario> default_scenarios();           // all but beam (O(n^2) per trial), stratified and photon_beams: ask for them
 
 // The stratified scenario's point sets, in row order.
 const std::vector<std::string>& study_point_sets();

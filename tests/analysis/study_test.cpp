@@ -331,3 +331,25 @@ TEST(Study, BeamScenarioHasNoKMinusOneFactor) {
     small.n = 700;   // < 3 x 256
     EXPECT_THROW(validate_study_options(small), Error);
 }
+
+// The photon_beams scenario (analysis/photon_beam_trial.h, docs/photon_beams.md): the balloon
+// beam estimate on a Poisson field of beams; classic k/(k-1) + kernel terms, corrected unbiased,
+// every row's mean within 4 standard errors of the exact theory.
+TEST(Study, PhotonBeamsScenarioMatchesTheory) {
+    StudyOptions opt;
+    opt.scenarios = {StudyScenario::photon_beams};
+    opt.ks = {3, 4, 16, 64, 256};
+    opt.trials = 1500;
+    opt.n = 1000;
+    opt.kernels = {Kernel::constant(), Kernel::named("epanechnikov")};
+    const StudyResult res = run_estimator_study(opt);
+    ASSERT_EQ(res.rows.size(), opt.ks.size() * 2 * 2);
+    for (const StudyRow& row : res.rows) {
+        EXPECT_EQ(row.dim, 1);
+        EXPECT_NEAR(row.mean_error, row.th_error, 4.0 * row.se_mean) << study_row_label(row) << " k = " << row.k;
+        if (row.method == "balloon_classic") {
+            EXPECT_NEAR(row.th_error, 1.0 / double(row.k - 1), 1e-12);
+        }
+    }
+    EXPECT_NE(study_markdown(res).find("balloon_corrected/epanechnikov"), std::string::npos);
+}

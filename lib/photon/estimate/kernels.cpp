@@ -25,12 +25,13 @@ double gaussian_profile(double u, double) {
 
 // --- their closed-form normalisations n_d (relative to the unit ball volume) -------------------
 double one(int, double) { return 1.0; }
-double cone_norm(int dim, double s) { return dim == 2 ? 1.0 - 2.0 * s / 3.0 : 1.0 - 0.75 * s; }
-double epanechnikov_norm(int dim, double) { return dim == 2 ? 0.5 : 0.4; }
-double silverman_norm(int dim, double) { return dim == 2 ? 1.0 / 3.0 : 8.0 / 35.0; }
-// Exact mean of the Gaussian profile over the unit disc / ball (see kernels.h).
+double cone_norm(int dim, double s) { return dim == 1 ? 1.0 - 0.5 * s : dim == 2 ? 1.0 - 2.0 * s / 3.0 : 1.0 - 0.75 * s; }
+double epanechnikov_norm(int dim, double) { return dim == 1 ? 2.0 / 3.0 : dim == 2 ? 0.5 : 0.4; }
+double silverman_norm(int dim, double) { return dim == 1 ? 8.0 / 15.0 : dim == 2 ? 1.0 / 3.0 : 8.0 / 35.0; }
+// Exact mean of the Gaussian profile over the unit interval / disc / ball (see kernels.h).
 double gaussian_norm(int dim, double) {
     const double b = kGaussBeta, c = 0.5 * b, den = -std::expm1(-b);
+    if (dim == 1) return kGaussAlpha * (1.0 - (1.0 - std::sqrt(kPi / (2.0 * b)) * std::erf(std::sqrt(c))) / den);
     if (dim == 2) return kGaussAlpha * (1.0 - (1.0 - (2.0 / b) * -std::expm1(-c)) / den);
     const double j = std::sqrt(kPi) * std::erf(std::sqrt(c)) / (4.0 * c * std::sqrt(c)) - std::exp(-c) / (2.0 * c);
     return kGaussAlpha * (1.0 - (1.0 - 3.0 * j) / den);
@@ -70,15 +71,15 @@ double ball_mean(int dim, double (*f)(double, const void*), const void* ctx) {
     for (int j = 0; j <= M; ++j) {
         const double t = h * j;
         const double wgt = (j == 0 || j == M) ? 1.0 : (j % 2 ? 4.0 : 2.0);
-        s += wgt * f(t, ctx) * (dim == 2 ? t : t * t);
+        s += wgt * f(t, ctx) * (dim == 1 ? 1.0 : dim == 2 ? t : t * t);
     }
     return double(dim) * s * h / 3.0;
 }
 
 Kernel::Kernel(const KernelEntry* e, double parameter)
     : entry_(e), parameter_(parameter), constant_(e == &kKernels[0]) {
-    for (int i = 0; i < 2; ++i) {
-        const int dim = 2 + i;
+    for (int i = 0; i < 3; ++i) {
+        const int dim = 1 + i;
         const double n = e->normalisation(dim, parameter);
         if (!(n > 0.0) || !std::isfinite(n))
             throw Error(std::string("kernel ") + e->name + ": normalisation is not positive");

@@ -22,6 +22,10 @@
 //   | cone            | 1 - s t, slope s in (0, 1] (Jensen's k = 1/s) | 1 - 2s/3     | 1 - 3s/4     |
 //   | epanechnikov    | 1 - t^2                                       | 1/2          | 2/5          |
 //   | silverman       | (1 - t^2)^2 (biweight)                        | 1/3          | 8/35         |
+//
+// In 1D (photon beams: the interval [-r, r], V_1(1) = 2) n_1 = int_0^1 K dt: constant 1, cone
+// 1 - s/2, epanechnikov 2/3, silverman 8/15, gaussian_jensen 1 (the convention), gaussian
+// a[1 - (1 - sqrt(pi/(2b)) erf(sqrt(b/2))) / (1 - e^{-b})] = 0.65196.
 //   | gaussian_jensen | a [1 - (1 - e^{-b t^2/2}) / (1 - e^{-b})],    | 1 (Jensen's: | 1 (the same  |
 //   |                 | a = 0.918, b = 1.953 (Jensen, Pavicic)        | / pi r^2)    | convention)  |
 //   | gaussian        | the same profile                              | M_2 (exact)  | M_3 (exact)  |
@@ -40,7 +44,7 @@ struct KernelEntry {
     const char* name;
     const char* formula;                              // one line for tables and --help
     double (*profile)(double u, double parameter);    // K as a function of u = t^2 in [0, 1]
-    double (*normalisation)(int dim, double parameter);   // n_d (closed form), dim 2 or 3
+    double (*normalisation)(int dim, double parameter);   // n_d (closed form), dim 1, 2 or 3
     const char* parameter = nullptr;                  // name of the parameter (config key
                                                       // photons.<kernel>_<parameter>), or null
     double default_parameter = 0.0;
@@ -78,12 +82,14 @@ public:
     std::string label() const;
     bool is_constant() const { return constant_; }
     // omega(u) = K(sqrt u) / n_d: the weight of a neighbour at squared relative distance u, so that
-    // S = sum w_i omega(u_i) / V_d(r). dim must be 2 or 3.
-    double weight(double u, int dim) const { return entry_->profile(u, parameter_) * inv_norm_[dim == 2 ? 0 : 1]; }
+    // S = sum w_i omega(u_i) / V_d(r). dim must be 1, 2 or 3.
+    // dim 1: the 1D normalisation of photon beams (n_1 = int_0^1 K(t) dt, so that
+    // int_{-r}^{r} omega(u^2/r^2) du / (2 r) = 1; render/photon_map/photon_beam_gather.h).
+    double weight(double u, int dim) const { return entry_->profile(u, parameter_) * inv_norm_[dim - 1]; }
     // The closed-form n_d of the registry, and the mean of K over the unit ball M_d by quadrature.
     double normalisation(int dim) const;
     double profile_mean(int dim) const;
-    const KernelMoments& moments(int dim) const { return moments_[dim == 2 ? 0 : 1]; }
+    const KernelMoments& moments(int dim) const { return moments_[dim - 1]; }
 
     bool operator==(const Kernel& o) const { return entry_ == o.entry_ && parameter_ == o.parameter_; }
     bool operator!=(const Kernel& o) const { return !(*this == o); }
@@ -93,8 +99,8 @@ private:
     const KernelEntry* entry_;
     double parameter_;
     bool constant_;
-    double inv_norm_[2];
-    KernelMoments moments_[2];
+    double inv_norm_[3];      // dims 1, 2, 3
+    KernelMoments moments_[3];
 };
 
 // d int_0^1 f(t) t^{d-1} dt by composite Simpson (4096 intervals): the mean of f(|x|) over the

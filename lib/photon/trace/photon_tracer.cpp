@@ -76,6 +76,7 @@ bool roulette(Rgb& power, const Rgb& factor, Rng& rng) {
 
 struct BatchOutput {
     std::vector<PhotonInput> photons, surface_photons;
+    std::vector<PhotonBeam> beams;
     EnergyBalance energy;
     uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0, light_hits = 0, storing_walks = 0;
     std::vector<LightPhotonStats> per_light;
@@ -94,6 +95,8 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
     out.per_light.assign(scene.lights.size(), LightPhotonStats{});
     const bool forced_ok = s.forced_collisions && forced_collisions_possible(scene);
     OpticalDepthProfile profile;
+    Bounds3 media_bounds;   // beams are clipped to it
+    for (const auto& m : scene.media) media_bounds.extend(m->bounds());
     for (uint64_t i = begin; i < end; ++i) {
         sampler.start_sample(whole_pass ? i : i - begin);
         double light_pdf = 1.0;
@@ -122,6 +125,12 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             const PathVertex& v = forced.vertex;
             const MediumEvent& event = v.medium;
             const SurfaceHit& hit = v.hit;
+            if (s.store_beams && !forced.forced && (s.store_direct || scattered)) {
+                const double flight = event ? event.t : v.on_surface ? hit.t : kInfinity;
+                double t0, t1;
+                if (media_bounds.intersect(ray, flight, t0, t1) && t1 > t0 && std::isfinite(t1))
+                    out.beams.push_back(PhotonBeam{ray.at(t0), ray.dir, t1 - t0, power});
+            }
             if (v.escaped()) {
                 out.energy.escaped += power;
                 break;
@@ -148,7 +157,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             if (event) {
                 const Vec3 x = ray.at(event.t);
                 ++out.collisions;
-                if (s.store_direct || scattered) {
+                if (s.store_volume && (s.store_direct || scattered)) {
                     if (q >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power, group});
                     else if (rng.uniform() < q)
                         out.photons.push_back(PhotonInput{x, ray.dir, power / q, group});
@@ -222,6 +231,8 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
             result.surface_photons.insert(result.surface_photons.end(), o.surface_photons.begin(),
                                           o.surface_photons.end());
             std::vector<PhotonInput>().swap(o.surface_photons);
+            result.beams.insert(result.beams.end(), o.beams.begin(), o.beams.end());
+            std::vector<PhotonBeam>().swap(o.beams);
             result.surface_hits += o.surface_hits;
             result.light_hits += o.light_hits;
             result.energy.emitted += o.energy.emitted;

@@ -32,6 +32,7 @@
 
 #include "core/sampler.h"
 #include "photon/map/photon.h"
+#include "photon/map/photon_beam.h"
 #include "scene/scene.h"
 
 namespace vpm {
@@ -70,6 +71,13 @@ struct PhotonTraceSettings {
     // photons.sampler (core/sampler.h): independent keeps one PCG32 stream per batch; stratified
     // makes one sample set per batch (its photons), sobol one per pass (photon i reads point i).
     SamplerKind sampler = SamplerKind::independent;
+    // Also record the photon beams (photon/map/photon_beam.h): every free flight that a stored photon
+    // would have ended (the same store_direct rule), clipped to the media's bounds, at its full
+    // power (no thinning: store_probability applies to the point photons). Not with
+    // forced_collisions (a forced flight is not a free flight). Draws no random numbers.
+    bool store_beams = false;
+    // false: no volume photons are stored (the photon-beams gather needs only the beams).
+    bool store_volume = true;
     // Called after each chunk; may throw (vpm::Error) to stop the pass, e.g. when the projected
     // map cannot fit in memory (photon/trace/photon_budget.h). Null: no callback.
     std::function<void(const PhotonTraceProgress&)> on_chunk;
@@ -100,6 +108,7 @@ struct EnergyBalance {
 struct PhotonTraceResult {
     std::vector<PhotonInput> photons;   // in a fixed order for a given seed, any thread count
     std::vector<PhotonInput> surface_photons;   // store_surface: hits on Lambertian surfaces, same order rule
+    std::vector<PhotonBeam> beams;              // store_beams: free flights in the media, same order rule
     EnergyBalance energy;
     uint64_t paths = 0;
     uint64_t collisions = 0;            // real medium collisions, stored or not

@@ -14,6 +14,7 @@
 #include "photon/estimate/ball_extinction.h"
 #include "photon/estimate/bounded_radius.h"
 #include "render/photon_map/beam_gather.h"
+#include "render/photon_map/photon_beam_gather.h"
 #include "transport/seen_through.h"
 #include "transport/segment_direct_light.h"
 #include "transport/single_scattering.h"
@@ -46,6 +47,7 @@ PhotonMapIntegrator::Gather initial_gather(GatherMode mode) {
         case GatherMode::collision: return PhotonMapIntegrator::Gather::collision;
         case GatherMode::march: return PhotonMapIntegrator::Gather::march;
         case GatherMode::beam: return PhotonMapIntegrator::Gather::beam;
+        case GatherMode::photon_beams: return PhotonMapIntegrator::Gather::photon_beams;
         case GatherMode::automatic:
         case GatherMode::pilot:
         case GatherMode::threshold: break;
@@ -130,7 +132,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         trace_maps(context, plan_ ? plan_->count : first_map_photons(context), surface, stats);
         if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
         // k above the stored count: say so once per run (the maps are then not queried).
-        const bool volume_short = scene_.has_media() && volume_map_starved();
+        const bool volume_short = scene_.has_media() && settings_.gather != GatherMode::photon_beams && volume_map_starved();
         const bool surface_short = surface_map_ && surface_map_->size() < k_;
         if ((volume_short || surface_short) && !warned_k_ && context.log) {
             warned_k_ = true;
@@ -140,6 +142,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
                          << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)\n";
         }
         if (settings_.gather == GatherMode::beam) build_beam(log, &stats);
+        if (settings_.gather == GatherMode::photon_beams) build_photon_beams(log, &stats);
     } else if (log) {
         *log << "photons: no media and no surface map, so no photon pass\n";
     }
@@ -184,6 +187,7 @@ int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context) {
 
 void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats) {
     retire_beam();           // its BVH points into the last pass's map
+    retire_photon_beams();
     owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
     PhotonMapSettings pass_settings = settings_;
     pass_settings.count = count;
@@ -201,7 +205,8 @@ bool PhotonMapIntegrator::traces_surface_map() const {
 }
 
 bool PhotonMapIntegrator::wants_decision_map() const {
-    return scene_.has_media() && settings_.max_radius_mfp > 0.0 && settings_.gather != GatherMode::beam;
+    return scene_.has_media() && settings_.max_radius_mfp > 0.0 && settings_.gather != GatherMode::beam &&
+           settings_.gather != GatherMode::photon_beams;
 }
 
 void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStats& stats) {
@@ -352,6 +357,22 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
             *log << "beam: " << stats.beam->queries << " segment queries crossed " << stats.beam->crossed << " photon discs ("
                  << (stats.beam->queries ? double(stats.beam->crossed) / double(stats.beam->queries) : 0.0) << " per query)\n";
     }
+    if (photon_beams_) {
+        PhotonBeamGatherStats b = photon_beams_->stats();
+        b.widths_seconds += photon_beams_before_.widths_seconds;
+        b.bvh_seconds += photon_beams_before_.bvh_seconds;
+        b.queries += photon_beams_before_.queries;
+        b.crossed += photon_beams_before_.crossed;
+        b.tested += photon_beams_before_.tested;
+        b.starved += photon_beams_before_.starved;
+        b.tracking_lookups += photon_beams_before_.tracking_lookups;
+        stats.photon_beams = b;
+        if (log)
+            *log << "photon_beams: " << b.queries << " segment queries weighed " << b.crossed << " beams ("
+                 << (b.queries ? double(b.crossed) / double(b.queries) : 0.0) << " per query, "
+                 << (b.queries ? double(b.tested) / double(b.queries) : 0.0) << " crossing tests per query); "
+                 << b.starved << " found fewer than k beams (estimate 0)\n";
+    }
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
         stats.surface_estimates = ss;
@@ -409,7 +430,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
         // again would branch at every point, a tree that grows without bound where every ball is
         // wide (the stress matrix's furnace and pathological cells hung once "auto" chose the march).
         const bool march = first_depth == 0 && marches(ray, t_end);
-        const bool beam = gather_ == Gather::beam;
+        const bool beam = gather_ == Gather::beam || gather_ == Gather::photon_beams;
         if ((march || beam) && (!v.on_surface || hit.emitter)) {
             // The segment's in-scattering is gathered apart, so the sky or area light behind it is
             // weighed by the exact transmittance, not found by the free flight's trial
@@ -609,6 +630,7 @@ bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
         case Gather::collision: return false;
         case Gather::march: return true;
         case Gather::beam: return false;
+        case Gather::photon_beams: return false;
         case Gather::threshold: break;
     }
     // gather = "threshold" (the default before the measured plan). Thin along this segment: every ray
@@ -721,8 +743,44 @@ void PhotonMapIntegrator::build_beam(std::ostream* log, RunStats* stats) {
     }
 }
 
+void PhotonMapIntegrator::retire_photon_beams() {
+    if (!photon_beams_) return;
+    const PhotonBeamGatherStats b = photon_beams_->stats();
+    photon_beams_before_.widths_seconds += b.widths_seconds;
+    photon_beams_before_.bvh_seconds += b.bvh_seconds;
+    photon_beams_before_.queries += b.queries;
+    photon_beams_before_.crossed += b.crossed;
+    photon_beams_before_.tested += b.tested;
+    photon_beams_before_.starved += b.starved;
+    photon_beams_before_.tracking_lookups += b.tracking_lookups;
+    photon_beams_.reset();
+}
+
+void PhotonMapIntegrator::build_photon_beams(std::ostream* log, RunStats* stats) {
+    retire_photon_beams();
+    photon_beams_ = std::make_unique<PhotonBeamGather>(scene_, std::move(owned_.beams), settings_.beam_widths, k_,
+                                                       std::string(settings_.estimator.name()) == "classic",
+                                                       settings_.estimator.kernel(), max_radius_);
+    owned_.beams.clear();
+    const PhotonBeamGatherStats b = photon_beams_->stats();
+    if (stats) {
+        if (settings_.beam_widths == BeamWidths::sample_point) stats->phase("build_beam_widths", b.widths_seconds);
+        stats->phase("build_photon_beam_bvh", b.bvh_seconds);
+    }
+    // No beam at all (no media, or every flight outside them): the segments gather like "march".
+    gather_ = photon_beams_->usable() ? Gather::photon_beams : Gather::march;
+    if (log) {
+        *log << "photon_beams: " << b.beams << " beams, widths \"" << b.widths << "\" (k = " << b.k << ", "
+             << settings_.estimator.label() << " in 1D)";
+        if (settings_.beam_widths == BeamWidths::sample_point) *log << ", widths " << b.widths_seconds << " s";
+        *log << ", BVH " << b.bvh_seconds << " s, " << b.bytes_per_beam << " bytes/beam\n";
+        if (!photon_beams_->usable() && scene_.has_media())
+            *log << "warning: no photon beam was recorded in the media, so this pass gathers like \"march\"\n";
+    }
+}
+
 Rgb PhotonMapIntegrator::beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const {
-    Rgb l = beam_->in_scattering(ray, t_end, rng);
+    Rgb l = gather_ == Gather::photon_beams ? photon_beams_->in_scattering(ray, t_end, rng) : beam_->in_scattering(ray, t_end, rng);
     if (settings_.direct == DirectLighting::nee)
         l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, threads_->local.local().rays);
     return l;

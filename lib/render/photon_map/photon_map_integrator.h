@@ -60,6 +60,7 @@
 #include "render/plan/pass_plan.h"
 #include "render/path/path_tracer.h"
 #include "render/photon_map/beam_gather_stats.h"
+#include "render/photon_map/photon_beam_gather_stats.h"
 #include "render/photon_map/photon_pass.h"
 #include "render/run/run_config.h"
 #include "transport/mis.h"
@@ -69,6 +70,7 @@
 namespace vpm {
 
 class BeamGather;
+class PhotonBeamGather;
 
 class PhotonMapIntegrator : public Integrator {
 public:
@@ -101,7 +103,8 @@ public:
     // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
     // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
     // beam: one BVH query per segment (render/photon_map/beam_gather.h); a map without discs falls back to march.
-    enum class Gather { collision, march, threshold, beam };
+    // photon_beams: one BVH query of the photon beams per segment (render/photon_map/photon_beam_gather.h).
+    enum class Gather { collision, march, threshold, beam, photon_beams };
     Gather gather() const { return gather_; }
     const std::optional<GatherPilotStats>& gather_pilot() const { return pilot_; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
@@ -170,6 +173,11 @@ private:
     void build_beam(std::ostream* log, RunStats* stats);
     // Frees beam_, keeping its counts in beam_before_.
     void retire_beam();
+    std::unique_ptr<PhotonBeamGather> photon_beams_;   // gather = "photon_beams": this pass's beams and BVH
+    PhotonBeamGatherStats photon_beams_before_;        // earlier passes' counts and build times
+    // gather = "photon_beams": builds photon_beams_ from this pass's beams (owned_.beams) and logs it.
+    void build_photon_beams(std::ostream* log, RunStats* stats);
+    void retire_photon_beams();
     // This pass's photon maps with `count` photons (the last pass's freed first).
     void trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats);
     // The photons of the run's first map (and of the auto plan's pilot map): photons.count, or fewer

@@ -7,6 +7,7 @@
 #include "config/params.h"
 #include "photon/estimate/radius_schedule.h"
 #include "core/sampler_registry.h"
+#include "render/photon_map/photon_beam_gather.h"
 
 namespace vpm {
 
@@ -108,7 +109,21 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
-    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"threshold", GatherMode::threshold}, {"beam", GatherMode::beam}});
+    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"threshold", GatherMode::threshold}, {"point_beam", GatherMode::beam}, {"beam", GatherMode::beam}, {"photon_beams", GatherMode::photon_beams}});
+    if (const toml::node* g = p.node("gather"); g && g->value<std::string>().value_or("") == "beam")
+        std::cerr << "note: " << p.where("gather") << ": \"beam\" is the old name of \"point_beam\" (the beam radiance "
+                     "estimate over photon points); \"photon_beams\" is the photon-beams gather (docs/photon_beams.md)\n";
+    s.beam_widths = p.choice("beam_widths", BeamWidths::balloon,
+                             {{"balloon", BeamWidths::balloon}, {"sample_point", BeamWidths::sample_point}});
+    if (s.gather == GatherMode::photon_beams) {
+        const std::string e = s.estimator.name();
+        if (e != "classic" && e != "corrected")
+            p.fail("estimator", "photons.gather = \"photon_beams\" takes \"classic\" or \"corrected\" (the k-th beam "
+                                "weighed or not), not \"" + e + "\"");
+        if (s.forced_collisions)
+            p.fail("forced_collisions", "must be false with photons.gather = \"photon_beams\" (its beams are the "
+                                        "photons' free flights, which forced collisions replace)");
+    }
     s.time_limit = render.has("time_limit") ? render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) : 0.0;
     if (s.plans() && s.time_limit > 0.0) {
         // A key the user sets is honoured: photons.count pins the photons per pass, render.spp and

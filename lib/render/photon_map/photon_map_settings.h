@@ -51,17 +51,29 @@
 //   |                        |             | clock (photon_map_integrator.h: choose_gather). Opt-in:  |
 //   |                        |             | its per-sample variance misses the photon map's own      |
 //   |                        |             | noise (docs/studies/auto_plan.md section 11.2)                       |
-//   |                        |             | "beam": one query per segment over a BVH of the photons' |
-//   |                        |             | discs (render/photon_map/beam_gather.h), single scattering by NEE   |
-//   |                        |             | at gather_queries points per segment                     |
+//   |                        |             | "point_beam": the beam radiance estimate, one query per  |
+//   |                        |             | segment over a BVH of the photons' discs                 |
+//   |                        |             | (render/photon_map/beam_gather.h), single scattering by  |
+//   |                        |             | NEE at gather_queries points per segment. "beam" is its  |
+//   |                        |             | old name, still accepted (a note on stderr says so).     |
+//   |                        |             | "photon_beams": the photon paths' free flights as beams, |
+//   |                        |             | the 1D beam x beam estimate with kNN widths              |
+//   |                        |             | (render/photon_map/photon_beam_gather.h,                 |
+//   |                        |             | docs/photon_beams.md); single scattering by NEE as above |
 //   | gather_queries         | 4           | points per segment for "march" (NEE points for "beam")   |
 //   | march_points           | "mass"      | "march": how many points a crossed medium gets: "mass"   |
 //   |                        |             | ceil(gather_queries (1 - T)), at least 1; "fixed"        |
 //   |                        |             | gather_queries; "free_flight" gather_queries stratified  |
 //   |                        |             | free flights, those inside the segment                   |
 //   |                        |             | (transport/march_count.h; docs/studies/march.md section 18)      |
-//   | beam_k                 | 32          | "beam": each photon's radius is its beam_k-th nearest    |
-//   |                        |             | other photon (photon/map/photon_radii.h)                     |
+//   | beam_k                 | 32          | "point_beam": each photon's radius is its beam_k-th      |
+//   |                        |             | nearest other photon (photon/map/photon_radii.h)         |
+//   | beam_widths            | "balloon"   | "photon_beams": "balloon" (the width at the camera       |
+//   |                        |             | segment from its k-th nearest beam, estimator classic or |
+//   |                        |             | corrected) | "sample_point" (each beam's width from its  |
+//   |                        |             | own k-th nearest other beam). k is photons.k (per pass:  |
+//   |                        |             | photons.schedule), the kernel photons.kernel in 1D, the  |
+//   |                        |             | width bounded by max_radius                              |
 //   | clustering             | "ignore"    | "leave_group_out" (corrected, constant kernel, ball or   |
 //   |                        |             | linear extinction, even k; else refused): each half of   |
 //   |                        |             | the walk groups counted within the (k/2)-th photon of    |
@@ -104,7 +116,8 @@ enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point, linear };
 enum class Clustering { ignore, leave_group_out };
 enum class PhotonAllocationRule { importance, power };
-enum class GatherMode { collision, march, automatic, pilot, threshold, beam };
+enum class GatherMode { collision, march, automatic, pilot, threshold, beam, photon_beams };
+enum class BeamWidths;   // render/photon_map/photon_beam_gather.h
 enum class KSchedule { fixed, shrink, progressive };
 
 // One pass's k and radius scales (photons.schedule; photon/estimate/radius_schedule.h).
@@ -130,6 +143,7 @@ struct PhotonMapSettings {
     int gather_queries = 4;
     MarchCount march_points = MarchCount::mass;   // points per crossed medium (transport/march_points.h)
     int beam_k = 32;
+    BeamWidths beam_widths{};   // "balloon" (0)
     double store_probability = 1.0;
     SamplerKind sampler = SamplerKind::independent;   // photons.sampler
     bool store_auto = false;   // store_probability = "auto": from the pass's walk statistics (photon/trace/store_thinning.h)

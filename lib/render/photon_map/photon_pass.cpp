@@ -31,10 +31,14 @@ PhotonTraceSettings trace_settings(const Scene& scene, const PhotonMapSettings& 
     ts.store_auto = ps.store_auto;
     ts.forced_collisions = ps.forced_collisions;
     ts.sampler = ps.sampler;
+    ts.store_beams = ps.gather == GatherMode::photon_beams;
+    ts.store_volume = !ts.store_beams;
     // Photons per light: by a pilot's importance where the camera looks, or by power.
     if (!cached) {
         PhotonTraceSettings pilot = ts;
         pilot.stream_offset = context.run_stream_offset;
+        pilot.store_beams = false;   // the allocation as every gather's
+        pilot.store_volume = true;
         cached = ps.allocation == PhotonAllocationRule::importance ? importance_allocation(scene, pilot) : power_allocation(scene);
     }
     ts.light_weights = cached->weights;
@@ -105,6 +109,12 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
              << p.memory_budget_bytes / 1e9 << " GB (photons.memory_budget_fraction)\n";
 
     PhotonMaps maps;
+    if (ts.store_beams) {
+        maps.beams = std::move(traced.beams);
+        if (log)
+            *log << "trace: " << maps.beams.size() << " photon beams (free flights in the media, "
+                 << double(maps.beams.size()) / double(std::max<uint64_t>(traced.paths, 1)) << " per path)\n";
+    }
     if (surface) {
         const Timer surface_timer;
         const size_t n_surface = traced.surface_photons.size();

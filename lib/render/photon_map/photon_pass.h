@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "photon/trace/photon_allocation.h"
+#include "photon/map/photon_beam.h"
 #include "photon/map/photon_map.h"
 #include "render/integrator.h"
 #include "render/photon_map/photon_map_settings.h"
@@ -17,6 +18,7 @@ namespace vpm {
 struct PhotonMaps {
     PhotonMap volume;
     PhotonMap surface;   // empty unless built
+    std::vector<PhotonBeam> beams;   // photons.gather = "photon_beams": the free flights (no volume photons then)
 };
 
 // `allocation`: photons per light; computed on the first call (a pilot, for "importance") and

@@ -221,6 +221,20 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.radii.last_surface_scale", r->last.surface_scale);
         record.set("photons.radii.last_beam_scale", r->last.beam_scale);
     }
+    if (const auto& b = stats.photon_beams) {
+        record.set("photons.photon_beams.widths", b->widths);
+        record.set("photons.photon_beams.k", b->k);
+        record.set("photons.photon_beams.beams", b->beams);
+        record.set("photons.photon_beams.bvh_bytes", b->bvh_bytes);
+        record.set("photons.photon_beams.bytes_per_beam", b->bytes_per_beam);
+        record.set("photons.photon_beams.widths_seconds", b->widths_seconds);
+        record.set("photons.photon_beams.bvh_seconds", b->bvh_seconds);
+        record.set("photons.photon_beams.queries", b->queries);
+        record.set("photons.photon_beams.crossed", b->crossed);
+        record.set("photons.photon_beams.tested", b->tested);
+        record.set("photons.photon_beams.starved", b->starved);
+        record.set("photons.photon_beams.tracking_lookups", b->tracking_lookups);
+    }
     if (const auto& b = stats.beam) {
         record.set("photons.beam.k", b->k);
         record.set("photons.beam.photons", b->photons);

@@ -12,6 +12,7 @@
 #include "render/plan/pass_plan.h"
 #include "render/photon_map/beam_gather_stats.h"
 #include "render/photon_map/photon_map_settings.h"
+#include "render/photon_map/photon_beam_gather_stats.h"
 #include "render/run/render_loop.h"
 
 namespace vpm {
@@ -159,6 +160,7 @@ struct RunStats {
     std::optional<GatherPilotStats> gather_pilot;      // gather = "pilot"
     std::optional<AutoGatherStats> auto_gather;        // gather = "auto"
     std::optional<BeamGatherStats> beam;               // gather = "beam": memory, build, queries
+    std::optional<PhotonBeamGatherStats> photon_beams; // gather = "photon_beams": beams, build, queries
     // March points' weights relative to their value where the majorant is exact (T sigma_t /
     // (mu e^-tau_mu) = 1 in homogeneous media): the largest and the mean, over the camera pass.
     std::optional<double> march_weight_max, march_weight_mean;

@@ -55,6 +55,33 @@ TEST(Kernels, RegistryNamesParametersLabels) {
 // The registry's closed-form normalisations equal the quadrature mean of the profile over the
 // unit disc / ball, except Jensen's Gaussian, whose alpha = 0.918 leaves it at M_2 = 0.5312:
 // the follow-up's 46.9% underestimate.
+// The 1D normalisation of photon beams (render/photon_map/photon_beam_gather.h): n_1 = int_0^1 K dt
+// in closed form equals the quadrature, so the weight integrates to 1 over [-r, r] (2 r in all).
+TEST(Kernels, OneDimensionalNormalisationIntegratesToOne) {
+    for (const Kernel& k : kernels()) {
+        const double mean = k.profile_mean(1);
+        if (std::string(k.name()) == "gaussian_jensen") {
+            EXPECT_EQ(k.normalisation(1), 1.0);   // its convention: / 2r, no integral
+            continue;
+        }
+        EXPECT_NEAR(k.normalisation(1), mean, 1e-12) << k.label();
+        EXPECT_NEAR(k.moments(1).m1, 1.0, 1e-12) << k.label();
+        // Midpoint rule over u in [-1, 1] of weight(u^2, 1) / 2: independent of the quadrature above.
+        const int n = 200000;
+        double s = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double u = -1.0 + (i + 0.5) * 2.0 / n;
+            s += k.weight(u * u, 1);
+        }
+        EXPECT_NEAR(s / n, 1.0, 1e-6) << k.label();
+    }
+    // Closed forms: epanechnikov 2/3, silverman 8/15, cone 1 - s/2, Gaussian 0.65196.
+    EXPECT_DOUBLE_EQ(Kernel::named("epanechnikov").normalisation(1), 2.0 / 3.0);
+    EXPECT_DOUBLE_EQ(Kernel::named("silverman").normalisation(1), 8.0 / 15.0);
+    EXPECT_DOUBLE_EQ(Kernel::named("cone", 0.5).normalisation(1), 0.75);
+    EXPECT_NEAR(Kernel::named("gaussian").normalisation(1), 0.651960, 1e-6);
+}
+
 TEST(Kernels, NormalisationsMatchQuadrature) {
     for (const Kernel& k : kernels())
         for (int dim : {2, 3}) {

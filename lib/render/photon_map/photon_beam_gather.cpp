@@ -1,0 +1,125 @@
+#include "render/photon_map/photon_beam_gather.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <tbb/parallel_for.h>
+
+#include "core/henyey_greenstein.h"
+#include "core/progress.h"
+#include "transport/transmittance_at_points.h"
+
+namespace vpm {
+
+const char* beam_widths_name(BeamWidths w) { return w == BeamWidths::balloon ? "balloon" : "sample_point"; }
+
+PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k,
+                                   bool keep_kth, const Kernel& kernel, double max_width)
+    : scene_(scene), beams_(std::move(beams)), widths_(widths), k_(k), keep_kth_(keep_kth), kernel_(kernel),
+      max_width_(max_width), exact_(homogeneous_media(scene)) {
+    built_.widths = beam_widths_name(widths);
+    built_.k = k;
+    std::vector<double> radii;
+    if (widths == BeamWidths::sample_point) {
+        // Each beam's width from its own k nearest other beams (its segment as the query), found in
+        // a BVH of widths 0; independent of any camera ray.
+        const Timer timer;
+        const PhotonBeamBvh plain(beams_, {});
+        radii.assign(beams_.size(), kInfinity);
+        tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
+            std::vector<BeamCrossing>& near = scratch.local();
+            for (size_t j = range.begin(); j != range.end(); ++j) {
+                const PhotonBeam& b = beams_[j];
+                plain.nearest(b.origin, b.dir, b.length, k, max_width, near, uint32_t(j));
+                // Fewer than k within the bound: the bound itself (none: the beam is left out).
+                radii[j] = near.size() == k ? near.back().u : max_width;
+            }
+        });
+        built_.widths_seconds = timer.seconds();
+    }
+    const Timer bvh_timer;
+    bvh_ = PhotonBeamBvh(beams_, radii);
+    built_.bvh_seconds = bvh_timer.seconds();
+    built_.beams = bvh_.size();
+    built_.bvh_bytes = bvh_.memory_bytes() + beams_.capacity() * sizeof(PhotonBeam);
+    built_.bytes_per_beam = double(built_.bvh_bytes) / double(std::max<size_t>(beams_.size(), 1));
+}
+
+Rgb PhotonBeamGather::scattering(const Vec3& x, double cos_theta) const {
+    Rgb sum = Rgb::Zero();
+    for (const auto& m : scene_.media) {
+        const double s = m->sigma_t(x);
+        if (s > 0.0) sum += s * m->albedo() * hg_eval(cos_theta, m->g());
+    }
+    return sum;
+}
+
+Rgb PhotonBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+    Local& local = local_.local();
+    std::vector<BeamCrossing>& hits = local.hits;
+    std::vector<double>& widths = local.widths;
+    hits.clear();
+    widths.clear();
+    ++local.queries;
+    if (widths_ == BeamWidths::balloon) {
+        bvh_.nearest(ray.origin, ray.dir, t_end, k_, max_width_, hits, UINT32_MAX, &local.tested);
+        double r;
+        if (hits.size() == k_) {
+            r = hits.back().u;
+            if (!keep_kth_) hits.pop_back();   // corrected: the k-th beam sets the width only
+        } else if (std::isfinite(max_width_)) {
+            r = max_width_;   // the bound: a fixed-width estimate over every beam within it
+        } else {
+            ++local.starved;
+            return Rgb::Zero();
+        }
+        widths.assign(hits.size(), r);
+    } else {
+        bvh_.for_each_crossed(ray.origin, ray.dir, t_end, [&](const BeamCrossing& c, double width) {
+            hits.push_back(c);
+            widths.push_back(width);
+        }, &local.tested);
+    }
+    local.crossed += hits.size();
+    if (hits.empty()) return Rgb::Zero();
+    // In order along the ray, ties by index: one transmittance walk serves every beam, and the
+    // random stream is consumed in an order that does not depend on the BVH's traversal.
+    const size_t n = hits.size();
+    local.order.resize(n);
+    std::iota(local.order.begin(), local.order.end(), 0u);
+    std::sort(local.order.begin(), local.order.end(), [&](uint32_t a, uint32_t b) {
+        return hits[a].t < hits[b].t || (hits[a].t == hits[b].t && hits[a].index < hits[b].index);
+    });
+    local.ts.resize(n);
+    local.transmittance.resize(n);
+    for (size_t i = 0; i < n; ++i) local.ts[i] = hits[local.order[i]].t;
+    transmittance_at_points(scene_, exact_, ray, local.ts.data(), n, local.transmittance.data(), rng, local.tracking_lookups);
+    Rgb sum = Rgb::Zero();
+    for (size_t i = 0; i < n; ++i) {
+        const BeamCrossing& h = hits[local.order[i]];
+        const double r = widths[local.order[i]];
+        const double w = local.transmittance[i] * kernel_.weight(h.u * h.u / (r * r), 1) / (2.0 * r * h.sin_theta);
+        if (w == 0.0) continue;
+        const PhotonBeam& b = beams_[h.index];
+        const Rgb f = scattering(ray.at(h.t), b.dir.dot(-ray.dir));
+        if ((f == 0.0).all()) continue;
+        sum += w * b.power * f;
+    }
+    return sum;
+}
+
+PhotonBeamGatherStats PhotonBeamGather::stats() const {
+    PhotonBeamGatherStats s = built_;
+    for (const Local& l : local_) {
+        s.queries += l.queries;
+        s.crossed += l.crossed;
+        s.tested += l.tested;
+        s.starved += l.starved;
+        s.tracking_lookups += l.tracking_lookups;
+    }
+    return s;
+}
+
+}  // namespace vpm

@@ -1,0 +1,81 @@
+#pragma once
+// photons.gather = "photon_beams": the beam x beam (1D) estimate of Jarosz, Nowrouzezahrai,
+// Sadeghi & Jensen (TOG 2011) with widths from k nearest neighbours (docs/photon_beams.md).
+// The photon paths' free flights in the media are stored as short beams (photon/map/photon_beam.h)
+// in a BVH (photon/map/photon_beam_bvh.h). A camera segment o + t d, t in (0, t_end), collects
+// every beam j it crosses within the width r and adds
+//
+//     Phi_j T(0, t_j) sigma_s(x_j) f(w_j . -d) K_1(u_j / r) / sin(theta_j),
+//     K_1(u / r) = K(u / r) / (2 r n_1),   n_1 = int_0^1 K(t) dt (photon/estimate/kernels.h, dim 1),
+//
+// with x_j = o + t_j d the camera's point nearest to beam j, u_j the distance of the two lines
+// there, theta_j their angle. sigma_s f is the media's sum at x_j (the 1D blur spreads the fluence
+// of the beam, not the scattering), T(0, t_j) comes from one walk per camera segment
+// (transport/transmittance_at_points.h: exact in homogeneous media, ratio tracking in grids).
+//
+// Widths (photons.beam_widths):
+//   "balloon"       r = u of the k-th nearest beam of the segment; photons.estimator "classic"
+//                   weighs the k nearest (E = k/(k-1) x truth for a uniform field of lines, constant
+//                   kernel), "corrected" the k-1 nearer ones (unbiased for every normalised kernel).
+//                   Fewer than k beams crossing: the estimate is 0 (counted: starved) unless
+//                   photons.max_radius bounds the width, then all beams within it (fixed width).
+//   "sample_point"  r_j = u of the k-th nearest other beam of beam j itself (its own segment as
+//                   the query), bounded by photons.max_radius: independent of the camera ray, so
+//                   unbiased for a uniform field for every k and kernel (no k-1 factor).
+#include <cstdint>
+#include <vector>
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "core/math.h"
+#include "core/rng.h"
+#include "photon/estimate/kernels.h"
+#include "photon/map/photon_beam.h"
+#include "photon/map/photon_beam_bvh.h"
+#include "render/photon_map/photon_beam_gather_stats.h"
+#include "scene/scene.h"
+
+namespace vpm {
+
+enum class BeamWidths { balloon, sample_point };
+const char* beam_widths_name(BeamWidths w);
+
+class PhotonBeamGather {
+public:
+    // keep_kth: the classic numerator (the k-th beam weighed) rather than the corrected's (balloon
+    // only). max_width: kInfinity for none.
+    PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k, bool keep_kth,
+                     const Kernel& kernel, double max_width);
+
+    // Whether any beam is in the BVH.
+    bool usable() const { return bvh_.size() > 0; }
+    size_t beam_count() const { return beams_.size(); }
+
+    // The in-scattered radiance from the beams along `ray` over (0, t_end); dir unit length.
+    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const;
+
+    PhotonBeamGatherStats stats() const;
+
+private:
+    struct Local {
+        std::vector<BeamCrossing> hits;
+        std::vector<double> widths, ts, transmittance;
+        std::vector<uint32_t> order;
+        uint64_t queries = 0, crossed = 0, tested = 0, starved = 0, tracking_lookups = 0;
+    };
+    const Scene& scene_;
+    std::vector<PhotonBeam> beams_;
+    BeamWidths widths_;
+    size_t k_;
+    bool keep_kth_;
+    Kernel kernel_;
+    double max_width_;
+    std::vector<bool> exact_;
+    PhotonBeamBvh bvh_;
+    PhotonBeamGatherStats built_;
+    mutable tbb::enumerable_thread_specific<Local> local_;
+
+    Rgb scattering(const Vec3& x, double cos_theta) const;
+};
+
+}  // namespace vpm

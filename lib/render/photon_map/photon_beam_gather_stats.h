@@ -1,0 +1,23 @@
+#pragma once
+// What the photon-beams gather (render/photon_map/photon_beam_gather.h) built and answered in a run.
+#include <cstdint>
+#include <string>
+
+namespace vpm {
+
+struct PhotonBeamGatherStats {
+    std::string widths;              // photons.beam_widths: "balloon" | "sample_point"
+    uint64_t k = 0;                  // photons.k of the last pass (photons.schedule may shrink it)
+    uint64_t beams = 0;              // beams in the BVH (last pass)
+    uint64_t bvh_bytes = 0;          // BVH items + nodes + the beams' records (last pass)
+    double bytes_per_beam = 0.0;
+    double widths_seconds = 0.0;     // sample_point: each beam's k nearest (summed over passes)
+    double bvh_seconds = 0.0;        // summed over passes
+    uint64_t queries = 0;            // camera segments answered by one BVH query
+    uint64_t crossed = 0;            // beams weighed (within the width, feet inside both segments)
+    uint64_t tested = 0;             // beam-segment crossing tests in the BVH's leaves (cost)
+    uint64_t starved = 0;            // balloon: queries that found fewer than k beams (estimate 0)
+    uint64_t tracking_lookups = 0;   // sigma_t lookups of the camera transmittance's ratio tracking
+};
+
+}  // namespace vpm
