@@ -78,7 +78,8 @@ int run_study(int argc, char** argv) {
     app.add_option("--scenarios", scenarios,
                    "comma-separated: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, "
                    "kernels, beam, stratified (point sets: independent, stratified, jittered, sobol, lattice; "
-                   "docs/stratified_sampling.md) (default: all but beam, whose trials cost O(n^2), and stratified)");
+                   "docs/stratified_sampling.md), photon_beams (docs/photon_beams.md) (default: all but beam, whose "
+                   "trials cost O(n^2), stratified and photon_beams)");
     app.add_option("--photon-map-size", opt.photon_map_size, "photons per map (photon_map) / photons emitted per map (photon_pass)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     app.add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();

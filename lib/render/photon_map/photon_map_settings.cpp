@@ -148,6 +148,10 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.schedule = p.choice("schedule", s.schedule,
                           {{"fixed", KSchedule::fixed}, {"progressive", KSchedule::progressive}, {"shrink", KSchedule::shrink}});
     read_alpha(p, s);
+    // The photon-beams widths have no radius scale below k_floor yet (docs/progressive.md, open).
+    if (s.schedule == KSchedule::progressive && s.gather == GatherMode::photon_beams)
+        p.fail("schedule", "\"progressive\" is not implemented for photons.gather = \"photon_beams\" (allowed with it: "
+                           "\"fixed\", \"shrink\")");
     s.k_floor = int(p.integer("k_floor", s.k_floor, Range::closed(1, 1 << 20)));
     if (size_t(s.k_floor) < s.estimator.min_k() + 1)
         p.fail("k_floor", std::string("the ") + s.estimator.name() + " estimator needs k_floor >= " +
