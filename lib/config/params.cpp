@@ -322,11 +322,13 @@ std::string Params::string(const std::string& key) {
 
 std::string Params::choice(const std::string& key, const std::string& fallback,
                            const std::vector<std::string>& allowed) {
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + ("\"" + a + "\"");
+    if (const toml::node* n = lookup(key); n && !n->is_string())
+        fail(key, "expected a string, got " + type_name(*n) + "; allowed: " + list);
     const std::string v = string(key, fallback);
     for (const auto& a : allowed)
         if (a == v) return v;
-    std::string list;
-    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + ("\"" + a + "\"");
     fail(key, "unknown value \"" + v + "\"; allowed: " + list);
 }
 
