@@ -24,8 +24,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import NullFormatter, ScalarFormatter  # noqa: E402
 
 COLOURS = {"classic": "tab:red", "corrected": "tab:blue", "mse_optimal": "tab:green", "path": "black"}
-FIXED = ["point", "method", "spp", "repeats", "trace_s", "build_s", "render_s", "total_s", "photons_stored",
-         "rel_rmse", "rel_mse", "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels"]
+FIXED = ["point", "method", "spp", "repeats", "trace_s", "build_s", "render_s", "total_s", "run_s", "photons_stored",
+         "integrator_used", "gather_used", "map_estimates", "off_plan_repeats", "rel_rmse", "rel_mse", "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels"]
 MAX_PANELS = 9
 
 
@@ -78,6 +78,29 @@ def colour(m):
     return COLOURS.get(m, None)
 
 
+def off_plan(r):
+    """A photon-map point some of whose repeats did not estimate from a map (points.csv off_plan_repeats)."""
+    return r["method"] != "path" and num(r.get("off_plan_repeats", "0")) > 0
+
+
+def what_ran(rows, m):
+    """Legend text for method m: what its points ran (integrator_used, gather_used from points.csv)."""
+    if m == "path":
+        return "path tracer"
+    gathers = sorted({g for r in rows if r["method"] == m for g in r.get("gather_used", "").split("/") if g and g != "none"})
+    label = m + (f", {'/'.join(gathers)} gather" if gathers else "")
+    bad = sum(1 for r in rows if r["method"] == m and off_plan(r))
+    if bad:
+        label += f"; {bad} point(s) ran the path tracer (x)"
+    return label
+
+
+def legend(ax, fontsize):
+    """A legend only where something is labelled (matplotlib warns on an empty one)."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=fontsize)
+
+
 def envelope(points):
     pts = sorted(points)
     out, best = [], math.inf
@@ -96,22 +119,25 @@ def error_vs_time(groups, titles, out):
             if r["method"] not in methods:
                 methods.append(r["method"])
         for m in methods:
-            pts = [(num(r["total_s"]), num(r["rel_rmse"])) for r in g if r["method"] == m]
-            pts = [(t, e) for t, e in pts if t > 0 and e > 0 and math.isfinite(t) and math.isfinite(e)]
+            pts = [(num(r.get("run_s") or r["total_s"]), num(r["rel_rmse"]), off_plan(r)) for r in g if r["method"] == m]
+            pts = [p for p in pts if p[0] > 0 and p[1] > 0 and math.isfinite(p[0]) and math.isfinite(p[1])]
             if not pts:
                 continue
             c = colour(m)
-            ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=12, alpha=0.45, color=c)
-            env = envelope(pts)
-            ax.plot([p[0] for p in env], [p[1] for p in env], "-o", ms=3, color=c,
-                    label=("path tracer" if m == "path" else m) + " (envelope)")
+            for bad, marker in ((False, "o"), (True, "x")):
+                sel = [p for p in pts if p[2] == bad]
+                if sel:
+                    ax.scatter([p[0] for p in sel], [p[1] for p in sel], s=12 if not bad else 30, alpha=0.45 if not bad else 0.9,
+                               color=c, marker=marker)
+            env = envelope([(t, e) for t, e, _ in pts])
+            ax.plot([p[0] for p in env], [p[1] for p in env], "-o", ms=3, color=c, label=what_ran(g, m) + " (envelope)")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("mean run time (trace + build + render), s")
+        ax.set_xlabel("mean run time (run_s: every phase), s")
         ax.set_ylabel("relative RMSE")
         ax.set_title(title, fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        legend(ax, 8)
     fig.suptitle("Error against run time")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "error_vs_time.png"), dpi=120)
@@ -130,6 +156,12 @@ def by_line(g, axes):
     for key in lines:
         lines[key].sort(key=lambda r: num(r["k"]))
     return lines
+
+
+def line_label(key, rr):
+    """A line's legend text; says how many of its points did not estimate from a photon map."""
+    bad = sum(1 for r in rr if off_plan(r))
+    return " ".join(key) + (f" ({bad} of {len(rr)} points ran the path tracer)" if bad else "")
 
 
 STYLES = ["-", "--", "-.", ":"]
@@ -158,7 +190,7 @@ def k_axis(ax, ylabel, title, ks):
     ax.set_ylabel(ylabel)
     ax.set_title(title, fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    legend(ax, 7)
 
 
 def error_vs_k(groups, titles, axes, out):
@@ -167,7 +199,7 @@ def error_vs_k(groups, titles, axes, out):
         lines = by_line(g, axes)
         for key, rr in lines.items():
             ax.plot([num(r["k"]) for r in rr], [num(r["rel_rmse"]) for r in rr], marker="o", ms=3,
-                    ls=style(key, lines), color=colour(key[0]), label=" ".join(key))
+                    ls=style(key, lines), color=colour(key[0]), label=line_label(key, rr))
         ax.set_yscale("log")
         k_axis(ax, "relative RMSE", title, sorted({num(r["k"]) for rr in lines.values() for r in rr}))
     fig.suptitle("Error against k")
@@ -185,7 +217,7 @@ def bias_vs_k(groups, titles, axes, out):
             ax.errorbar([num(r["k"]) for r in rr], [num(r["rel_bias"]) for r in rr],
                         yerr=[num(r["rel_bias_se"]) if math.isfinite(num(r["rel_bias_se"])) else 0 for r in rr],
                         marker="o", ls=style(key, lines), ms=3, capsize=2, color=colour(key[0]),
-                        label=" ".join(key))
+                        label=line_label(key, rr))
         if ks:
             ax.plot(ks, [1 / (k - 1) for k in ks], ":", color="grey", label="1/(k-1): k/(k-1) if all light were photons")
             cl = [(num(r["k"]), num(r["rel_bias"])) for key, rr in lines.items() if key[0] == "classic" for r in rr]

@@ -79,6 +79,56 @@ Input read_input(const std::filesystem::path& exr) {
     return in;
 }
 
+// The seconds of a sidecar's phases, summed (0 when it has none).
+double phase_seconds(const nlohmann::json& sidecar) {
+    double s = 0.0;
+    if (sidecar.contains("phases") && sidecar["phases"].is_object())
+        for (const auto& [name, p] : sidecar["phases"].items())
+            if (p.is_object() && p.contains("seconds") && p["seconds"].is_number()) s += p["seconds"].get<double>();
+    return s;
+}
+
+// What ran, over the inputs: integrator_used and gather_used (the inputs' common value, or their
+// distinct values joined by "/" when the parts differ, e.g. an "auto" plan that chose differently),
+// map_estimates, the photons.traced ledger and render.samples summed, and "seconds": every input's
+// phases summed (the machine time the merged passes took). Keys no input has are left out.
+void record_what_ran(const std::vector<Input>& inputs, RunRecord& record) {
+    for (const char* key : {"integrator_used", "gather_used"}) {
+        std::string joined;
+        for (const Input& in : inputs) {
+            if (!in.sidecar.contains(key) || !in.sidecar[key].is_string()) continue;
+            const std::string v = in.sidecar[key].get<std::string>();
+            if (("/" + joined + "/").find("/" + v + "/") == std::string::npos) joined += (joined.empty() ? "" : "/") + v;
+        }
+        if (!joined.empty()) record.set(key, joined);
+    }
+    auto sum = [&](const std::vector<const char*>& path, const std::string& dotted) {
+        uint64_t total = 0;
+        bool any = false;
+        for (const Input& in : inputs) {
+            const nlohmann::json* j = &in.sidecar;
+            for (const char* p : path) {
+                if (!j || !j->is_object() || !j->contains(p)) {
+                    j = nullptr;
+                    break;
+                }
+                j = &(*j)[p];
+            }
+            if (!j || !j->is_number_unsigned()) continue;
+            total += j->get<uint64_t>();
+            any = true;
+        }
+        if (any) record.set(dotted, total);
+    };
+    sum({"map_estimates"}, "map_estimates");
+    sum({"render", "samples"}, "render.samples");
+    for (const char* k : {"pass_maps", "passes", "estimates", "pilot_only", "probe", "decision_map", "decision_queries"})
+        sum({"photons", "traced", k}, std::string("photons.traced.") + k);
+    double seconds = 0.0;
+    for (const Input& in : inputs) seconds += phase_seconds(in.sidecar);
+    if (seconds > 0) record.set("seconds", seconds);
+}
+
 }  // namespace
 
 std::string merge_identity(const nlohmann::json& config) {
@@ -121,7 +171,11 @@ MergedRun merge_runs(const std::vector<std::filesystem::path>& paths) {
     for (const Input& in : inputs) {
         for (size_t i = 0; i < sum.size(); ++i) sum[i] += double(in.image.rgb[i]) * double(in.count);
         out.passes += in.count;
-        from.push_back({{"file", in.exr.string()}, {"first_pass", in.first}, {"passes", in.count}});
+        nlohmann::json entry = {{"file", in.exr.string()}, {"first_pass", in.first}, {"passes", in.count}};
+        for (const char* k : {"integrator_used", "gather_used", "map_estimates"})
+            if (in.sidecar.contains(k)) entry[k] = in.sidecar[k];
+        if (const double s = phase_seconds(in.sidecar); s > 0) entry["seconds"] = s;
+        from.push_back(entry);
     }
     out.image = Image(a.image.width, a.image.height);
     for (size_t i = 0; i < sum.size(); ++i) out.image.rgb[i] = float(sum[i] / double(out.passes));
@@ -153,6 +207,7 @@ MergedRun merge_runs(const std::vector<std::filesystem::path>& paths) {
     out.record.set("passes.count", out.passes);
     out.record.set("passes.first", by_first.front()->first);
     out.record.set("passes.spp_per_pass", a.spp_per_pass);
+    record_what_ran(inputs, out.record);
     out.exposure = a.exposure;
     return out;
 }

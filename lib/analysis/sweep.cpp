@@ -82,8 +82,13 @@ std::string opts_sidecar_name(int shard, int shards) {
 }
 
 const std::vector<std::string> kBefore = {"run", "hash", "point", "scene", "method", "spp", "repeat", "seed", "stream_offset"};
-const std::vector<std::string> kAfter = {"trace_s", "build_s", "render_s", "total_s", "peak_rss_bytes", "photons_stored",
-                                         "rel_rmse", "rel_mean_error", "nonfinite_pixels", "image", "reference"};
+// What ran (RunStats::integrator_used, gather_used, map_estimates, the photon ledger and the
+// passes) sits beside the timings, so a photon-map row that path-traced shows it in the table.
+// run_s is the wall time of the whole run (vpm::run: every phase, the plan's pilot included);
+// total_s = trace_s + build_s + render_s leaves out the pilot and the other one-off phases.
+const std::vector<std::string> kAfter = {"trace_s", "build_s", "render_s", "total_s", "run_s", "peak_rss_bytes", "photons_stored",
+                                         "integrator_used", "gather_used", "map_estimates", "photons_traced", "passes",
+                                         "spp_per_pass", "samples", "rel_rmse", "rel_mean_error", "nonfinite_pixels", "image", "reference"};
 
 }  // namespace
 
@@ -159,22 +164,41 @@ void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::
 }
 
 // One runs.csv row (sweep_csv_header's columns).
-std::vector<std::string> run_row(const PlannedRun& run, const RunResult& res, const RunError& err,
+std::vector<std::string> run_row(const PlannedRun& run, const RunResult& res, double run_seconds, const RunError& err,
                                  const fs::path& image_rel, const std::string& reference) {
     const double trace = res.stats.seconds("trace"), build = res.stats.seconds("build"),
                  render = res.stats.seconds("render");
-    const uint64_t stored = res.stats.photons ? res.stats.photons->stored : 0;
+    const RunStats& st = res.stats;
+    const uint64_t stored = st.photons ? st.photons->stored : 0;
+    uint64_t traced = 0;
+    if (const auto& l = st.photon_ledger) traced = l->pass_maps + l->pilot_only + l->probe + l->decision_map;
     std::vector<std::string> row = {std::to_string(run.index), run.hash, run.point, run.scene, run.method,
                                     std::to_string(run.spp), std::to_string(run.repeat),
                                     std::to_string(run.seed), std::to_string(run.stream_offset)};
     row.insert(row.end(), run.values.begin(), run.values.end());
     const std::vector<std::string> tail = {num(trace), num(build), num(render), num(trace + build + render),
-                                           std::to_string(peak_rss_bytes()), std::to_string(stored),
-                                           num(err.rel_rmse), num(err.rel_mean_error),
+                                           num(run_seconds), std::to_string(peak_rss_bytes()), std::to_string(stored),
+                                           st.integrator_used, st.gather_used.value_or("none"),
+                                           std::to_string(st.map_estimates.value_or(0)), std::to_string(traced),
+                                           std::to_string(st.pass_count()), std::to_string(st.pass_summary.spp),
+                                           std::to_string(st.render.samples), num(err.rel_rmse), num(err.rel_mean_error),
                                            std::to_string(err.nonfinite_pixels), image_rel.string(),
                                            reference};
     row.insert(row.end(), tail.begin(), tail.end());
     return row;
+}
+
+// "ran the path tracer" / "no map estimates" for a photon-map row that did not estimate from a map;
+// empty when the row ran what it was planned for.
+std::string ran_instead(const std::string& method, const std::string& integrator_used, uint64_t map_estimates) {
+    if (method == "path") return integrator_used == "path" || integrator_used.empty() ? "" : "ran " + integrator_used;
+    if (integrator_used != "photon_map") return "ran " + (integrator_used.empty() ? std::string("?") : integrator_used);
+    if (map_estimates == 0) return "no map estimates";
+    return "";
+}
+
+std::string ran_instead(const std::string& method, const RunStats& stats) {
+    return ran_instead(method, stats.integrator_used, stats.map_estimates.value_or(0));
 }
 
 // sweep.json (or its shard's name): the plan, the counts and the machine.
@@ -263,28 +287,30 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
                 ro.progress = false;
                 ro.stream_offset = run.stream_offset;
                 ro.cancelled = opt.cancelled;
+                const Timer run_timer;
                 RunResult res = vpm::run(config, ro);
+                const double wall = run_timer.seconds();
                 if (cancelled()) return;
                 const fs::path image_rel = fs::path("images") / (run.hash + ".exr");
                 write_exr(opt.out / image_rel, res.image);
+                res.record.write(opt.out / fs::path("images") / (run.hash + ".json"));   // the run's own sidecar
                 const Image& ref = references.at(run.scene);
                 const RunError err = run_error(res.image, ref);
-                const double trace = res.stats.seconds("trace"), build = res.stats.seconds("build"),
-                             render = res.stats.seconds("render");
-                const std::vector<std::string> row = run_row(run, res, err, image_rel, reference_column.at(run.scene));
+                const std::vector<std::string> row = run_row(run, res, wall, err, image_rel, reference_column.at(run.scene));
                 std::lock_guard<std::mutex> lock(mutex);
                 append_csv_row(outcome.csv, row);
                 ++done;
-                run_seconds += trace + build + render;
+                run_seconds += wall;
                 std::string what = run.method;
                 for (size_t a = 0; a < spec.axes.size(); ++a)
                     if (!run.values[a].empty() && spec.axes[a].key != "photons.estimator")
                         what += " " + spec.axes[a].name + "=" + run.values[a];
                 if (run.method == "path") what += " spp=" + std::to_string(run.spp);
+                if (const std::string ran = ran_instead(run.method, res.stats); !ran.empty()) what += " [" + ran + "]";
                 const double el = runs_timer.seconds();
                 const double eta = el / double(done) * double(todo.size() - done);
                 log("sweep: [" + std::to_string(done) + "/" + std::to_string(todo.size()) + "] " + what + " r" +
-                    std::to_string(run.repeat) + ": rel RMSE " + sig(err.rel_rmse) + " in " + fixed(trace + build + render, 2) +
+                    std::to_string(run.repeat) + ": rel RMSE " + sig(err.rel_rmse) + " in " + fixed(wall, 2) +
                     " s" + (err.nonfinite_pixels ? ", " + std::to_string(err.nonfinite_pixels) + " NON-FINITE pixels" : "") +
                     "; " + fixed(el, 0) + " s elapsed, ETA " + fixed(eta, 0) + " s");
             } catch (...) {
@@ -324,6 +350,13 @@ struct PointStats {
     std::vector<std::string> values;
     std::vector<const Row*> rows;
     double trace = 0, build = 0, render = 0, total = 0, stored = 0;
+    double wall = 0;   // mean run_s (total_s in folders written before run_s existed): the report's time
+    // What ran, over the repeats: the distinct integrator_used / gather_used values ("/"-joined),
+    // the mean map estimates, and the repeats that did not run what the point was planned for.
+    std::set<std::string> integrator_set, gather_set;
+    std::string integrators, gathers;   // the sets joined, in order (the same for any row order)
+    double map_estimates = 0;
+    size_t off_plan = 0;
     RepeatError err;
 };
 
@@ -333,6 +366,8 @@ struct RunTable {
     std::vector<Row> rows;
     size_t run = 0, point = 0, method = 0, spp = 0, offset = 0, trace = 0, total = 0, build = 0, render = 0,
            stored = 0, image = 0, ref = 0;
+    // What-ran columns; -1 in folders written before they existed (the report shows "?").
+    int integrator = -1, gather = -1, estimates = -1, wall = -1;
     std::vector<std::string> axes;   // the axis columns, between stream_offset and trace_s
 };
 
@@ -356,6 +391,12 @@ RunTable read_run_table(const fs::path& out, const std::set<std::string>& only) 
     t.run = col("run"), t.point = col("point"), t.method = col("method"), t.spp = col("spp");
     t.offset = col("stream_offset"), t.trace = col("trace_s"), t.total = col("total_s"), t.build = col("build_s");
     t.render = col("render_s"), t.stored = col("photons_stored"), t.image = col("image"), t.ref = col("reference");
+    auto optional_col = [&](const char* name) {
+        const auto it = std::find(t.header.begin(), t.header.end(), name);
+        return it == t.header.end() ? -1 : int(it - t.header.begin());
+    };
+    t.integrator = optional_col("integrator_used"), t.gather = optional_col("gather_used");
+    t.estimates = optional_col("map_estimates"), t.wall = optional_col("run_s");
     t.axes.assign(t.header.begin() + long(t.offset) + 1, t.header.begin() + long(t.trace));
     return t;
 }
@@ -404,10 +445,25 @@ size_t measure_points(const fs::path& out, const RunTable& t, const std::vector<
             p->build += to_double(r->f[t.build]);
             p->render += to_double(r->f[t.render]);
             p->total += to_double(r->f[t.total]);
+            p->wall += to_double(r->f[t.wall >= 0 ? size_t(t.wall) : t.total]);
             p->stored += to_double(r->f[t.stored]);
+            const std::string integrator = t.integrator >= 0 ? r->f[size_t(t.integrator)] : "";
+            const double estimates = t.estimates >= 0 ? to_double(r->f[size_t(t.estimates)]) : std::nan("");
+            p->integrator_set.insert(integrator.empty() ? "?" : integrator);
+            const std::string gather = t.gather >= 0 ? r->f[size_t(t.gather)] : "";
+            p->gather_set.insert(gather.empty() ? "?" : gather);
+            p->map_estimates += estimates;
+            if (t.integrator >= 0 && !ran_instead(p->method, integrator, uint64_t(std::isfinite(estimates) ? estimates : 0)).empty())
+                ++p->off_plan;
         }
+        auto join = [](const std::set<std::string>& v) {
+            std::string s;
+            for (const auto& x : v) s += (s.empty() ? "" : "/") + x;
+            return s;
+        };
+        p->integrators = join(p->integrator_set), p->gathers = join(p->gather_set);
         const double n = double(p->rows.size());
-        p->trace /= n, p->build /= n, p->render /= n, p->total /= n, p->stored /= n;
+        p->trace /= n, p->build /= n, p->render /= n, p->total /= n, p->wall /= n, p->stored /= n, p->map_estimates /= n;
         std::vector<const Image*> ptrs;
         for (const auto& im : images) ptrs.push_back(&im);
         p->err = repeat_error(ptrs, refs.at(ref_path.string()));
@@ -419,7 +475,8 @@ size_t measure_points(const fs::path& out, const RunTable& t, const std::vector<
 void write_points_csv(const fs::path& out, const std::vector<std::string>& axes, const std::vector<PointStats*>& points) {
     std::vector<std::string> ph = {"point", "method", "spp"};
     ph.insert(ph.end(), axes.begin(), axes.end());
-    for (const char* c : {"repeats", "trace_s", "build_s", "render_s", "total_s", "photons_stored", "rel_rmse", "rel_mse",
+    for (const char* c : {"repeats", "trace_s", "build_s", "render_s", "total_s", "run_s", "photons_stored", "integrator_used",
+                          "gather_used", "map_estimates", "off_plan_repeats", "rel_rmse", "rel_mse",
                           "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels"})
         ph.push_back(c);
     std::string pcsv = csv_line(ph);
@@ -428,8 +485,8 @@ void write_points_csv(const fs::path& out, const std::vector<std::string>& axes,
         f.insert(f.end(), p->values.begin(), p->values.end());
         const RepeatError& e = p->err;
         for (const std::string& v :
-             {std::to_string(e.repeats), num(p->trace), num(p->build), num(p->render), num(p->total), num(p->stored),
-              num(e.rel_rmse), num(e.rel_mse), num(e.rel_bias), num(e.rel_bias_se), num(e.rel_bias2), num(e.rel_variance),
+             {std::to_string(e.repeats), num(p->trace), num(p->build), num(p->render), num(p->total), num(p->wall), num(p->stored),
+              p->integrators, p->gathers, num(p->map_estimates), std::to_string(p->off_plan), num(e.rel_rmse), num(e.rel_mse), num(e.rel_bias), num(e.rel_bias_se), num(e.rel_bias2), num(e.rel_variance),
               num(e.rel_std), std::to_string(e.nonfinite_pixels)})
             f.push_back(v);
         pcsv += csv_line(f);
@@ -445,14 +502,16 @@ std::string configurations_md(const std::vector<std::string>& axes, const std::v
     std::ostringstream md;
     md << "## Configurations\n\n| method |";
     for (size_t a : shown) md << " " << axes[a] << " |";
-    md << " spp | R | time s | rel RMSE | rel bias ± SE | rel std | rel bias² | rel var | NaN/Inf |\n|---|";
+    md << " spp | ran (gather) | R | time s | rel RMSE | rel bias ± SE | rel std | rel bias² | rel var | NaN/Inf |\n|---|";
     for (size_t i = 0; i < shown.size(); ++i) md << "---:|";
-    md << "---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    md << "---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const PointStats* p : points) {
         const RepeatError& e = p->err;
         md << "| " << p->method << " |";
         for (size_t a : shown) md << " " << (p->values[a].empty() ? "–" : p->values[a]) << " |";
-        md << " " << p->spp << " | " << e.repeats << " | " << sig(p->total) << " | " << sig(e.rel_rmse) << " | "
+        std::string ran = p->integrators + (p->gathers == "none" || p->gathers == "?" ? "" : " (" + p->gathers + ")");
+        if (p->off_plan) ran = "**" + ran + "**";   // a photon-map point that did not estimate from a map
+        md << " " << p->spp << " | " << ran << " | " << e.repeats << " | " << sig(p->wall) << " | " << sig(e.rel_rmse) << " | "
            << sig(e.rel_bias) << " ± " << or_dash(e.rel_bias_se, 2) << " | " << or_dash(e.rel_std) << " | " << sig(e.rel_bias2)
            << " | " << or_dash(e.rel_variance) << " | " << e.nonfinite_pixels << " |\n";
     }
@@ -464,7 +523,7 @@ std::string equal_time_md(const std::vector<std::string>& axes, const std::vecto
                           const std::vector<PointStats*>& points, std::vector<double> budgets) {
     if (budgets.empty() && !points.empty()) {
         double lo = kInfinity, hi = 0;
-        for (const PointStats* p : points) lo = std::min(lo, p->total), hi = std::max(hi, p->total);
+        for (const PointStats* p : points) lo = std::min(lo, p->wall), hi = std::max(hi, p->wall);
         if (lo > 0 && hi > 0)
             for (double f : {1.0 / 3.0, 2.0 / 3.0, 1.0}) budgets.push_back(lo * std::pow(hi / lo, f));
     }
@@ -499,7 +558,7 @@ std::string equal_time_md(const std::vector<std::string>& axes, const std::vecto
             for (const auto& m : methods) {
                 const PointStats* best = nullptr;
                 for (const PointStats* p : sp)
-                    if (p->method == m && p->total <= b && std::isfinite(p->err.rel_rmse) &&
+                    if (p->method == m && p->wall <= b && std::isfinite(p->err.rel_rmse) &&
                         (!best || p->err.rel_rmse < best->err.rel_rmse))
                         best = p;
                 if (!best) {
@@ -512,7 +571,7 @@ std::string equal_time_md(const std::vector<std::string>& axes, const std::vecto
                     if (!best->values[a].empty() && photon_axis(axes[a]))
                         cfg += (cfg.empty() ? "" : ", ") + axes[a] + "=" + best->values[a];
                 if (m == "path") cfg += (cfg.empty() ? "" : ", ") + std::string("spp=") + best->spp;
-                md << cfg << ") |";
+                md << cfg << ")" << (best->off_plan ? " **ran " + best->integrators + "**" : "") << " |";
             }
             md << "\n";
         }
@@ -536,10 +595,25 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
     std::ostringstream md;
     md << "# Sweep: " << title << "\n\n"
        << table.rows.size() << " runs in " << points.size() << " configurations; errors relative to the reference's mean "
-       << "luminance (see docs/experiments.md, Parameter sweeps). Times are means over the repeats (trace + build + render, seconds).\n\n";
+       << "luminance (see docs/experiments.md, Parameter sweeps). Times are means over the repeats of each run's wall time (run_s: every phase, the plan's pilot included; seconds).\n\n";
     if (nonfinite_total)
         md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
            << "metrics. See the nonfinite_pixels column.**\n\n";
+    size_t off_plan_points = 0, off_plan_runs = 0;
+    bool one_repeat = false;
+    for (const PointStats* p : points) {
+        off_plan_points += p->off_plan > 0;
+        off_plan_runs += p->off_plan;
+        one_repeat |= p->err.repeats < 2;
+    }
+    if (off_plan_points)
+        md << "**WARNING: " << off_plan_runs << " runs of " << off_plan_points << " photon-map configurations did not "
+           << "estimate from a photon map (they ran the path tracer, or took no map estimates): their errors are not the "
+           << "estimator's. They are in bold in the \"ran\" column; see integrator_used and map_estimates in runs.csv and "
+           << "each run's sidecar images/<hash>.json.**\n\n";
+    if (one_repeat)
+        md << "Configurations with one repeat (R = 1) leave the standard error, rel std and rel var empty (–): they "
+           << "need two or more independent repeats (repeats = 2 or more in the sweep file).\n\n";
     md << configurations_md(table.axes, shown, points) << equal_time_md(table.axes, shown, points, budgets);
     // The plots are listed only once they exist: plot_sweep adds the line (not under --no-plots).
     write_text_atomic(out / "summary.md", md.str());

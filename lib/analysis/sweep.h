@@ -4,6 +4,7 @@
 // Output folder layout (--out):
 //   runs.csv | runs.shard-I-of-N.csv   one row per finished run (appended, fsynced; see sweep_csv.h)
 //   images/<run hash>.exr              each run's image (atomic), so repeats can be compared later
+//   images/<run hash>.json             each run's sidecar (what ran, its plan, every statistic)
 //   references/<scene hash>.exr/.json  rendered references (path tracer), cached by scene hash
 //   points.csv                         one row per configuration: metrics over its repeats
 //   summary.md                         points table and equal-time table

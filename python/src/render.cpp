@@ -13,6 +13,7 @@
 #include "bindings.h"
 #include "config.h"
 #include "native_call.h"
+#include "core/progress.h"
 #include "render/run/image_io.h"
 #include "render/run/run.h"
 #include "render/run/run_outputs.h"
@@ -27,6 +28,7 @@ struct RenderResult {
     std::shared_ptr<const RunConfig> config;
     std::shared_ptr<RunResult> run;
     double load_seconds = 0.0;
+    double seconds = 0.0;   // wall time of the run (vpm::run: every phase, the plan's pilot included)
     int threads = 0;
 };
 
@@ -50,7 +52,9 @@ RenderResult render(const Config& config, std::optional<int> threads, bool progr
             options.log = log ? &std::cerr : nullptr;
             options.stream_offset = stream_offset;
             options.cancelled = [&interrupted] { return interrupted.load(); };
+            const Timer timer;
             *r.run = vpm::run(*config.run, options);
+            r.seconds = timer.seconds();
         },
         r.threads);
     return r;
@@ -95,6 +99,24 @@ void bind_render(py::module_& m) {
         })
         .def_property_readonly("_record_json", [](const RenderResult& r) { return r.run->record.dump(); })
         .def_property_readonly("threads", [](const RenderResult& r) { return r.threads; })
+        .def_property_readonly("seconds", [](const RenderResult& r) { return r.seconds; },
+                               "Wall time of the run in seconds (every phase, the plan's pilot included; not the config's load).")
+        .def_property_readonly("integrator_used", [](const RenderResult& r) { return r.run->stats.integrator_used; },
+                               "The integrator that rendered: \"photon_map\" or \"path\" (for render.integrator = "
+                               "\"auto\", its plan's choice).")
+        .def_property_readonly("gather_used", [](const RenderResult& r) { return r.run->stats.gather_used.value_or("none"); },
+                               "The photon map's gather (\"collision\", \"march\", \"threshold\", \"beam\"); "
+                               "\"none\" without a map.")
+        .def_property_readonly("map_estimates", [](const RenderResult& r) { return r.run->stats.map_estimates.value_or(0); },
+                               "Estimates the camera passes took from a photon map (0: the map was not used).")
+        .def_property_readonly("passes", [](const RenderResult& r) { return r.run->stats.pass_count(); },
+                               "Passes the run rendered.")
+        .def_property_readonly("spp_per_pass", [](const RenderResult& r) { return r.run->stats.pass_summary.spp; },
+                               "Samples per pixel of each pass.")
+        .def_property_readonly("photons_traced", [](const RenderResult& r) -> uint64_t {
+            const auto& l = r.run->stats.photon_ledger;
+            return l ? l->pass_maps + l->pilot_only + l->probe + l->decision_map : 0;
+        }, "Every photon the run traced (its sidecar's photons.traced ledger summed; 0 without a photon map).")
         .def("save", &save, py::arg("path"),
              "Writes PATH (must end in .exr), its PNG preview and its JSON sidecar exactly as `vpm render -o PATH` "
              "does: destinations checked first, the three files replaced together or not at all.");

@@ -9,6 +9,7 @@ messages, the same runs, the same files.
     result.image            # float32 (height, width, 3), a view on the run's pixels
     result.stats            # phases, photon counts, estimator rules, passes (the sidecar's keys)
     result.save("out/furnace.exr")   # EXR + PNG preview + JSON sidecar, as `vpm render -o`
+    result.seconds, result.integrator_used, result.gather_used, result.map_estimates   # what ran
 
     photons = vpm.trace_photons(config)          # the photon pass alone
     photons.positions, photons.powers, photons.directions   # (n, 3) NumPy arrays
@@ -93,7 +94,9 @@ def render(config, threads=None, progress=True, log=False, stream_offset=0):
     threads: worker threads (None: render.threads from the config; 0: all cores).
     progress: the tool's progress bar / lines on stderr. log: the tool's log lines on stderr.
     stream_offset: independent repeats with the same seed (as sweeps use).
-    Returns a RenderResult: .image, .stats, .record and .save(path).
+    Returns a RenderResult: .image, .stats, .record and .save(path), and what ran: .seconds (wall
+    time), .integrator_used ("photon_map" or "path"), .gather_used, .map_estimates, .photons_traced,
+    .passes and .spp_per_pass.
     """
     return _vpm._render(_config(config), threads, progress, log, stream_offset)
 
@@ -106,6 +109,16 @@ def _record(self):
     return json.loads(self._record_json)
 
 
+def _render_repr(self):
+    ran = self.integrator_used
+    if ran == "photon_map":
+        ran += " (%s gather, %d map estimates, %d photons traced)" % (self.gather_used, self.map_estimates,
+                                                                     self.photons_traced)
+    return "<vpm.RenderResult %dx%d: %s, %d passes x %d spp, %.3g s>" % (
+        self.image.shape[1], self.image.shape[0], ran, self.passes, self.spp_per_pass, self.seconds)
+
+
+RenderResult.__repr__ = _render_repr
 RenderResult.stats = property(_stats, doc="The run's typed statistics (RunStats) as the sidecar writes them: "
                                           "phases, render, photons (counts, energy, estimator rules), passes.")
 RenderResult.record = property(_record, doc="The whole JSON sidecar as a dict (config, environment and stats).")

@@ -259,7 +259,7 @@ timeout 120 "$vpm" sweep "$sweep" --out "$work/sweep_single" --threads 0 --no-pl
   die "the unsharded sweep failed"
 sweep_report=$(python3 - "$work/sweep" "$work/sweep_single" <<'PY'
 import csv, filecmp, os, sys
-timing = {"trace_s", "build_s", "render_s", "total_s", "peak_rss_bytes"}
+timing = {"trace_s", "build_s", "render_s", "total_s", "run_s", "peak_rss_bytes"}
 def table(path, key):
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))

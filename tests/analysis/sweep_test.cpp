@@ -103,7 +103,7 @@ protected:
             EXPECT_FALSE(t.torn_tail) << e.path();
             const int h = t.column("hash");
             std::set<int> skip;
-            for (const char* c : {"trace_s", "build_s", "render_s", "total_s", "peak_rss_bytes", "image", "reference"})
+            for (const char* c : {"trace_s", "build_s", "render_s", "total_s", "run_s", "peak_rss_bytes", "image", "reference"})
                 skip.insert(t.column(c));
             for (const auto& r : t.rows) {
                 std::vector<std::string> kept;
@@ -290,6 +290,66 @@ time_limit = [0.5, 2]
     for (const auto& o : plan.references.begin()->second) EXPECT_EQ(o.rfind("render.time_limit=", 0), std::string::npos) << o;
 }
 
+
+}  // namespace
+}  // namespace vpm
+
+namespace vpm {
+namespace {
+
+// Every row says what ran, beside its own sidecar; a photon-map row that ran the path tracer is
+// flagged in summary.md and points.csv (the report is recomputed from runs.csv, so editing a row
+// stands in for a plan that dropped the map).
+TEST_F(SweepTest, RowsSayWhatRanAndTheReportFlagsPhotonMapRowsThatPathTraced) {
+    const SweepPlan plan = plan_sweep(spec(R"(scene = "scene.toml"
+[reference]
+spp = 8
+path_spp = [1]
+[axes]
+k = [4, 8]
+)"));
+    const fs::path out = dir_ / "out";
+    run(plan, out);
+    CsvTable t = read_csv(out / "runs.csv");
+    const int method = t.column("method"), ran = t.column("integrator_used"), est = t.column("map_estimates"),
+              gather = t.column("gather_used"), image = t.column("image"), passes = t.column("passes");
+    ASSERT_GE(ran, 0);
+    ASSERT_GE(est, 0);
+    ASSERT_EQ(t.rows.size(), 3u);
+    for (const auto& r : t.rows) {
+        const bool path = r[size_t(method)] == "path";
+        EXPECT_EQ(r[size_t(ran)], path ? "path" : "photon_map");
+        EXPECT_EQ(std::stoull(r[size_t(est)]) > 0, !path) << r[size_t(est)];
+        if (path) EXPECT_EQ(r[size_t(gather)], "none");
+        EXPECT_EQ(r[size_t(passes)], "1");
+        fs::path sidecar = out / r[size_t(image)];
+        sidecar.replace_extension(".json");
+        std::ifstream in(sidecar);
+        ASSERT_TRUE(in) << sidecar;
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        EXPECT_NE(text.find("\"integrator_used\": \"" + r[size_t(ran)] + "\""), std::string::npos) << sidecar;
+    }
+    std::string summary = write_sweep_report(out, {}, "test");
+    EXPECT_EQ(summary.find("WARNING"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("one repeat (R = 1)"), std::string::npos) << summary;
+
+    // The k = 8 row "ran the path tracer": the report says so.
+    for (auto& r : t.rows)
+        if (r[size_t(method)] != "path" && r[size_t(t.column("k"))] == "8") r[size_t(ran)] = "path", r[size_t(est)] = "0";
+    std::string text = csv_line(t.header);
+    for (const auto& r : t.rows) text += csv_line(r);
+    std::ofstream(out / "runs.csv") << text;
+    summary = write_sweep_report(out, {}, "test");
+    EXPECT_NE(summary.find("WARNING: 1 runs of 1 photon-map configurations did not estimate from a photon map"),
+              std::string::npos) << summary;
+    EXPECT_NE(summary.find("| **path (march)** |"), std::string::npos) << summary;
+    const CsvTable points = read_csv(out / "points.csv");
+    const int off = points.column("off_plan_repeats");
+    ASSERT_GE(off, 0);
+    int flagged = 0;
+    for (const auto& r : points.rows) flagged += std::stoi(r[size_t(off)]);
+    EXPECT_EQ(flagged, 1);
+}
 
 }  // namespace
 }  // namespace vpm

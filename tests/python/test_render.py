@@ -64,3 +64,20 @@ def test_save_refuses_a_non_exr_output_with_the_tools_message(tmp_path):
     else:
         raise AssertionError("save to .png did not raise")
     assert not any(tmp_path.iterdir())   # nothing written
+
+
+def test_result_says_what_ran_and_how_long():
+    result = vpm.render(vpm.load_config(FURNACE, overrides=SMALL), progress=False)
+    stats = result.stats
+    assert result.integrator_used == stats["integrator_used"] == "photon_map"
+    assert result.gather_used == stats["gather_used"] and result.gather_used != "none"
+    assert result.map_estimates == stats["map_estimates"] > 0
+    assert result.photons_traced == sum(stats["photons"]["traced"][k] for k in
+                                        ("pass_maps", "pilot_only", "probe", "decision_map")) > 0
+    assert result.passes == stats["passes"]["count"] and result.spp_per_pass == stats["passes"]["spp_per_pass"]
+    phases = sum(p["seconds"] for p in stats["phases"].values())
+    assert result.seconds >= 0.9 * phases > 0
+    assert "photon_map" in repr(result)
+    path = vpm.render(vpm.load_config(FURNACE, overrides=dict(SMALL, **{"render.integrator": "path"})), progress=False)
+    assert path.integrator_used == "path" and path.gather_used == "none" and path.map_estimates == 0
+    assert path.photons_traced == 0

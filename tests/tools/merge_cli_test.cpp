@@ -68,6 +68,22 @@ TEST_F(MergeCli, SplitPassesMergeIntoTheSingleRun) {
     EXPECT_LE(worst, 1e-6 * peak);   // float rounding of the stored pass means, nothing more
     EXPECT_TRUE(fs::exists(dir / "m.json"));
     EXPECT_TRUE(fs::exists(dir / "m.png"));
+    // The merged record says what ran: the parts' integrator and gather, and their map estimates,
+    // photons and samples summed, which are the single run's.
+    auto sidecar = [](const fs::path& p) {
+        std::ifstream in(p);
+        return nlohmann::json::parse(in);
+    };
+    const nlohmann::json mj = sidecar(dir / "m.json"), fj = sidecar(dir / "full.json");
+    EXPECT_EQ(mj["integrator_used"], "photon_map");
+    EXPECT_EQ(mj["gather_used"], fj["gather_used"]);
+    EXPECT_GT(mj["map_estimates"].get<uint64_t>(), 0u);
+    EXPECT_EQ(mj["map_estimates"], fj["map_estimates"]);
+    EXPECT_EQ(mj["photons"]["traced"]["pass_maps"], fj["photons"]["traced"]["pass_maps"]);
+    EXPECT_EQ(mj["render"]["samples"], fj["render"]["samples"]);
+    EXPECT_GT(mj["seconds"].get<double>(), 0.0);
+    ASSERT_EQ(mj["merged_from"].size(), 2u);
+    EXPECT_EQ(mj["merged_from"][0]["integrator_used"], "photon_map");
 }
 
 // Issue 24, item 8: `vpm render MERGED.json` renders the merged image (it rendered only the first
