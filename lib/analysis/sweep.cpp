@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -16,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/error_metrics.h"
+#include "analysis/reference_samples.h"
 #include "analysis/row_hash.h"
 #include "analysis/sweep_csv.h"
 #include "core/error.h"
@@ -133,6 +135,7 @@ std::vector<const PlannedRun*> runs_to_do(const SweepPlan& plan, const SweepOpti
 // Renders (once per scene hash, cached in OUT/references/) or reads every reference `runs` need.
 void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::vector<const PlannedRun*>& runs,
                      std::map<std::string, Image>& references, std::map<std::string, std::string>& reference_column,
+                     std::map<std::string, std::optional<uint64_t>>& reference_samples,
                      const std::function<void(const std::string&)>& log) {
     const SweepSpec& spec = plan.spec;
     for (const PlannedRun* r : runs) {
@@ -140,6 +143,10 @@ void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::
         if (!spec.reference_file.empty()) {
             references[r->scene] = read_exr(spec.reference_file);
             reference_column[r->scene] = fs::absolute(spec.reference_file).string();
+            reference_samples[r->scene] = recorded_samples(spec.reference_file);
+            if (!reference_samples[r->scene])
+                log("sweep: " + spec.reference_file.string() + " has no sidecar with render.samples: the runs' samples "
+                    "cannot be checked against the reference's");
             continue;
         }
         const fs::path rel = fs::path("references") / (r->scene + ".exr");
@@ -160,6 +167,7 @@ void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::
         }
         references[r->scene] = read_exr(path);
         reference_column[r->scene] = rel.string();
+        reference_samples[r->scene] = recorded_samples(path);
     }
 }
 
@@ -258,13 +266,14 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
     // References: rendered once per scene hash, cached in the folder.
     std::map<std::string, Image> references;
     std::map<std::string, std::string> reference_column;
+    std::map<std::string, std::optional<uint64_t>> reference_samples;
     std::vector<const PlannedRun*> need_reference = todo;
     if (opt.references_only) {
         need_reference.clear();
         for (const auto& r : plan.runs) need_reference.push_back(&r);
         todo.clear();
     }
-    load_references(plan, opt, need_reference, references, reference_column, log);
+    load_references(plan, opt, need_reference, references, reference_column, reference_samples, log);
     auto cancelled = [&opt] { return opt.cancelled && opt.cancelled(); };
     if (cancelled()) return outcome;
 
@@ -307,6 +316,11 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
                         what += " " + spec.axes[a].name + "=" + run.values[a];
                 if (run.method == "path") what += " spp=" + std::to_string(run.spp);
                 if (const std::string ran = ran_instead(run.method, res.stats); !ran.empty()) what += " [" + ran + "]";
+                if (const auto& rs = reference_samples.at(run.scene))
+                    if (const std::string w = more_samples_warning("run " + run.hash + " (" + what + ")", res.stats.render.samples,
+                                                                   reference_column.at(run.scene), *rs);
+                        !w.empty())
+                        log("sweep: " + w);
                 const double el = runs_timer.seconds();
                 const double eta = el / double(done) * double(todo.size() - done);
                 log("sweep: [" + std::to_string(done) + "/" + std::to_string(todo.size()) + "] " + what + " r" +
@@ -357,6 +371,7 @@ struct PointStats {
     std::string integrators, gathers;   // the sets joined, in order (the same for any row order)
     double map_estimates = 0;
     size_t off_plan = 0;
+    size_t over_reference = 0;   // repeats that took more camera samples than their reference
     RepeatError err;
 };
 
@@ -367,7 +382,7 @@ struct RunTable {
     size_t run = 0, point = 0, method = 0, spp = 0, offset = 0, trace = 0, total = 0, build = 0, render = 0,
            stored = 0, image = 0, ref = 0;
     // What-ran columns; -1 in folders written before they existed (the report shows "?").
-    int integrator = -1, gather = -1, estimates = -1, wall = -1;
+    int integrator = -1, gather = -1, estimates = -1, wall = -1, samples = -1;
     std::vector<std::string> axes;   // the axis columns, between stream_offset and trace_s
 };
 
@@ -396,7 +411,7 @@ RunTable read_run_table(const fs::path& out, const std::set<std::string>& only) 
         return it == t.header.end() ? -1 : int(it - t.header.begin());
     };
     t.integrator = optional_col("integrator_used"), t.gather = optional_col("gather_used");
-    t.estimates = optional_col("map_estimates"), t.wall = optional_col("run_s");
+    t.estimates = optional_col("map_estimates"), t.wall = optional_col("run_s"), t.samples = optional_col("samples");
     t.axes.assign(t.header.begin() + long(t.offset) + 1, t.header.begin() + long(t.trace));
     return t;
 }
@@ -433,10 +448,15 @@ std::vector<PointStats*> group_points(const RunTable& t, std::map<std::string, P
 size_t measure_points(const fs::path& out, const RunTable& t, const std::vector<PointStats*>& points) {
     auto in_out = [&](const std::string& col) { return fs::path(col).is_absolute() ? fs::path(col) : out / col; };
     std::map<std::string, Image> refs;
+    std::map<std::string, std::optional<uint64_t>> ref_samples;
     size_t nonfinite_total = 0;
     for (PointStats* p : points) {
         const fs::path ref_path = in_out(p->rows[0]->f[t.ref]);
-        if (!refs.count(ref_path.string())) refs[ref_path.string()] = read_exr(ref_path);
+        if (!refs.count(ref_path.string())) {
+            refs[ref_path.string()] = read_exr(ref_path);
+            ref_samples[ref_path.string()] = recorded_samples(ref_path);
+        }
+        const std::optional<uint64_t> reference_samples = ref_samples.at(ref_path.string());
         std::vector<Image> images;
         images.reserve(p->rows.size());
         for (const Row* r : p->rows) {
@@ -453,6 +473,8 @@ size_t measure_points(const fs::path& out, const RunTable& t, const std::vector<
             const std::string gather = t.gather >= 0 ? r->f[size_t(t.gather)] : "";
             p->gather_set.insert(gather.empty() ? "?" : gather);
             p->map_estimates += estimates;
+            if (t.samples >= 0 && reference_samples && to_double(r->f[size_t(t.samples)]) > double(*reference_samples))
+                ++p->over_reference;
             if (t.integrator >= 0 && !ran_instead(p->method, integrator, uint64_t(std::isfinite(estimates) ? estimates : 0)).empty())
                 ++p->off_plan;
         }
@@ -599,9 +621,10 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
     if (nonfinite_total)
         md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
            << "metrics. See the nonfinite_pixels column.**\n\n";
-    size_t off_plan_points = 0, off_plan_runs = 0;
+    size_t off_plan_points = 0, off_plan_runs = 0, over_reference = 0;
     bool one_repeat = false;
     for (const PointStats* p : points) {
+        over_reference += p->over_reference;
         off_plan_points += p->off_plan > 0;
         off_plan_runs += p->off_plan;
         one_repeat |= p->err.repeats < 2;
@@ -611,6 +634,10 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
            << "estimate from a photon map (they ran the path tracer, or took no map estimates): their errors are not the "
            << "estimator's. They are in bold in the \"ran\" column; see integrator_used and map_estimates in runs.csv and "
            << "each run's sidecar images/<hash>.json.**\n\n";
+    if (over_reference)
+        md << "**WARNING: " << over_reference << " runs took more camera samples than their reference (runs.csv samples "
+           << "against the reference's sidecar): their errors are then mostly the reference's own noise. Render the "
+           << "reference with many more samples.**\n\n";
     if (one_repeat)
         md << "Configurations with one repeat (R = 1) leave the standard error, rel std and rel var empty (–): they "
            << "need two or more independent repeats (repeats = 2 or more in the sweep file).\n\n";

@@ -130,9 +130,10 @@ SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs
     root.finish();
     if (!s.reference_file.empty())
         for (const auto& ax : s.axes)
-            if (!ax.photon_only())
+            if (!ax.photon_only() && !ax.budget_only())
                 throw ConfigError(name + ":" + std::to_string(ax.line) + ": axes." + ax.name +
-                                  ": changes the scene, so one reference file cannot serve every run; use reference.spp");
+                                  ": changes the scene, so one reference file cannot serve every run (photons.* and "
+                                  "time_limit axes can); use reference.spp");
     return s;
 }
 

@@ -8,7 +8,8 @@
 //   time_budgets = [2.0, 8.0]              # seconds, for the equal-time table (optional)
 //   [reference]
 //   spp = 1024                             # render it with the path tracer (cached), or
-//   file = "ref.exr"                       # use this EXR (only when no axis changes the scene)
+//   file = "ref.exr"                       # use this EXR (only when no axis changes the scene:
+//                                          # photons.* and time_limit axes do not)
 //   path_spp = [4, 16, 64]                 # the path tracer's own error-vs-time curve (optional)
 //   [axes]                                 # each a list; the plan is their Cartesian product
 //   estimator = ["classic", "corrected"]   # short for photons.estimator
@@ -39,6 +40,8 @@ struct SweepAxis {
     std::vector<std::string> labels;   // for tables: strings unquoted
     int line = 0;
     bool photon_only() const { return key.rfind("photons.", 0) == 0; }
+    // A time budget: how long the runs render, not what (one reference serves every value).
+    bool budget_only() const { return key == "render.time_limit"; }
 };
 
 struct SweepSpec {

@@ -8,12 +8,16 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <nlohmann/json.hpp>
+
+#include "analysis/scene_info.h"
 #include "analysis/study.h"
 #include "analysis/sweep.h"
 #include "analysis/sweep_plan.h"
 #include "bindings.h"
 #include "native_call.h"
 #include "render/run/image_io.h"
+#include "render/run/run_config.h"
 #include "render/run/staged_file.h"
 
 namespace py = pybind11;
@@ -98,9 +102,19 @@ py::dict sweep(const std::string& file, const fs::path& out, int jobs, int threa
     return d;
 }
 
+// vpm info TARGET --json: a VDB file's grids or a config's scene, as JSON text.
+std::string info(const std::string& target, const std::vector<std::string>& sets, bool vdb) {
+    std::string text;
+    call_native([&](const std::atomic<bool>&) {
+        text = (vdb ? vdb_info(target) : scene_info(RunConfig::load(target, sets))).dump();
+    });
+    return text;
+}
+
 }  // namespace
 
 void bind_analysis(py::module_& m) {
+    m.def("_info", &info, py::arg("target"), py::arg("sets"), py::arg("vdb"));
     m.def("_study", &study, py::arg("out"), py::arg("dims"), py::arg("ks"), py::arg("trials"), py::arg("n"),
           py::arg("seed"), py::arg("scenarios"), py::arg("photon_map_size"), py::arg("threads"), py::arg("log"));
     m.def("_sweep", &sweep, py::arg("file"), py::arg("out"), py::arg("jobs"), py::arg("threads"), py::arg("max_runs"),

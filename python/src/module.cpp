@@ -40,4 +40,5 @@ PYBIND11_MODULE(_vpm, m) {
     vpm::python::bind_render(m);
     vpm::python::bind_photon_map(m);
     vpm::python::bind_analysis(m);
+    vpm::python::bind_compare(m);
 }

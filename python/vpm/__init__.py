@@ -11,6 +11,8 @@ messages, the same runs, the same files.
     result.save("out/furnace.exr")   # EXR + PNG preview + JSON sidecar, as `vpm render -o`
     result.seconds, result.integrator_used, result.gather_used, result.map_estimates   # what ran
 
+    vpm.compare(result, "ref.exr")   # rel_rmse, rel_bias (+- rel_bias_se over repeats), as sweeps report them
+
     photons = vpm.trace_photons(config)          # the photon pass alone
     photons.positions, photons.powers, photons.directions   # (n, 3) NumPy arrays
     distances, indices = photons.knn(points, k=8)
@@ -26,14 +28,16 @@ import json
 import math
 import numbers
 import os
+import warnings
 
 from . import _vpm
-from ._vpm import Config, ConfigError, Error, FileError, PhotonMap, RenderResult, read_exr
+from ._vpm import Config, ConfigError, Error, FileError, PhotonMap, RenderResult, luminance, read_exr
 
 __version__ = _vpm.__version__
 git_revision = _vpm.git_revision
 
-__all__ = ["load_config", "render", "trace_photons", "study", "sweep", "read_exr", "Config", "RenderResult",
+__all__ = ["load_config", "render", "trace_photons", "study", "sweep", "compare", "luminance", "info", "read_exr", "Config",
+           "RenderResult",
            "PhotonMap", "Error", "ConfigError", "FileError"]
 
 
@@ -204,3 +208,71 @@ def sweep(file, out=None, jobs=1, threads=0, max_runs=0, shard=(0, 1), reference
     out = os.fspath(out)
     outcome = _vpm._sweep(file, out, jobs, threads, max_runs, shard[0], shard[1], references_only, progress, log)
     return SweepTables(out, outcome, as_dataframe)
+
+
+def _image_and_samples(x, name):
+    """(pixels, camera samples or None, label) of an image given as a RenderResult, an EXR path or an array."""
+    if isinstance(x, RenderResult):
+        return x.image, x.stats.get("render", {}).get("samples"), name
+    if isinstance(x, (str, os.PathLike)):
+        path = os.fspath(x)
+        samples = None
+        sidecar = os.path.splitext(path)[0] + ".json"
+        if os.path.exists(sidecar):
+            try:
+                with open(sidecar) as f:
+                    samples = json.load(f).get("render", {}).get("samples")
+            except (OSError, ValueError, AttributeError):
+                samples = None
+        return read_exr(path), samples if isinstance(samples, int) else None, path
+    return x, None, name
+
+
+def compare(image, reference):
+    """Error of IMAGE against REFERENCE with the metrics `vpm sweep` reports (lib/analysis/error_metrics.h).
+
+    image: one image, or a list of images taken as independent repeats of one configuration; each an
+    (height, width, 3) array, an EXR path (its sidecar gives its samples) or a vpm.RenderResult.
+    reference: the same kinds. Pixels are compared by luminance, relative to the reference's mean
+    luminance. Returns a dict:
+      rel_rmse, rel_bias          relative RMSE and signed relative bias (over the repeats: sqrt(rel_mse)
+                                  and the mean of the per-image biases)
+      rel_bias_se, rel_std, rel_variance   over two or more images (NaN for one)
+      rel_mse, rel_bias2          rel_mse = rel_bias2 + rel_variance
+      repeats, reference_luminance, nonfinite_pixels
+      images                      per image: rel_rmse, rel_bias, rgb_rmse, rgb_relative_rmse, rgb_relative_bias, mean
+      samples, reference_samples  camera samples where known (None otherwise)
+      warnings                    e.g. an image with more samples than its reference (also issued as a
+                                  Python warning): its error is then mostly the reference's noise
+    """
+    many = isinstance(image, (list, tuple))
+    items = [_image_and_samples(x, "image %d" % i) for i, x in enumerate(image if many else [image])]
+    ref, ref_samples, ref_name = _image_and_samples(reference, "the reference")
+    out = _vpm._compare([i[0] for i in items], ref)
+    out["samples"] = [i[1] for i in items] if many else items[0][1]
+    out["reference_samples"] = ref_samples
+    out["warnings"] = []
+    if ref_samples is not None:
+        for _, samples, name in items:
+            if samples is not None:
+                text = _vpm._more_samples_warning(name, samples, ref_name, ref_samples)
+                if text:
+                    out["warnings"].append(text)
+                    warnings.warn(text, stacklevel=2)
+    return out
+
+
+def info(target, overrides=None):
+    """What a scene config or a VDB file holds (`vpm info TARGET --json`) as a dict.
+
+    target: a config path or a .vdb path. overrides: as load_config's (configs only).
+    A config gives world_bounds, media (bounds, grid: voxel_size, active_voxels, density range;
+    sigma_t_max, tau_across), lights (power into the scene), shapes and camera (settings, seen:
+    fractions of pixels meeting a medium, a surface, nothing); a VDB gives its grids and a
+    suggested_camera.
+    """
+    target = os.fspath(target)
+    vdb = target.endswith(".vdb")
+    if vdb and overrides:
+        raise Error("info: overrides apply to a scene config, not to a VDB file")
+    return json.loads(_vpm._info(target, _overrides(overrides), vdb))

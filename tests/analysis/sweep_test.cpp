@@ -13,7 +13,9 @@
 
 #include "analysis/row_hash.h"
 #include "analysis/sweep.h"
+#include "render/run/run.h"
 #include "render/run/run_config.h"
+#include "render/run/run_outputs.h"
 #include "analysis/sweep_csv.h"
 #include "analysis/sweep_plan.h"
 #include "core/error.h"
@@ -349,6 +351,46 @@ k = [4, 8]
     int flagged = 0;
     for (const auto& r : points.rows) flagged += std::stoi(r[size_t(off)]);
     EXPECT_EQ(flagged, 1);
+}
+
+}  // namespace
+}  // namespace vpm
+
+namespace vpm {
+namespace {
+
+// A reference file serves a time_limit axis (a budget does not change the scene), still not an axis
+// that does; runs with more camera samples than the reference are named in the summary.
+TEST_F(SweepTest, ReferenceFileServesTimeLimitAxesAndRunsOverItsSamplesAreFlagged) {
+    const RunConfig ref_config = RunConfig::build(
+        load_config((dir_ / "scene.toml").string(), {"render.integrator=\"path\"", "render.spp=1"}));
+    RunOptions ro;
+    ro.progress = false;
+    ro.stream_offset = kReferenceStream;
+    RunResult ref = vpm::run(ref_config, ro);
+    write_run_outputs(dir_ / "ref.exr", ref, 0.0);
+    EXPECT_THROW(spec(R"(scene = "scene.toml"
+[reference]
+file = "ref.exr"
+[axes]
+"media.0.g" = [0.0, 0.5]
+)"),
+                 ConfigError);
+    // render.spp = 4 is each pass's samples under the time limit: every run takes >= 4 x 64 > 64 samples.
+    const SweepPlan plan = plan_sweep(spec(R"(scene = "scene.toml"
+set = ["render.spp=4"]
+[reference]
+file = "ref.exr"
+[axes]
+time_limit = [0.02, 0.04]
+)"));
+    ASSERT_EQ(plan.runs.size(), 2u);
+    const fs::path out = dir_ / "out";
+    run(plan, out);
+    const std::string summary = write_sweep_report(out, {}, "test");
+    EXPECT_NE(summary.find("WARNING: 2 runs took more camera samples than their reference"), std::string::npos) << summary;
+    const CsvTable t = read_csv(out / "runs.csv");
+    for (const auto& r : t.rows) EXPECT_GE(std::stoull(r[size_t(t.column("samples"))]), 256u);
 }
 
 }  // namespace

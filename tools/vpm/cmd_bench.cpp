@@ -27,6 +27,7 @@
 #include <tbb/info.h>
 
 #include "analysis/scene_matrix.h"
+#include "analysis/reference_samples.h"
 #include "arguments.h"
 #include "data_files.h"
 #include "command.h"
@@ -166,6 +167,13 @@ int run_equal_time(int argc, char** argv) {
         }
         const double pt_err = relative_rmse(pt.image, ref);
         std::cerr << stem << ": path tracer " << spp << " spp in " << pt.seconds << " s, rel. RMSE " << pt_err << "\n";
+        const uint64_t pixels = uint64_t(w) * uint64_t(h);
+        for (const auto& [what, n] : {std::pair<std::string, int>{"the photon map", pm.spp}, {"the path tracer", spp}})
+            if (const std::string warn = vpm::more_samples_warning(stem + ": " + what + " (" + std::to_string(n) + " spp)",
+                                                                   uint64_t(n) * pixels, ref_path.string(),
+                                                                   uint64_t(reference_spp) * pixels);
+                !warn.empty())
+                std::cerr << warn << "\n";
 
         std::printf("| %s | %d spp | %.2f s, %.4f | %d spp, %.2f s, %.4f | %.2f |\n", stem.c_str(), reference_spp,
                     pm.seconds, pm_err, spp, pt.seconds, pt_err, pm_err > 0 ? pt_err / pm_err : 0.0);

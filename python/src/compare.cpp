@@ -1,0 +1,105 @@
+// vpm.compare: images against a reference with the metrics `vpm sweep` and `vpm compare` report
+// (lib/analysis/error_metrics.h), computed by the same code; vpm/__init__.py turns files and render
+// results into arrays and adds the samples check.
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "analysis/error_metrics.h"
+#include "analysis/reference_samples.h"
+#include "bindings.h"
+#include "core/error.h"
+
+namespace py = pybind11;
+
+namespace vpm::python {
+
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+// An (H, W, 3) array as an Image (copied).
+Image to_image(const FloatArray& a, const std::string& name) {
+    if (a.ndim() != 3 || a.shape(2) != 3)
+        throw Error(name + ": expected an array of shape (height, width, 3), got " + std::to_string(a.ndim()) +
+                    " dimensions" + (a.ndim() == 3 ? " with " + std::to_string(a.shape(2)) + " channels" : std::string()));
+    if (a.shape(0) < 1 || a.shape(1) < 1) throw Error(name + ": an empty image");
+    Image im(int(a.shape(1)), int(a.shape(0)));
+    const float* p = a.data();
+    im.rgb.assign(p, p + a.size());
+    return im;
+}
+
+double nan_if(bool unknown, double v) { return unknown ? std::numeric_limits<double>::quiet_NaN() : v; }
+
+// Per image: the channel-wise and luminance errors; over all of them as repeats (two or more):
+// the repeat metrics.
+py::dict compare(const std::vector<FloatArray>& images, const FloatArray& reference) {
+    if (images.empty()) throw Error("compare: no images");
+    const Image ref = to_image(reference, "reference");
+    std::vector<Image> ims;
+    for (size_t i = 0; i < images.size(); ++i) {
+        ims.push_back(to_image(images[i], "image " + std::to_string(i)));
+        if (ims.back().width != ref.width || ims.back().height != ref.height)
+            throw Error("image " + std::to_string(i) + ": " + std::to_string(ims.back().width) + "x" +
+                        std::to_string(ims.back().height) + ", but the reference is " + std::to_string(ref.width) + "x" +
+                        std::to_string(ref.height));
+    }
+    py::list per_image;
+    std::vector<const Image*> ptrs;
+    for (const Image& im : ims) {
+        const RunError y = run_error(im, ref);
+        const ImageError e = compare_images(im, ref);
+        py::dict d;
+        d["rel_rmse"] = y.rel_rmse;
+        d["rel_bias"] = y.rel_mean_error;
+        d["nonfinite_pixels"] = y.nonfinite_pixels;
+        d["pixels"] = y.pixels;
+        d["rgb_rmse"] = e.rmse;
+        d["rgb_relative_rmse"] = e.relative_rmse;
+        d["rgb_relative_bias"] = e.relative_bias;
+        d["mean"] = e.mean;
+        per_image.append(d);
+        ptrs.push_back(&im);
+    }
+    const RepeatError r = repeat_error(ptrs, ref);
+    py::dict out;
+    out["images"] = per_image;
+    out["reference_luminance"] = reference_scale(ref);
+    out["repeats"] = r.repeats;
+    out["rel_rmse"] = r.rel_rmse;
+    out["rel_mse"] = r.rel_mse;
+    out["rel_bias"] = r.rel_bias;
+    out["rel_bias_se"] = nan_if(r.repeats < 2, r.rel_bias_se);
+    out["rel_bias2"] = r.rel_bias2;
+    out["rel_variance"] = nan_if(r.repeats < 2, r.rel_variance);
+    out["rel_std"] = nan_if(r.repeats < 2, r.rel_std);
+    out["nonfinite_pixels"] = r.nonfinite_pixels;
+    return out;
+}
+
+py::array luminance_of(const FloatArray& image) {
+    const Image im = to_image(image, "image");
+    py::array_t<double> out({size_t(im.height), size_t(im.width)});
+    double* o = out.mutable_data();
+    for (size_t p = 0; p < size_t(im.width) * size_t(im.height); ++p)
+        o[p] = luminance(im.rgb[3 * p], im.rgb[3 * p + 1], im.rgb[3 * p + 2]);
+    return out;
+}
+
+}  // namespace
+
+void bind_compare(py::module_& m) {
+    m.def("_compare", &compare, py::arg("images"), py::arg("reference"));
+    m.def("_more_samples_warning", &more_samples_warning, py::arg("run"), py::arg("run_samples"), py::arg("reference"),
+          py::arg("reference_samples"));
+    m.def("luminance", &luminance_of, py::arg("image"),
+          "Luminance Y = 0.2126 R + 0.7152 G + 0.0722 B of an (height, width, 3) image, as a float64 (height, width) "
+          "array: what vpm.compare and sweeps compare.");
+}
+
+}  // namespace vpm::python
