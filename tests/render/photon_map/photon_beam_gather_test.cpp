@@ -15,7 +15,7 @@
 
 #include "render/run/run.h"
 #include "render/run/run_config.h"
-#include "../support/render_statistics.h"
+#include "support/render_statistics.h"
 
 using namespace vpm;
 
