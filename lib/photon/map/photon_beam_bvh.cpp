@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "photon/map/segment_box_distance.h"
+
 namespace vpm {
 
 namespace {
@@ -10,25 +12,39 @@ namespace {
 // (u, index) order: the k nearest are the same set on any traversal.
 bool closer(const BeamCrossing& a, const BeamCrossing& b) { return a.u < b.u || (a.u == b.u && a.index < b.index); }
 
-// The box grown by r on every side, slab-tested against the segment: a superset of the points
-// within distance r of the box.
-bool grown_box_hit(const Bounds3& b, double r, const Ray& ray, double tmax) {
-    if (!std::isfinite(r)) return true;
-    const Vec3 pad = Vec3::Constant(r * (1.0 + 1e-9));
-    double t0, t1;
-    return Bounds3{b.lo - pad, b.hi + pad}.intersect(ray, tmax, t0, t1);
-}
+// A node of the best-first traversal's queue: its box's max-norm distance to the segment.
+struct Open {
+    double distance;
+    uint32_t node;
+};
+// Min-heap on (distance, node): the node order, and so the tested count, are deterministic.
+bool farther(const Open& a, const Open& b) { return a.distance > b.distance || (a.distance == b.distance && a.node > b.node); }
 
-// Squared distance from p to the segment: the order children are visited in (any order is exact).
-double segment_distance2(const Vec3& p, const Ray& ray, double tmax) {
-    double t = (p - ray.origin).dot(ray.dir);
-    t = std::clamp(t, 0.0, std::isfinite(tmax) ? tmax : std::max(t, 0.0));
-    return (ray.at(t) - p).squaredNorm();
-}
+// The nodes build() makes for n items (median splits down to leaves of at most 4).
+size_t node_count_for(uint32_t n) { return n <= 4 ? 1 : 1 + node_count_for(n / 2) + node_count_for(n - n / 2); }
 
 }  // namespace
 
-PhotonBeamBvh::PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii) {
+double PhotonBeamBvh::automatic_piece_length(const std::vector<PhotonBeam>& beams) {
+    Bounds3 box;
+    double total = 0.0;
+    size_t n = 0;
+    for (const PhotonBeam& b : beams) {
+        if (!(b.length > 0.0) || !std::isfinite(b.length) || !b.origin.allFinite() || !b.dir.allFinite()) continue;
+        box.extend(b.origin);
+        box.extend(b.origin + b.length * b.dir);
+        total += b.length;
+        ++n;
+    }
+    if (n == 0) return 0.0;
+    const double mean = total / double(n);
+    const Vec3 e = box.hi - box.lo;
+    const double volume = e.x() * e.y() * e.z();
+    const double spacing = volume > 0.0 ? 4.0 / std::sqrt(total / volume) : 0.0;
+    return std::clamp(spacing, mean / 8.0, mean);
+}
+
+PhotonBeamBvh::PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii, double max_piece) {
     for (size_t i = 0; i < beams.size(); ++i) {
         const PhotonBeam& b = beams[i];
         const double w = radii.empty() ? 0.0 : radii[i];
@@ -36,44 +52,56 @@ PhotonBeamBvh::PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::ve
             !b.dir.allFinite())
             continue;
         if (!radii.empty() && !(w > 0.0)) continue;   // a sample-point width of 0 crosses nothing
-        items_.push_back({b.origin, b.dir, b.length, w, uint32_t(i)});
+        ++beam_count_;
+        const double pieces =
+            max_piece > 0.0 && std::isfinite(max_piece) ? std::min(std::ceil(b.length / max_piece), 1e6) : 1.0;
+        const uint32_t m = uint32_t(std::max(pieces, 1.0));
+        for (uint32_t p = 0; p < m; ++p) {
+            // The same expression for a piece's end and the next one's start: the pieces tile [0, length].
+            const double v0 = p == 0 ? 0.0 : b.length * double(p) / double(m);
+            const double v1 = p + 1 == m ? b.length : b.length * double(p + 1) / double(m);
+            items_.push_back({b.origin, b.dir, b.length, w, v0, v1, uint32_t(i)});
+        }
     }
     if (items_.empty()) return;
-    nodes_.reserve(items_.size() / 2 + 1);
+    items_.shrink_to_fit();
+    nodes_.reserve(node_count_for(uint32_t(items_.size())));
     build(0, uint32_t(items_.size()));
 }
 
 uint32_t PhotonBeamBvh::build(uint32_t begin, uint32_t end) {
     const uint32_t index = uint32_t(nodes_.size());
     nodes_.push_back({});
-    Bounds3 bounds, mids;
-    for (uint32_t i = begin; i < end; ++i) {
-        const Item& b = items_[i];
-        const Vec3 a = b.origin, z = b.origin + b.length * b.dir;
-        // Padded so that rounding in the box test never drops a beam the exact leaf test accepts.
-        const double scale = std::max(a.cwiseAbs().maxCoeff(), z.cwiseAbs().maxCoeff());
-        const Vec3 r = Vec3::Constant(b.width * (1.0 + 1e-9) + 1e-9 * scale + 1e-300);
-        bounds.extend(Bounds3{a.cwiseMin(z) - r, a.cwiseMax(z) + r});
-        mids.extend(0.5 * (a + z));
-    }
-    nodes_[index].bounds = bounds;
     if (end - begin <= 4) {
-        nodes_[index].first = begin;
-        nodes_[index].count = end - begin;
+        Bounds3 bounds;
+        for (uint32_t i = begin; i < end; ++i) {
+            const Item& b = items_[i];
+            const Vec3 a = b.origin + b.v0 * b.dir, z = b.origin + b.v1 * b.dir;
+            // Padded so that rounding in the box test never drops a beam the exact leaf test accepts.
+            const double scale = std::max({a.cwiseAbs().maxCoeff(), z.cwiseAbs().maxCoeff(), b.origin.cwiseAbs().maxCoeff()});
+            const Vec3 r = Vec3::Constant(b.width * (1.0 + 1e-9) + 1e-9 * std::max(scale, b.length) + 1e-300);
+            bounds.extend(Bounds3{a.cwiseMin(z) - r, a.cwiseMax(z) + r});
+        }
+        nodes_[index] = {bounds, begin, end - begin};
         return index;
     }
+    auto mid_point = [](const Item& b) { return Vec3(b.origin + 0.5 * (b.v0 + b.v1) * b.dir); };
+    Bounds3 mids;
+    for (uint32_t i = begin; i < end; ++i) mids.extend(mid_point(items_[i]));
     int axis = 0;
     (mids.hi - mids.lo).maxCoeff(&axis);
     const uint32_t mid = begin + (end - begin) / 2;
-    auto key = [axis](const Item& b) { return b.origin[axis] + 0.5 * b.length * b.dir[axis]; };
+    auto key = [axis](const Item& b) { return b.origin[axis] + 0.5 * (b.v0 + b.v1) * b.dir[axis]; };
     std::nth_element(items_.begin() + begin, items_.begin() + mid, items_.begin() + end, [&](const Item& a, const Item& b) {
         const double ka = key(a), kb = key(b);
-        return ka < kb || (ka == kb && a.index < b.index);
+        return ka < kb || (ka == kb && (a.index < b.index || (a.index == b.index && a.v0 < b.v0)));
     });
-    build(begin, mid);   // the first child is index + 1
+    const uint32_t first = build(begin, mid);   // index + 1
     const uint32_t second = build(mid, end);
-    nodes_[index].first = second;
-    nodes_[index].count = 0;
+    // The children's boxes are made first: a node's box is their union (the same as over its items).
+    Bounds3 bounds = nodes_[first].bounds;
+    bounds.extend(nodes_[second].bounds);
+    nodes_[index] = {bounds, second, 0};
     return index;
 }
 
@@ -81,21 +109,30 @@ void PhotonBeamBvh::nearest(const Vec3& origin, const Vec3& dir, double tmax, si
                             std::vector<BeamCrossing>& out, uint32_t skip, uint64_t* tested) const {
     out.clear();
     if (nodes_.empty() || k == 0 || !(tmax >= 0.0)) return;
-    const Ray ray{origin, dir};
     // out is a max-heap on (u, index) of at most k crossings; bound: the k-th's u once full.
     auto bound = [&] { return out.size() < k ? max_distance : out.front().u; };
-    uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
-        if (!grown_box_hit(node.bounds, bound(), ray, tmax)) continue;
+    // A node is opened only if its distance is within the bound (slack for the rounding of u and
+    // of the distance: a beam at u equal to the bound may still enter on a smaller index).
+    auto reachable = [&](double distance) {
+        const double b = bound();
+        return !std::isfinite(b) || distance <= b * (1.0 + 1e-9);
+    };
+    thread_local std::vector<Open> queue;
+    queue.clear();
+    queue.push_back({segment_box_distance_max_norm(nodes_[0].bounds, origin, dir, tmax), 0});
+    while (!queue.empty()) {
+        std::pop_heap(queue.begin(), queue.end(), farther);
+        const Open top = queue.back();
+        queue.pop_back();
+        if (!reachable(top.distance)) break;   // every node left is at least as far
+        const Node& node = nodes_[top.node];
         if (node.count == 0) {
-            const uint32_t a = uint32_t(&node - nodes_.data()) + 1, b = node.first;
-            const bool a_first = segment_distance2(0.5 * (nodes_[a].bounds.lo + nodes_[a].bounds.hi), ray, tmax) <=
-                                 segment_distance2(0.5 * (nodes_[b].bounds.lo + nodes_[b].bounds.hi), ray, tmax);
-            stack[top++] = a_first ? b : a;   // the nearer child is popped first
-            stack[top++] = a_first ? a : b;
+            for (const uint32_t child : {top.node + 1, node.first}) {
+                const double d = segment_box_distance_max_norm(nodes_[child].bounds, origin, dir, tmax);
+                if (!reachable(d)) continue;
+                queue.push_back({d, child});
+                std::push_heap(queue.begin(), queue.end(), farther);
+            }
             continue;
         }
         if (tested) *tested += node.count;
@@ -103,8 +140,7 @@ void PhotonBeamBvh::nearest(const Vec3& origin, const Vec3& dir, double tmax, si
             const Item& it = items_[i];
             if (it.index == skip) continue;
             BeamCrossing c;
-            if (!photon_beam_crossing(origin, dir, tmax, it.origin, it.dir, it.length, c)) continue;
-            c.index = it.index;
+            if (!crosses(origin, dir, tmax, it, c)) continue;
             if (!(c.u < max_distance)) continue;
             if (out.size() < k) {
                 out.push_back(c);

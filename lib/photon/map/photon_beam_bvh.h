@@ -6,13 +6,14 @@
 // (photon_beam_crossing). A beam counts for a segment only where t* and v* both lie inside.
 //
 // Two queries, each exact (the same beams as a loop over all of them with photon_beam_crossing,
-// tests/photon/photon_beam_bvh_test.cpp):
+// tests/photon/map/photon_beam_bvh_test.cpp):
 //   for_each_crossed  every beam with u below its own width r_j (the sample-point form: the boxes
 //                     are the beams' segments swept by r_j);
 //   nearest           the k beams of smallest u (ties by index) below a bound (the balloon form:
 //                     built with widths 0, the bound shrinks as the k nearest so far come in).
 // Nodes are boxes around the swept segments, split at the median of the longest axis of the
-// segments' midpoints; leaves hold up to 4 beams. Build and queries are deterministic.
+// segments' midpoints; leaves hold up to 4 items (beams, or pieces of long beams: max_piece below).
+// Build and queries are deterministic.
 #include <cstdint>
 #include <vector>
 
@@ -59,7 +60,20 @@ public:
     PhotonBeamBvh() = default;
     // radii: one width per beam (the sample-point form), or empty for widths 0 (the balloon form).
     // Beams of non-finite or non-positive length, or non-finite width, are left out.
-    PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii);
+    // max_piece: a beam longer than this is stored as pieces of equal length at most max_piece,
+    // each its own item with its own box (0 or kInfinity: whole beams). A long diagonal beam's box
+    // is mostly empty space; its pieces' boxes hug it. A crossing has one foot v on the beam, so it
+    // is found in exactly one piece (pieces own [v0, v1), the last [v0, length]) and every query's
+    // answer is the same for any max_piece.
+    PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii, double max_piece = 0.0);
+
+    // The piece length the gather uses: 4 / sqrt(lambda), lambda the beams' total length over the
+    // volume of their bounding box (1 / sqrt(lambda) is the spacing of a field of lines of that
+    // density), kept within [mean length / 8, mean length] so that a flat or degenerate field
+    // neither explodes nor stays whole; 0 for no beams. From counts and geometry only. The factor 4:
+    // in bench/bench_photon_beam_bvh.cpp's furnace field the k-nearest query costs within ~10% of
+    // the best factor measured (2) at half its memory (docs/photon_beams.md, "Cost").
+    static double automatic_piece_length(const std::vector<PhotonBeam>& beams);
 
     // visit(const BeamCrossing&, double width) for every beam that crosses the segment with u below
     // its width. `dir` unit length; tmax finite or kInfinity. tested (if given) += crossing tests made.
@@ -68,18 +82,22 @@ public:
 
     // The k crossing beams of smallest u, u < max_distance (kInfinity: unbounded), in `out`
     // sorted by (u, index); fewer where fewer cross. `skip`: a beam index left out (a beam's own
-    // neighbours; UINT32_MAX for none).
+    // neighbours; UINT32_MAX for none). Best-first: nodes in the order of their max-norm distance
+    // to the segment (photon/map/segment_box_distance.h), stopping at the first node farther than
+    // the k-th crossing found so far, so no node beyond the final k-th distance is opened.
     void nearest(const Vec3& origin, const Vec3& dir, double tmax, size_t k, double max_distance,
                  std::vector<BeamCrossing>& out, uint32_t skip = UINT32_MAX, uint64_t* tested = nullptr) const;
 
-    size_t size() const { return items_.size(); }
+    size_t size() const { return beam_count_; }         // beams stored
+    size_t item_count() const { return items_.size(); }   // pieces stored
     size_t node_count() const { return nodes_.size(); }
     size_t memory_bytes() const { return items_.capacity() * sizeof(Item) + nodes_.capacity() * sizeof(Node); }
 
 private:
     struct Item {
-        Vec3 origin, dir;
+        Vec3 origin, dir;   // the whole beam's line (the crossing is computed on it)
         double length, width;
+        double v0, v1;      // this piece: v in [v0, v1), the last piece v in [v0, length]
         uint32_t index;
     };
     struct Node {
@@ -88,6 +106,14 @@ private:
         uint32_t count;   // leaf: number of items; inner: 0
     };
     uint32_t build(uint32_t begin, uint32_t end);
+    // The crossing of the segment with item `it`'s beam, if its foot lies on this piece.
+    static bool crosses(const Vec3& o, const Vec3& d, double tmax, const Item& it, BeamCrossing& c) {
+        if (!photon_beam_crossing(o, d, tmax, it.origin, it.dir, it.length, c)) return false;
+        if (!(c.v >= it.v0 && (c.v < it.v1 || it.v1 == it.length))) return false;
+        c.index = it.index;
+        return true;
+    }
+    size_t beam_count_ = 0;
     std::vector<Item> items_;
     std::vector<Node> nodes_;
 };
@@ -113,8 +139,7 @@ void PhotonBeamBvh::for_each_crossed(const Vec3& origin, const Vec3& dir, double
         for (uint32_t i = node.first; i < node.first + node.count; ++i) {
             const Item& b = items_[i];
             BeamCrossing c;
-            if (!photon_beam_crossing(origin, dir, tmax, b.origin, b.dir, b.length, c) || !(c.u < b.width)) continue;
-            c.index = b.index;
+            if (!crosses(origin, dir, tmax, b, c) || !(c.u < b.width)) continue;
             visit(c, b.width);
         }
     }

@@ -20,6 +20,11 @@ PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> b
       max_width_(max_width), exact_(homogeneous_media(scene)) {
     built_.widths = beam_widths_name(widths);
     built_.k = k;
+    // Long beams as pieces in the camera rays' BVH (photon/map/photon_beam_bvh.h): the same answers,
+    // fewer tests. The sample-point widths' queries (each beam's own segment) keep whole beams: there
+    // pieces measured more tests per query, not fewer (docs/photon_beams.md, "Cost").
+    const double piece = PhotonBeamBvh::automatic_piece_length(beams_);
+    built_.piece_length = piece;
     std::vector<double> radii;
     if (widths == BeamWidths::sample_point) {
         // Each beam's width from its own k nearest other beams (its segment as the query), found in
@@ -40,9 +45,10 @@ PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> b
         built_.widths_seconds = timer.seconds();
     }
     const Timer bvh_timer;
-    bvh_ = PhotonBeamBvh(beams_, radii);
+    bvh_ = PhotonBeamBvh(beams_, radii, piece);
     built_.bvh_seconds = bvh_timer.seconds();
     built_.beams = bvh_.size();
+    built_.pieces = bvh_.item_count();
     built_.bvh_bytes = bvh_.memory_bytes() + beams_.capacity() * sizeof(PhotonBeam);
     built_.bytes_per_beam = double(built_.bvh_bytes) / double(std::max<size_t>(beams_.size(), 1));
 }

@@ -225,6 +225,8 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.photon_beams.widths", b->widths);
         record.set("photons.photon_beams.k", b->k);
         record.set("photons.photon_beams.beams", b->beams);
+        record.set("photons.photon_beams.pieces", b->pieces);
+        record.set("photons.photon_beams.piece_length", b->piece_length);
         record.set("photons.photon_beams.bvh_bytes", b->bvh_bytes);
         record.set("photons.photon_beams.bytes_per_beam", b->bytes_per_beam);
         record.set("photons.photon_beams.widths_seconds", b->widths_seconds);

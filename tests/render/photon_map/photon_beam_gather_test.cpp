@@ -15,7 +15,7 @@
 
 #include "render/run/run.h"
 #include "render/run/run_config.h"
-#include "../support/render_statistics.h"
+#include "support/render_statistics.h"
 
 using namespace vpm;
 
@@ -105,4 +105,59 @@ TEST(PhotonBeamGather, BadKeysAreOneClearError) {
     // The old name still works and means the point-beam gather.
     EXPECT_EQ(error({"photons.gather=\"beam\""}), "");
     EXPECT_EQ(error({"photons.gather=\"point_beam\""}), "");
+}
+
+namespace {
+
+// Mean image value over `repeats` independent runs of `config` at 16 x 16 with 20000 photon paths.
+test::Sample beam_brightness(const std::string& config, const std::vector<std::string>& sets, int repeats) {
+    std::vector<std::string> all = {"render.width=16", "render.height=16", "photons.count=20000"};
+    all.insert(all.end(), sets.begin(), sets.end());
+    return test::repeated_run_brightness(RunConfig::load(VPM_SOURCE_DIR "/configs/" + config, all), repeats);
+}
+
+// Both width forms against the path tracer: within 3 combined standard errors plus `bias` of the
+// path tracer's mean (the kNN widths' smoothing at the media's faces, stated per scene).
+void expect_beams_match_path_tracer(const std::string& config, double bias) {
+    const test::Sample path = beam_brightness(config, {"render.integrator=\"path\"", "render.spp=64"}, 6);
+    for (const char* widths : {"balloon", "sample_point"}) {
+        const test::Sample beams = beam_brightness(
+            config, {"render.integrator=\"photon_map\"", "render.spp=2", "photons.gather=\"photon_beams\"",
+                     std::string("photons.beam_widths=\"") + widths + "\""},
+            4);
+        const double se = std::hypot(beams.se(), path.se());
+        std::printf("%s %s: photon_beams %.5f +- %.5f, path %.5f +- %.5f (ratio %.4f)\n", config.c_str(), widths,
+                    beams.mean(), beams.se(), path.mean(), path.se(), beams.mean() / path.mean());
+        EXPECT_NEAR(beams.mean(), path.mean(), 3.0 * se + bias * path.mean()) << config << " " << widths;
+    }
+}
+
+}  // namespace
+
+TEST(PhotonBeamGather, MatchesThePathTracerInTheThinCube) {
+    // configs/thin_cube.toml: a homogeneous unit cube (sigma_t 1, albedo 0.8) under a point light,
+    // single scattering by NEE, the beams carry the multiple scattering.
+    expect_beams_match_path_tracer("thin_cube.toml", 0.03);
+}
+
+TEST(PhotonBeamGather, MatchesThePathTracerInThePlumeGrid) {
+    // configs/default.toml: the plume's grid (ratio-tracked camera transmittance) under its lights.
+    expect_beams_match_path_tracer("default.toml", 0.03);
+}
+
+TEST(PhotonBeamGather, ProgressiveScheduleIsRefusedWithOneClearError) {
+    try {
+        RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml",
+                        {"photons.gather=\"photon_beams\"", "photons.schedule=\"progressive\""});
+        FAIL() << "photons.schedule = \"progressive\" with photon_beams was accepted";
+    } catch (const std::exception& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("schedule"), std::string::npos) << m;
+        EXPECT_NE(m.find("photon_beams"), std::string::npos) << m;
+        EXPECT_NE(m.find("fixed"), std::string::npos) << m;
+    }
+    // The other schedules are accepted.
+    for (const char* s : {"fixed", "shrink"})
+        RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml",
+                        {"photons.gather=\"photon_beams\"", std::string("photons.schedule=\"") + s + "\""});
 }
