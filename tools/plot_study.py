@@ -37,6 +37,12 @@ def num(s):
     return float(s)
 
 
+def legend(ax, **kwargs):
+    """A legend only where something is labelled (matplotlib warns on an empty one)."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(**kwargs)
+
+
 def plot_kernels(sub, out):
     dims = sorted({int(r["dim"]) for r in sub})
     kernels = list(dict.fromkeys(r["estimator"].split("/", 1)[1] if "/" in r["estimator"] else "constant" for r in sub))
@@ -69,7 +75,7 @@ def plot_kernels(sub, out):
             ax.set_xlabel("k")
             ax.set_title(f"kernels, {dim}D (n = {sub[0]['n']}, {sub[0]['trials']} trials; lines: exact theory)")
             ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=6, ncol=2)
+            legend(ax, fontsize=6, ncol=2)
         fig.tight_layout()
         path = os.path.join(out, f"study_{kind}_kernels.png")
         tmp = path + f".tmp-{os.getpid()}.png"
@@ -135,7 +141,7 @@ def main():
                 what = {2: "beam estimate, 2D disc", 3: "point estimate, 3D"}[dim] if sc == "beam" else f"{dim}D"
                 ax.set_title(f"{sc}, {what} (n = {first['n']}, {first['trials']} trials)")
                 ax.grid(True, which="both", alpha=0.3)
-                ax.legend(fontsize=7)
+                legend(ax, fontsize=7)
             fig.tight_layout()
             path = os.path.join(out, f"study_{kind}_{sc}.png")
             tmp = path + f".tmp-{os.getpid()}.png"

@@ -322,7 +322,9 @@ k = [4, 8]
         const bool path = r[size_t(method)] == "path";
         EXPECT_EQ(r[size_t(ran)], path ? "path" : "photon_map");
         EXPECT_EQ(std::stoull(r[size_t(est)]) > 0, !path) << r[size_t(est)];
-        if (path) EXPECT_EQ(r[size_t(gather)], "none");
+        if (path) {
+            EXPECT_EQ(r[size_t(gather)], "none");
+        }
         EXPECT_EQ(r[size_t(passes)], "1");
         fs::path sidecar = out / r[size_t(image)];
         sidecar.replace_extension(".json");

@@ -156,3 +156,28 @@ TEST(StudyCli, BadOptionsAndRunsThatCannotFitAreOneUsageError) {
         EXPECT_FALSE(fs::exists(out)) << args;
     }
 }
+
+// Issue 46: a sweep with no k axis draws no empty legend (matplotlib warned on stderr), and the
+// study names the plots it wrote.
+TEST(PlotSweep, NoLibraryWarningsAndTheStudyListsItsPlots) {
+    if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "/usr/bin/python3 with matplotlib (python3-matplotlib) is not installed";
+    ScratchDir dir;
+    write_file(dir.path / "scene.toml", kScene);
+    write_file(dir.path / "sweep.toml",
+               "scene = \"scene.toml\"\nrepeats = 1\n[reference]\nspp = 2\npath_spp = [1]\n[axes]\n\"media.0.g\" = [0.0, 0.5]\n");
+    Outcome o = run_vpm("sweep --threads 1 " + quote(dir.path / "sweep.toml") + " --out " + quote(dir.path / "out"), dir.path);
+    ASSERT_EQ(o.code, 0) << o.err;
+    EXPECT_TRUE(fs::exists(dir.path / "out" / "error_vs_k.png"));
+    // (matplotlib's "No artists with labels found to put in legend", or any Python warning)
+    EXPECT_EQ(o.err.find("No artists"), std::string::npos) << o.err;
+    EXPECT_EQ(o.err.find("Warning:"), std::string::npos) << o.err;
+    const fs::path out = dir.path / "study";
+    o = run_vpm("study --threads 1 --trials 40 --dims 3 --k 4,8 --scenarios uniform --out " + quote(out), dir.path);
+    ASSERT_EQ(o.code, 0) << o.err;
+    for (const char* plot : {"study_error_uniform.png", "study_mse_uniform.png"}) {
+        EXPECT_TRUE(fs::exists(out / plot)) << plot;
+        EXPECT_NE(o.err.find("study: plot " + (out / plot).string()), std::string::npos) << o.err;
+    }
+    EXPECT_EQ(o.err.find("No artists"), std::string::npos) << o.err;
+}

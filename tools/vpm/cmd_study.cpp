@@ -8,12 +8,14 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <vector>
 
 #include "analysis/study.h"
 #include "arguments.h"
@@ -155,8 +157,20 @@ int run_study(int argc, char** argv) {
             if (std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
                 const std::string cmd = "/usr/bin/python3 " + shell_quote(script.string()) + " " +
                                         shell_quote((out / "study.csv").string()) + " " + shell_quote(out.string());
+                const auto before = std::filesystem::file_time_type::clock::now();
                 const int rc = std::system(cmd.c_str());
                 if (rc != 0) log("study: plotting failed (exit " + std::to_string(rc) + "); the tables are written");
+                // The plots this run wrote (the script replaces each study_*.png atomically).
+                std::vector<std::string> plots;
+                for (const auto& e : std::filesystem::directory_iterator(out)) {
+                    const std::string name = e.path().filename().string();
+                    std::error_code ec;
+                    if (name.rfind("study_", 0) == 0 && e.path().extension() == ".png" &&
+                        std::filesystem::last_write_time(e.path(), ec) >= before - std::chrono::seconds(1) && !ec)
+                        plots.push_back(e.path().string());
+                }
+                std::sort(plots.begin(), plots.end());
+                for (const auto& p : plots) log("study: plot " + p);
             } else {
                 log("study: plots skipped (/usr/bin/python3 or " + script.string() + " missing)");
             }

@@ -198,16 +198,18 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     one_off_seconds_ = one_off_before + timer.seconds();
     if (context.log) {
         std::ostream& log = *context.log;
-        log << "gather: auto chose \"" << a.chosen << "\" (pilot: " << kPilotSide * kPilotSide << " pixels x "
-            << "up to " << kPilotSamples << " samples with the map and its halves, up to " << kNoMapPilotSamples << " without a map";
+        // One short line with the choice, then one indented line per candidate with its figures.
+        log << "gather: auto chose \"" << a.chosen << "\" of " << measured.size() << " candidates (pilot: "
+            << kPilotSide * kPilotSide << " pixels x up to " << kPilotSamples << " samples with the map and its halves, up to "
+            << kNoMapPilotSamples << " without a map; work " << in.photon_cost << " per photon)\n";
         if (map->size() == 0)
-            log << (measured_by_pilot ? "; the volume map is empty: its queries continue the path"
-                                      : "; the volume map is empty, nothing to measure");
+            log << (measured_by_pilot ? "  the volume map is empty: its queries continue the path\n"
+                                      : "  the volume map is empty, nothing to measure\n");
         for (const auto& m : measured) {
-            log << "; " << m.name << ": ";
+            log << "  " << m.name << ": ";
             if (m.dropped) {
                 log << "dropped after its probe (a pass of one sample, " << in.pixels * m.sample_cost
-                    << " work units, exceeds half the budget), work " << m.sample_cost << " per sample";
+                    << " work units, exceeds half the budget), work " << m.sample_cost << " per sample\n";
                 continue;
             }
             log << m.samples << " samples, per-sample variance " << m.v_camera << " (charged at "
@@ -219,8 +221,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                 log << " (not a choice: it almost never used the map, so it is the continuation plus a photon pass, render/plan/no_map_candidate.h)";
             if (!m.uses_map)
                 log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance";
+            log << "\n";
         }
-        log << "; work " << in.photon_cost << " per photon)\n";
         if (settings_.chooses_integrator) {
             // The figures behind the choice: each candidate's error^2 x work (pass_plan.h), the best map gather's against the path tracer's.
             double best_map = kInfinity, path = kInfinity;
