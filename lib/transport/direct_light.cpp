@@ -6,9 +6,11 @@
 
 namespace vpm {
 
-Rgb direct_light_in_medium(const Scene& scene, const Vec3& x, const Vec3& ray_dir, double g, Rng& rng, bool mis) {
+Rgb direct_light_in_medium(const Scene& scene, const Vec3& x, const Vec3& ray_dir, double g, Rng& rng, bool mis,
+                           const SegmentPoint* at) {
     Rgb sum = Rgb::Zero();
-    for (const auto& light : scene.lights) {
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const auto& light = scene.lights[i];
         LightSample ls;   // fresh: a light that leaves pdf unset is a delta light
         if (!light->sample_incident(x, rng, ls)) continue;
         // Light travels along -wi before scattering and along -ray_dir after it. The phase value
@@ -16,7 +18,10 @@ Rgb direct_light_in_medium(const Scene& scene, const Vec3& x, const Vec3& ray_di
         const double phase = hg_eval((-ls.wi).dot(-ray_dir), g);
         if (phase == 0.0 || (ls.weight == 0.0).all()) continue;
         const double tr = scene.transmittance(Ray{x, ls.wi}, ls.distance, rng, light.get());
-        sum += ls.weight * (phase * tr * light_sample_weight(mis, ls.pdf, phase));
+        if (at)
+            sum += ls.weight * (phase * tr * light_sample_weight(mis, ls.pdf, phase) * at->weight(i));
+        else
+            sum += ls.weight * (phase * tr * light_sample_weight(mis, ls.pdf, phase));
     }
     return sum;
 }

@@ -5,6 +5,7 @@
 #include "core/math.h"
 #include "core/rng.h"
 #include "scene/scene.h"
+#include "transport/equiangular.h"
 
 namespace vpm {
 
@@ -15,7 +16,10 @@ namespace vpm {
 
 // In-scattered radiance at a medium point x towards -ray_dir from all lights:
 // sum_l phase(ray_dir -> wi reversed) * Li * T. Multiply by the scattering albedo outside.
-Rgb direct_light_in_medium(const Scene& scene, const Vec3& x, const Vec3& ray_dir, double g, Rng& rng, bool mis = false);
+// `at`: x is a point of a segment whose point and spot lights are also sampled equiangularly
+// (transport/equiangular.h); their samples here weigh at->weight(light).
+Rgb direct_light_in_medium(const Scene& scene, const Vec3& x, const Vec3& ray_dir, double g, Rng& rng, bool mis = false,
+                           const SegmentPoint* at = nullptr);
 
 // Reflected direct radiance of a Lambertian hit towards the viewer: reflectance/pi * Li cos * T.
 Rgb direct_light_on_surface(const Scene& scene, const SurfaceHit& hit, Rng& rng, bool mis = false);

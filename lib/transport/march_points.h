@@ -9,6 +9,7 @@
 // other media's transmittance: this medium's transmittance and extinction cancel exactly, so the
 // weights are bounded by albedo P / n in any density field, where points placed by a majorant's
 // free flight weighed up to e^(tau_majorant - tau) times that.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -35,6 +36,12 @@ struct MarchMass {
 // The points as place_march_points, counted by `count`.
 MarchMass place_counted_march_points(const Medium& medium, const Ray& ray, double tmax, int n, MarchCount count,
                                      Rng& rng, OpticalDepthProfile& profile, std::vector<double>& ts);
+
+// The density with which those points lie at t in the medium, sigma_t there and tau its optical depth
+// over (0, t): m.divisor / m.mass * sigma_t exp(-tau) (0 where it places none).
+inline double march_density(const MarchMass& m, double sigma_t, double tau) {
+    return m.mass > 0.0 ? m.divisor / m.mass * sigma_t * std::exp(-tau) : 0.0;
+}
 
 // Scratch space of one for_each_march_point call, kept by the thread for its later calls (a profile
 // holds a piece per voxel cell crossed: growing a fresh one per camera segment was 1.5% of the thin
@@ -65,14 +72,18 @@ private:
 // m from place_counted_march_points. The march gather and the beam gather's single scattering share it.
 // With `depth`, adds every medium's optical depth over (0, t_end) to *depth in the scene's order, as
 // transport/seen_through.h's exact_transmittance sums it (from the profiles the points were placed on:
-// the segment is not walked twice where a light is seen behind it).
+// the segment is not walked twice where a light is seen behind it). With `masses` (one per medium, in
+// the scene's order), sets each medium's m ({0, 1} where it places no points).
 template <class Visit>
 void for_each_march_point(const Scene& scene, const Ray& ray, double t_end, int n, MarchCount count, Rng& rng,
-                          uint64_t per_point, uint64_t& tracked, Visit&& visit, double* depth = nullptr) {
+                          uint64_t per_point, uint64_t& tracked, Visit&& visit, double* depth = nullptr,
+                          MarchMass* masses = nullptr) {
     MarchScratch scratch;
     OpticalDepthProfile& profile = scratch.profile;
     std::vector<double>& ts = scratch.ts;
-    for (const auto& medium : scene.media) {
+    for (size_t index = 0; index < scene.media.size(); ++index) {
+        const auto& medium = scene.media[index];
+        if (masses) masses[index] = MarchMass{};
         if ((medium->albedo() == 0.0).all()) {
             if (depth) {
                 medium->optical_depth_profile(ray, t_end, profile);
@@ -81,6 +92,7 @@ void for_each_march_point(const Scene& scene, const Ray& ray, double t_end, int 
             continue;
         }
         const MarchMass mass = place_counted_march_points(*medium, ray, t_end, n, count, rng, profile, ts);
+        if (masses) masses[index] = mass;
         if (depth && !profile.empty()) *depth += profile.total();
         double others = 1.0, t_prev = 0.0;   // the other media's transmittance to the point
         for (const double t : ts) {

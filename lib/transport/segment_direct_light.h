@@ -13,7 +13,10 @@
 namespace vpm {
 
 // `ray.dir` unit length; t_end may be kInfinity. `rays`: incremented by the tracked segments
-// (transmittance intervals and shadow rays), for cost counts.
-Rgb segment_direct_light(const Scene& scene, const Ray& ray, double t_end, int n, Rng& rng, uint64_t& rays);
+// (transmittance intervals and shadow rays), for cost counts. `equiangular` (render.equiangular):
+// point and spot lights are also sampled equiangularly along the segment, the points' NEE to them
+// weighted against it by the balance heuristic with the points' density (transport/equiangular.h).
+Rgb segment_direct_light(const Scene& scene, const Ray& ray, double t_end, int n, Rng& rng, uint64_t& rays,
+                         bool equiangular = false);
 
 }  // namespace vpm

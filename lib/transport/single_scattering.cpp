@@ -17,8 +17,8 @@ bool bounces_find_lights(const Scene& scene) {
 }
 
 Rgb single_scattering_both_strategies(const Scene& scene, const Vec3& x, const Vec3& ray_dir, double g, Rng& rng,
-                                      uint64_t& rays) {
-    Rgb sum = direct_light_in_medium(scene, x, ray_dir, g, rng, true);
+                                      uint64_t& rays, const SegmentPoint* at) {
+    Rgb sum = direct_light_in_medium(scene, x, ray_dir, g, rng, true, at);
     ++rays;
     // The bounce: phase / pdf = 1 for Henyey-Greenstein sampling.
     const double u1 = rng.uniform(), u2 = rng.uniform();

@@ -19,6 +19,7 @@
 #include "core/math.h"
 #include "core/rng.h"
 #include "scene/scene.h"
+#include "transport/equiangular.h"
 #include "transport/mis.h"
 
 namespace vpm {
@@ -28,9 +29,10 @@ namespace vpm {
 bool bounces_find_lights(const Scene& scene);
 
 // Single scattering at medium point x towards -ray_dir (phase g), both strategies (above).
-// `rays` counts the tracked segments (NEE's shadow rays and the bounce's).
+// `rays` counts the tracked segments (NEE's shadow rays and the bounce's). `at`: as for
+// direct_light_in_medium (point and spot lights also sampled equiangularly along the segment).
 Rgb single_scattering_both_strategies(const Scene& scene, const Vec3& x, const Vec3& ray_dir, double g, Rng& rng,
-                                      uint64_t& rays);
+                                      uint64_t& rays, const SegmentPoint* at = nullptr);
 
 // How emission met after a path continues from x along wo (sampled by the phase from ray_dir) counts:
 // MIS-weighted when render.mis, its NEE having been weighted too; else 0.

@@ -1,8 +1,11 @@
 #include "render/path/path_tracer.h"
 
+#include <optional>
+
 #include "core/henyey_greenstein.h"
 #include "core/sampling.h"
 #include "transport/direct_light.h"
+#include "transport/equiangular.h"
 #include "transport/mis.h"
 #include "transport/specular_step.h"
 #include "transport/walk_steps.h"
@@ -17,9 +20,23 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
     EmissionWeighting emission = EmissionWeighting::camera();   // how emission met next counts
+    uint64_t rays = 0;   // shadow rays: the path tracer does not report them
     for (int depth = 0;; ++depth) {
         // `depth` scattering events so far; the vertex found now would be number depth + 1.
         const PathVertex v = next_vertex(scene_, ray, rng);
+        const bool scatters = !(max_depth >= 0 && depth + 1 > max_depth);
+        // Point and spot lights' single scattering along this segment, sampled equiangularly
+        // (transport/equiangular.h); the collision's NEE to them below is weighted against it.
+        std::optional<EquiangularSegment> segment;
+        if (walk_.equiangular && scatters && scene_.has_media()) {
+            segment.emplace(scene_, ray, v.on_surface ? v.hit.t : kInfinity);
+            if (segment->empty())
+                segment.reset();
+            else
+                radiance += throughput * segment->in_scattering(rng, rays, [](size_t, double s, double, double tau) {
+                                return free_flight_density(s, tau);
+                            });
+        }
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             break;
@@ -30,13 +47,18 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
             radiance += throughput * emitted_radiance(scene_, ray, v.hit, emission);
             break;
         }
-        if (max_depth >= 0 && depth + 1 > max_depth) break;
+        if (!scatters) break;
         if (v.medium) {
             const Vec3 x = ray.at(v.medium.t);
             const Medium& m = *v.medium.medium;
             throughput *= m.albedo();   // collision estimator: scatter weight = albedo
             if ((throughput == 0.0).all()) break;
-            radiance += throughput * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, mis);
+            if (segment) {
+                const SegmentPoint at{&*segment, v.medium.t, segment->free_flight_density_at(v.medium.t, m.sigma_t(x))};
+                radiance += throughput * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, mis, &at);
+            } else {
+                radiance += throughput * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, mis);
+            }
             const double u1 = rng.uniform(), u2 = rng.uniform();
             const Vec3 wo = hg_sample(ray.dir, m.g(), u1, u2);
             emission = EmissionWeighting::after(mis, x, hg_eval(ray.dir.dot(wo), m.g()));

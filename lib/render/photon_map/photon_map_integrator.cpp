@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <optional>
 #include <ostream>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -24,6 +25,7 @@
 #include "photon/estimate/linear_estimate.h"
 #include "config/params.h"
 #include "transport/direct_light.h"
+#include "transport/equiangular.h"
 #include "transport/march_points.h"
 #include "transport/mis.h"
 #include "transport/walk_steps.h"
@@ -403,11 +405,12 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
     return trace(camera_ray, 0, rng, EmissionWeighting::camera());
 }
 
-Rgb PhotonMapIntegrator::single_scattering(const Vec3& x, const Vec3& dir, double g, bool goes_on, Rng& rng) const {
-    if (goes_on) return direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis);
-    if (!both_strategies_) return direct_light_in_medium(scene_, x, dir, g, rng);
+Rgb PhotonMapIntegrator::single_scattering(const Vec3& x, const Vec3& dir, double g, bool goes_on, Rng& rng,
+                                           const SegmentPoint* at) const {
+    if (goes_on) return direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis, at);
+    if (!both_strategies_) return direct_light_in_medium(scene_, x, dir, g, rng, false, at);
     uint64_t rays = 0;
-    const Rgb l = single_scattering_both_strategies(scene_, x, dir, g, rng, rays);
+    const Rgb l = single_scattering_both_strategies(scene_, x, dir, g, rng, rays, at);
     threads_->local.local().rays += rays - 1;   // the caller counts one
     return l;
 }
@@ -431,6 +434,21 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
         // wide (the stress matrix's furnace and pathological cells hung once "auto" chose the march).
         const bool march = first_depth == 0 && marches(ray, t_end);
         const bool beam = gather_ == Gather::beam || gather_ == Gather::photon_beams;
+        // The collision gather's segments with direct = "nee", where every collision takes NEE: point
+        // and spot lights are also sampled equiangularly along it (transport/equiangular.h). The march's
+        // and the beam's segments do the same in march_in_scattering and segment_direct_light.
+        std::optional<EquiangularSegment> segment;
+        if (settings_.walk.equiangular && settings_.direct == DirectLighting::nee && !march && !beam &&
+            !(max_depth >= 0 && depth + 1 > max_depth) && scene_.has_media()) {
+            segment.emplace(scene_, ray, t_end);
+            if (segment->empty())
+                segment.reset();
+            else
+                radiance += throughput * segment->in_scattering(rng, threads_->local.local().rays,
+                                                                [](size_t, double s, double, double tau) {
+                                                                    return free_flight_density(s, tau);
+                                                                });
+        }
         if ((march || beam) && (!v.on_surface || hit.emitter)) {
             // The segment's in-scattering is gathered apart, so the sky or area light behind it is
             // weighed by the exact transmittance, not found by the free flight's trial
@@ -483,7 +501,12 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
             if (sigma_t > 0.0) b = bounded_in_scattering(x, -ray.dir, m.g(), sigma_t, local.buffers, &local.stats);
             const bool goes_on = b.rule == BoundedQuery::continue_path;
             if (nee) {
-                radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng);
+                if (segment) {
+                    const SegmentPoint at{&*segment, event.t, segment->free_flight_density_at(event.t, m.sigma_t(x))};
+                    radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng, &at);
+                } else {
+                    radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng);
+                }
                 ++local.rays;
             }
             if (!(sigma_t > 0.0) || b.rule == BoundedQuery::zero) break;
@@ -658,6 +681,17 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int d
     const int n = settings_.gather_queries;
     auto& local = threads_->local.local();
     Rgb sum = Rgb::Zero();
+    // With direct = "nee" every point takes NEE: point and spot lights are also sampled equiangularly
+    // along the segment, each point's NEE to them weighted with the march's density there.
+    std::optional<EquiangularSegment> segment;
+    std::vector<MarchMass> masses;
+    if (settings_.walk.equiangular && settings_.direct == DirectLighting::nee) {
+        segment.emplace(scene_, ray, t_end);
+        if (segment->empty())
+            segment.reset();
+        else
+            masses.assign(scene_.media.size(), MarchMass{});
+    }
     // The profile counts as one tracked segment per point, like each other medium's.
     for_each_march_point(scene_, ray, t_end, n, settings_.march_points, rng, scene_.media.size(), local.rays,
                          [&](const Medium& medium, double t, double others, MarchMass mass) {
@@ -667,14 +701,25 @@ Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int d
                              ++local.march_points;
                              const Vec3 x = ray.at(t);
                              const Rgb weight = (others * mass.mass / mass.divisor) * medium.albedo();
-                             sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, rng);
+                             if (!segment) {
+                                 sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, rng);
+                                 return;
+                             }
+                             const double tau = segment->medium_depth(segment->medium_index(medium), t);
+                             const SegmentPoint at{&*segment, t, march_density(mass, medium.sigma_t(x), tau)};
+                             sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight,
+                                                                     depth, rng, &at);
                          },
-                         optical_depth);
+                         optical_depth, segment ? masses.data() : nullptr);
+    if (segment)
+        sum += segment->in_scattering(rng, local.rays, [&](size_t i, double sigma_t, double tau_m, double) {
+            return march_density(masses[i], sigma_t, tau_m);
+        });
     return sum;
 }
 
 Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t,
-                                                 const Rgb& weight, int depth, Rng& rng) const {
+                                                 const Rgb& weight, int depth, Rng& rng, const SegmentPoint* at) const {
     const bool nee = settings_.direct == DirectLighting::nee;
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
     auto& local = threads_->local.local();
@@ -688,7 +733,7 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
     const BoundedEstimate b = bounded_in_scattering(x, -dir, g, sigma_t, local.buffers, &local.stats);
     const bool wide = b.rule == BoundedQuery::continue_path;
     if (nee) {
-        in += single_scattering(x, dir, g, wide, rng);
+        in += single_scattering(x, dir, g, wide, rng, at);
         ++local.rays;
     }
     if (b.rule == BoundedQuery::zero) return in;
@@ -782,7 +827,8 @@ void PhotonMapIntegrator::build_photon_beams(std::ostream* log, RunStats* stats)
 Rgb PhotonMapIntegrator::beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const {
     Rgb l = gather_ == Gather::photon_beams ? photon_beams_->in_scattering(ray, t_end, rng) : beam_->in_scattering(ray, t_end, rng);
     if (settings_.direct == DirectLighting::nee)
-        l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, threads_->local.local().rays);
+        l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, threads_->local.local().rays,
+                                  settings_.walk.equiangular);
     return l;
 }
 

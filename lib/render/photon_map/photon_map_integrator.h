@@ -71,6 +71,7 @@ namespace vpm {
 
 class BeamGather;
 class PhotonBeamGather;
+struct SegmentPoint;
 
 class PhotonMapIntegrator : public Integrator {
 public:
@@ -196,7 +197,9 @@ private:
     Rgb trace(const Ray& ray, int first_depth, Rng& rng, const EmissionWeighting& first_emission = EmissionWeighting::camera()) const;
     // Single scattering at a medium vertex (transport/single_scattering.h): `goes_on`, the path continues
     // past x (MIS-weighted NEE when render.mis); else the map ends it (both strategies where they apply).
-    Rgb single_scattering(const Vec3& x, const Vec3& dir, double g, bool goes_on, Rng& rng) const;
+    // `at`: x's segment also samples point and spot lights equiangularly (transport/equiangular.h).
+    Rgb single_scattering(const Vec3& x, const Vec3& dir, double g, bool goes_on, Rng& rng,
+                          const SegmentPoint* at = nullptr) const;
     bool both_strategies_ = false;   // render.mis and a light a bounce can find
     // gather = "march": the in-scattered radiance along `ray` over the media inside (0, t_end),
     // from gather_queries stratified points, each weighted by a ratio-tracked transmittance.
@@ -214,7 +217,7 @@ private:
                    GatherBuffers& buffers, std::vector<Rgb>& scratch) const;
     // The phase-weighted incident radiance at march point x (weight: the point's, for roulette).
     Rgb incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight,
-                                int depth, Rng& rng) const;
+                                int depth, Rng& rng, const SegmentPoint* at = nullptr) const;
     // Whether the volume map is too small for any estimate (photon/estimate/bounded_radius.h): then every
     // query, at a collision or a march point, continues the path instead.
     bool volume_map_starved() const;

@@ -53,6 +53,9 @@ public:
     // shapes; scene/lights/emission_bounds.h); they need those bounds.
     virtual void set_scene_bounds(const Bounds3& bounds) {}
     virtual bool at_infinity() const { return false; }
+    // Lights that emit from one point (point, spot): that point, for strategies that place points
+    // along a ray by their distance to it (transport/equiangular.h). false for every other light.
+    virtual bool delta_position(Vec3& position) const { return false; }
     // They aim part of their photons at the region the camera sees (scene/camera_region.h) when it
     // is much smaller than those bounds (returns whether it does); other lights ignore it. Call
     // after set_scene_bounds.

@@ -38,6 +38,10 @@ public:
         const double pdf = guided_.pdf(emission_direction_pdf(dir), dir);
         return {Ray{position_, dir}, pdf > 0.0 ? Rgb(intensity_ / pdf) : Rgb::Zero()};
     }
+    bool delta_position(Vec3& position) const override {
+        position = position_;
+        return true;
+    }
     bool guide_origin(Vec3& origin, double& start) const override {
         if (!silhouette_.valid() && !cone_.full_sphere) return false;   // a narrow cone already: nothing to guide
         origin = position_;

@@ -48,6 +48,10 @@ public:
         const bool lit = dir.dot(frame_.n) >= cos_max_;
         return {Ray{position_, dir}, lit && pdf > 0.0 ? Rgb(intensity_ / pdf) : Rgb::Zero()};
     }
+    bool delta_position(Vec3& position) const override {
+        position = position_;
+        return true;
+    }
     bool guide_origin(Vec3& origin, double& start) const override {
         if (emit_in_scene_cone_ || misses_scene_) return false;   // aimed at the scene's cone already, or dark
         origin = position_;
