@@ -5,6 +5,7 @@
 #   bench/halfspace_bias.sh NAME [--set KEY=VALUE]...      (PASSES, default 4000; OUT, default out/halfspace_bias)
 # e.g. NAME = fixed_radius with --set photons.max_radius_mfp=0 --set photons.k=1000000 --set photons.max_radius=0.5
 set -e
+[ $# -ge 1 ] || { echo "usage: bench/halfspace_bias.sh NAME [--set KEY=VALUE]..." >&2; exit 2; }
 name=$1; shift
 V=${VPM:-./build/vpm}; D=${OUT:-out/halfspace_bias}; P=${PASSES:-4000}; mkdir -p "$D"
 $V render configs/semi_infinite.toml -q -o "$D/$name.exr" --set media.0.albedo=0.5 \

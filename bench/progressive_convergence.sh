@@ -14,6 +14,7 @@
 # same machine load; each writes the running mean's error after every pass (OUT/SCHEDULE.passes.csv).
 # OUT defaults to out/progressive/SCENE.
 set -e
+[ $# -ge 2 ] || { echo "usage: bench/progressive_convergence.sh SCENE SECONDS [--set KEY=VALUE]..." >&2; exit 2; }
 scene=$1; seconds=$2; shift 2
 V=${VPM:-./build/vpm}; D=${OUT:-out/progressive/$scene}; mkdir -p "$D"
 small=(--set render.width=32 --set render.height=32)

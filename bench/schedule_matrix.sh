@@ -10,6 +10,7 @@
 # OUT/schedules.md: bench/schedule_matrix_table.py's table (passes, seconds, relative RMSE with the
 # reference's noise removed, mean error; progressive's mean squared error over fixed's).
 set -e
+[ $# -ge 1 ] || { echo "usage: bench/schedule_matrix.sh SECONDS [CELL_ID_PART]... [-- --set KEY=VALUE ...]" >&2; exit 2; }
 seconds=$1; shift
 cells=(); sets=()
 while [ $# -gt 0 ]; do
