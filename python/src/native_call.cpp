@@ -9,6 +9,10 @@
 #include <thread>
 
 #include <pybind11/pybind11.h>
+#include <string>
+
+#include "core/error.h"
+#include "core/thread_limit.h"
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
@@ -17,7 +21,13 @@ namespace py = pybind11;
 
 namespace vpm::python {
 
+void check_threads(int threads) {
+    if (threads < 0 || threads > kMaxThreads)
+        throw Error("threads: expected 0 (all cores) to " + std::to_string(kMaxThreads) + ", got " + std::to_string(threads));
+}
+
 void call_native(const std::function<void(const std::atomic<bool>& interrupted)>& work, int threads) {
+    check_threads(threads);
     std::optional<tbb::global_control> limit;
     if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
     tbb::task_group_context context;

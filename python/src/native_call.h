@@ -13,8 +13,12 @@
 
 namespace vpm::python {
 
+// Throws vpm::Error unless 0 <= threads <= kMaxThreads (the tool's --threads range).
+void check_threads(int threads);
+
 // Runs work(interrupted) as described above. Exceptions thrown by the work propagate unchanged.
-// `threads` > 0 limits TBB's workers for the call (tbb::global_control, like `--threads`).
+// `threads` > 0 limits TBB's workers for the call (tbb::global_control, like `--threads`);
+// outside check_threads' range it throws before any work.
 void call_native(const std::function<void(const std::atomic<bool>& interrupted)>& work, int threads = 0);
 
 }  // namespace vpm::python

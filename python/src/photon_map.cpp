@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -15,8 +16,10 @@
 #include "bindings.h"
 #include "config.h"
 #include "native_call.h"
+#include "core/progress.h"
 #include "photon/estimate/estimators.h"
 #include "photon/map/photon_map.h"
+#include "photon/trace/photon_budget.h"
 #include "render/photon_map/photon_map_integrator.h"
 #include "render/photon_map/photon_pass.h"
 #include "render/run/run_record.h"
@@ -45,13 +48,53 @@ Points rows_of_three(const py::handle& h, const char* what) {
     return a;
 }
 
+// Row i of a direction array as a unit vector, or vpm::Error: zero, non-finite and unnormalised
+// directions are refused alike (an estimate's phase function needs a unit direction).
+Vec3 unit_direction(const Vec3& dir, size_t i, const char* what) {
+    const double len = dir.norm();
+    if (!(std::abs(len - 1.0) < 1e-6)) {
+        std::ostringstream s;
+        s << what << "[" << i << "] has length " << len << ", expected 1";
+        throw Error(s.str());
+    }
+    return dir;
+}
+
+// Row i of a query array, or vpm::Error when it is not finite (no neighbour is nearest to NaN).
+Vec3 finite_point(const double* row, size_t i, const char* what) {
+    const Vec3 x(row[0], row[1], row[2]);
+    if (!x.allFinite()) throw Error(std::string(what) + "[" + std::to_string(i) + "] is not finite");
+    return x;
+}
+
+// The renderer's memory guard for maps built from arrays: the peak of storing n photons and
+// building their kd-tree (photon_budget.h) must fit in half the machine's memory, the other half
+// left to the caller's arrays and the interpreter.
+void check_photon_map_memory(size_t n) {
+    const double peak = double(n) * kPeakBytesPerStoredPhoton, limit = 0.5 * double(physical_memory_bytes());
+    if (peak <= limit) return;
+    std::ostringstream s;
+    s.precision(3);
+    s << "PhotonMap: " << double(n) << " photons need about " << peak / 1e9 << " GB while the kd-tree is built ("
+      << kPeakBytesPerStoredPhoton << " bytes each), more than half of this machine's "
+      << double(physical_memory_bytes()) / 1e9 << " GB; at most " << std::floor(limit / kPeakBytesPerStoredPhoton)
+      << " photons fit";
+    throw Error(s.str());
+}
+
 std::vector<PhotonInput> photons_from_arrays(const py::handle& positions, const py::handle& powers,
                                              const py::handle& directions) {
+    // Checked on the caller's array before the float64 copies below, which could not be made either.
+    if (py::isinstance<py::array>(positions)) {
+        const auto caller = py::reinterpret_borrow<py::array>(positions);
+        if (caller.ndim() == 2) check_photon_map_memory(size_t(caller.shape(0)));
+    }
     const Points p = rows_of_three(positions, "positions"), w = rows_of_three(powers, "powers"),
                  d = rows_of_three(directions, "directions");
     if (w.shape(0) != p.shape(0) || d.shape(0) != p.shape(0))
         throw Error("PhotonMap: positions, powers and directions must have the same number of rows (" +
                     std::to_string(p.shape(0)) + ", " + std::to_string(w.shape(0)) + ", " + std::to_string(d.shape(0)) + ")");
+    check_photon_map_memory(size_t(p.shape(0)));
     std::vector<PhotonInput> out(size_t(p.shape(0)));
     auto pp = p.unchecked<2>();
     auto ww = w.unchecked<2>();
@@ -60,11 +103,7 @@ std::vector<PhotonInput> photons_from_arrays(const py::handle& positions, const 
         const auto r = py::ssize_t(i);
         out[i].position = Vec3(pp(r, 0), pp(r, 1), pp(r, 2));
         out[i].power = Rgb(ww(r, 0), ww(r, 1), ww(r, 2));
-        const Vec3 dir(dd(r, 0), dd(r, 1), dd(r, 2));
-        const double len = dir.norm();
-        if (!(std::abs(len - 1.0) < 1e-6))
-            throw Error("PhotonMap: directions[" + std::to_string(i) + "] has length " + std::to_string(len) + ", expected 1");
-        out[i].direction = dir;
+        out[i].direction = unit_direction(Vec3(dd(r, 0), dd(r, 1), dd(r, 2)), i, "PhotonMap: directions");
     }
     return out;
 }
@@ -78,7 +117,7 @@ PyPhotonMap from_arrays(const py::handle& positions, const py::handle& powers, c
 }
 
 PyPhotonMap trace(const Config& config, uint64_t stream_offset, std::optional<int> threads, bool progress, bool log) {
-    if (threads && *threads < 0) throw Error("threads: expected 0 (all cores) or more, got " + std::to_string(*threads));
+    if (threads) check_threads(*threads);
     const RunConfig& rc = *config.run;
     const PhotonMapSettings& settings = photon_map_settings(rc);
     const bool surface = rc.scene->uses_embree() && !settings.final_gather;
@@ -142,6 +181,7 @@ py::tuple knn(const PyPhotonMap& m, const py::handle& points, size_t k, std::opt
     const double* qp = q.data();
     double* dp = distances.mutable_data();
     int64_t* ip = indices.mutable_data();
+    for (size_t i = 0; i < size_t(n); ++i) finite_point(qp + 3 * i, i, "knn: points");
     const PhotonMap& map = *m.map;
     call_native([&](const std::atomic<bool>&) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(n), 64), [&](const tbb::blocked_range<size_t>& range) {
@@ -200,13 +240,17 @@ py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::ha
     const double* wp = w.data();
     double* vp = values.mutable_data();
     double* rp = radii.mutable_data();
+    for (size_t i = 0; i < size_t(n); ++i) {
+        finite_point(qp + 3 * i, i, "estimate: points");
+        unit_direction(Vec3(wp[3 * i], wp[3 * i + 1], wp[3 * i + 2]), i, "estimate: directions");
+    }
     const PhotonMap& map = *m.map;
     call_native([&](const std::atomic<bool>&) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(n), 64), [&](const tbb::blocked_range<size_t>& range) {
             GatherBuffers buffers;
             for (size_t i = range.begin(); i != range.end(); ++i) {
                 const Vec3 x(qp[3 * i], qp[3 * i + 1], qp[3 * i + 2]);
-                const Vec3 w_o = Vec3(wp[3 * i], wp[3 * i + 1], wp[3 * i + 2]).normalized();
+                const Vec3 w_o(wp[3 * i], wp[3 * i + 1], wp[3 * i + 2]);
                 const Estimate<Rgb> est = estimate_in_scattering(map, x, w_o, gg, e, kk, radius, buffers);
                 for (int c = 0; c < 3; ++c) vp[3 * i + size_t(c)] = est.value[c];
                 rp[i] = est.radius;
@@ -251,7 +295,8 @@ void bind_photon_map(py::module_& m) {
              "lib/photon/estimate/estimators.h, rules (a)-(c) included). Unset arguments come from the config's [photons] "
              "(estimator, k, kernel, max_radius) and its media (g). return_radius: also the radius of each ball (the "
              "one counted in). pass_index: the estimate of that pass under photons.schedule starting from k (the pass's own k "
-             "and radius scale: docs/progressive.md).");
+             "and radius scale: docs/progressive.md). Points must be finite and directions unit vectors (vpm.Error naming "
+             "the row otherwise).");
     m.def("_trace_photons", &trace, py::arg("config"), py::arg("stream_offset") = 0, py::arg("threads") = py::none(),
           py::arg("progress") = false, py::arg("log") = false);
 }

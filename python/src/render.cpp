@@ -34,7 +34,7 @@ struct RenderResult {
 
 // The threads the run may use: `threads` if given, else render.threads, 0 meaning all cores (as the tool).
 int thread_count(const RunConfig& config, std::optional<int> threads) {
-    if (threads && *threads < 0) throw Error("threads: expected 0 (all cores) or more, got " + std::to_string(*threads));
+    if (threads) check_threads(*threads);
     const int n = threads ? *threads : config.render.threads;
     return n > 0 ? n : tbb::info::default_concurrency();
 }

@@ -78,14 +78,55 @@ def load_config(source, overrides=None):
     """
     sets = _overrides(overrides)
     if isinstance(source, dict):
-        return _vpm._load_config(json.dumps(source), True, "<dict>", os.getcwd(), sets)
+        return _load_dict(source, sets)
     if isinstance(source, os.PathLike):
         return _vpm._load_config(os.fspath(source), False, "", "", sets)
     if not isinstance(source, str):
         raise Error("load_config: expected a path, config text or a dict, got a %s" % type(source).__name__)
+    if not source.strip():
+        raise FileError("load_config: expected a config path, config text or a dict, got an empty string")
     if "\n" in source or "=" in source or source.lstrip().startswith("{"):
         return _vpm._load_config(source, True, "<string>", os.getcwd(), sets)
     return _vpm._load_config(source, False, "", "", sets)
+
+
+def _dict_values(table, path, non_finite):
+    """A copy of a config dict that JSON can carry: every key a str and every value a bool, number,
+    str, list or dict (else vpm.ConfigError naming the key). JSON has no NaN or infinity, so such
+    floats are replaced by 0 and their dotted paths collected in non_finite, to go in as overrides."""
+    if isinstance(table, dict):
+        out = {}
+        for key, value in table.items():
+            if not isinstance(key, str):
+                raise ConfigError("<dict>: %s: a config key must be a str, got a %s" % (path or "<top>", type(key).__name__))
+            out[key] = _dict_values(value, path + "." + key if path else key, non_finite)
+        return out
+    if isinstance(table, (list, tuple)):
+        return [_dict_values(v, "%s.%d" % (path, i), non_finite) for i, v in enumerate(table)]
+    if isinstance(table, (bool, str)) or isinstance(table, numbers.Integral):
+        return table
+    if isinstance(table, numbers.Real):
+        value = float(table)
+        if not math.isfinite(value):
+            non_finite.append((path, value))
+            return 0.0
+        return value
+    raise ConfigError("<dict>: %s: a %s cannot be a config value (use bool, int, float, str, a list or a dict)"
+                      % (path, type(table).__name__))
+
+
+def _load_dict(source, sets):
+    non_finite = []
+    text = json.dumps(_dict_values(source, "", non_finite))
+    injected = ["%s=%s" % (path, _toml_value(value, path)) for path, value in non_finite]
+    try:
+        return _vpm._load_config(text, True, "<dict>", os.getcwd(), injected + sets)
+    except ConfigError as e:   # a non-finite value's range error: name the dict, not an override
+        message = str(e)
+        for path, _ in non_finite:
+            if message.startswith("--set %s: " % path):
+                raise ConfigError("<dict>: " + message[len("--set %s: " % path):]) from None
+        raise
 
 
 def _config(config):

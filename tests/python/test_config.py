@@ -60,3 +60,25 @@ def test_bad_text_names_the_line():
 def test_a_value_python_cannot_write_as_toml_is_refused():
     with pytest.raises(vpm.Error, match="photons.k"):
         vpm.load_config(FURNACE, overrides={"photons.k": object()})
+
+
+def test_an_empty_source_is_a_file_error():
+    for source in ("", "   "):
+        with pytest.raises(vpm.FileError, match="got an empty string"):
+            vpm.load_config(source)
+
+
+def test_a_non_finite_dict_value_gets_the_range_message():
+    with pytest.raises(vpm.ConfigError) as raised:
+        vpm.load_config({"render": {"exposure": float("nan")}})
+    message = str(raised.value)
+    assert message.startswith("<dict>: render.exposure") and "out of range" in message, message
+    with pytest.raises(vpm.ConfigError, match=r"<dict>: render\.exposure"):
+        vpm.load_config({"render": {"exposure": float("inf")}})
+
+
+def test_a_dict_value_json_cannot_carry_names_its_key():
+    with pytest.raises(vpm.ConfigError, match=r"<dict>: photons\.k: a object cannot be a config value"):
+        vpm.load_config({"photons": {"k": object()}})
+    with pytest.raises(vpm.ConfigError, match="key must be a str"):
+        vpm.load_config({"photons": {3: 8}})

@@ -116,3 +116,44 @@ def test_estimate_at_a_pass_follows_the_schedule():
     assert (r_late < 0.8 * r0).all()
     with pytest.raises(vpm.Error, match="pass_index"):
         photons.estimate(points, wo, pass_index=-1)
+
+
+def test_estimate_and_knn_refuse_what_the_constructor_refuses():
+    m = uniform_map(1000, np.random.default_rng(2))
+    p = np.full((2, 3), 0.5)
+    good = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+    for bad in ([0.0, 0.0, 0.0], [math.nan, 0.0, 1.0], [0.0, 0.0, 2.0]):
+        with pytest.raises(vpm.Error, match=r"estimate: directions\[1\] has length"):
+            m.estimate(p, np.array([good[0], bad]), k=8, g=0.0)
+    nan_point = np.array([[0.5, 0.5, 0.5], [math.nan, 0.5, 0.5]])
+    with pytest.raises(vpm.Error, match=r"estimate: points\[1\] is not finite"):
+        m.estimate(nan_point, good, k=8, g=0.0)
+    with pytest.raises(vpm.Error, match=r"knn: points\[1\] is not finite"):
+        m.knn(nan_point, 4)
+
+
+def test_negative_powers_are_refused():
+    rng = np.random.default_rng(4)
+    n = 100
+    directions = np.tile([0.0, 0.0, 1.0], (n, 1))
+    powers = np.ones((n, 3))
+    powers[17, 1] = -1e-3
+    with pytest.raises(vpm.Error, match="photon 17 has negative power"):
+        vpm.PhotonMap(rng.uniform(size=(n, 3)), powers, directions)
+
+
+def test_a_map_beyond_half_the_memory_is_refused_before_any_allocation():
+    # Broadcast views: 1e11 rows that take no memory, so only the guard can stop the build.
+    n = 10 ** 11
+    rows = lambda v: np.broadcast_to(np.array([v], dtype=np.float64), (n, 3))
+    with pytest.raises(vpm.Error, match=r"photons fit"):
+        vpm.PhotonMap(rows([0.5, 0.5, 0.5]), rows([1.0, 1.0, 1.0]), rows([0.0, 0.0, 1.0]))
+
+
+def test_threads_beyond_the_tools_range_are_refused():
+    config = vpm.load_config(FURNACE, overrides=SMALL)
+    for threads in (-1, 5000, 10 ** 9):
+        with pytest.raises(vpm.Error, match="threads: expected 0 .* to 4096"):
+            vpm.trace_photons(config, threads=threads)
+        with pytest.raises(vpm.Error, match="threads: expected 0 .* to 4096"):
+            vpm.render(config, threads=threads)

@@ -29,6 +29,7 @@
 #include "analysis/scene_matrix.h"
 #include "analysis/reference_samples.h"
 #include "arguments.h"
+#include "core/thread_limit.h"
 #include "data_files.h"
 #include "command.h"
 #include "core/error.h"
@@ -93,7 +94,7 @@ int run_equal_time(int argc, char** argv) {
     app.add_option("--pm-spp", pm_spp, "Samples per pixel of the photon-map render")->capture_default_str()->check(CLI::Range(1, 1 << 20));
     app.add_option("--photons", photons, "Photons emitted for the photon map")->capture_default_str()->check(CLI::Range(int64_t(1000), int64_t(1) << 32));
     app.add_option("--size", size, "Image size WxH (overrides render.width/height)")->capture_default_str();
-    app.add_option("--threads", threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
+    app.add_option("--threads", threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, vpm::kMaxThreads));
     app.add_option("--out", out_dir, "Folder for the cached references and the results")->capture_default_str();
     app.add_flag("--fresh", fresh, "Re-render the references even when cached");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
@@ -212,7 +213,7 @@ int run_matrix(int argc, char** argv) {
     app.add_option("--reference-seconds", reference, "Path tracer seconds per reference (default 30; --quick 4)")
         ->check(vpm::cli::finite_in(0.01, 1e6, "a number in [0.01, 1e6]"));
     app.add_option("--size", o.size, "Image width = height (default 64; --quick 32)")->check(CLI::Range(4, 4096));
-    app.add_option("--threads", threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
+    app.add_option("--threads", threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, vpm::kMaxThreads));
     app.add_option("--only", only, "Run only cells whose id (e.g. box-tau10-a0.9-g0-point-s1) or group contains TEXT");
     app.add_option("--max-tau", max_tau, "Run only cells of optical thickness <= T (with --only: both must hold; 0: no limit)")
         ->check(vpm::cli::finite_in(0.0, HUGE_VAL, "a finite number >= 0"));

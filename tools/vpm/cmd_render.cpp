@@ -12,6 +12,7 @@
 #include "arguments.h"
 #include "command.h"
 #include "core/sampler_registry.h"
+#include "core/thread_limit.h"
 #include "core/progress.h"
 #include "analysis/error_metrics.h"
 #include "core/error.h"
@@ -64,7 +65,7 @@ int run_render(int argc, char** argv) {
     app.add_option("-o,--output", output, "Output EXR, name ending in .exr; OUT.png and OUT.json go beside it (default: render.output from the config, else out/render.exr)");
     app.add_option("--set", sets, "Override a config key by dotted path, e.g. media.0.sigma_t_scale=10 (repeatable)")
         ->allow_extra_args(false);   // one value per --set, so `--set k=v CONFIG` leaves CONFIG alone
-    app.add_option("--threads", threads, "Worker threads (0: all cores; default: render.threads)")->check(CLI::Range(0, 4096));
+    app.add_option("--threads", threads, "Worker threads (0: all cores; default: render.threads)")->check(CLI::Range(0, vpm::kMaxThreads));
     app.add_flag("-q,--quiet", quiet, "No progress bar or log on stderr");
     std::string reference;
     app.add_option("--reference", reference,

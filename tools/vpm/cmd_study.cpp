@@ -19,6 +19,7 @@
 
 #include "analysis/study.h"
 #include "arguments.h"
+#include "core/thread_limit.h"
 #include "command.h"
 #include "data_files.h"
 #include "render/run/image_io.h"
@@ -84,7 +85,7 @@ int run_study(int argc, char** argv) {
                    "trials cost O(n^2), stratified and photon_beams)");
     app.add_option("--photon-map-size", opt.photon_map_size, "photons per map (photon_map) / photons emitted per map (photon_pass)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
-    app.add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+    app.add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, vpm::kMaxThreads))->capture_default_str();
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_study.py");
     app.add_flag("-q,--quiet", quiet, "no progress lines");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;

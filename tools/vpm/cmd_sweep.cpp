@@ -14,6 +14,7 @@
 #include "analysis/sweep.h"
 #include "analysis/sweep_plan.h"
 #include "arguments.h"
+#include "core/thread_limit.h"
 #include "command.h"
 #include "data_files.h"
 #include "core/error.h"
@@ -83,7 +84,7 @@ int run_sweep_command(int argc, char** argv) {
     app.add_option("--shard", shard, "run only slice i of N (0 <= i < N), for job arrays; merge afterwards")
         ->capture_default_str();
     app.add_option("--jobs", opt.jobs, "runs at once (each run also uses --threads)")->capture_default_str()->check(CLI::Range(1, 256));
-    app.add_option("--threads", threads, "worker threads per process (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
+    app.add_option("--threads", threads, "worker threads per process (0: all cores)")->capture_default_str()->check(CLI::Range(0, vpm::kMaxThreads));
     // Unsigned: a sign is refused (CLI11 would wrap -1 to 2^64 - 1).
     app.add_option("--max-runs", opt.max_runs, "stop after this many new runs (0: all); rerun to continue")
         ->check(CLI::NonNegativeNumber)->capture_default_str();

@@ -203,6 +203,8 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
             throw Error("photon map: photon " + std::to_string(i) + " has a non-finite position");
         if (!all_finite(p.power))
             throw Error("photon map: photon " + std::to_string(i) + " has non-finite power");
+        if ((p.power.array() < 0.0).any())
+            throw Error("photon map: photon " + std::to_string(i) + " has negative power (powers are stored as non-negative)");
         bounds_.extend(p.position);
         max_power = std::max(max_power, p.power.maxCoeff());
     }

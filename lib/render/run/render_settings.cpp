@@ -2,6 +2,7 @@
 
 #include "core/progress.h"
 #include "core/sampler_registry.h"
+#include "core/thread_limit.h"
 #include "config/params.h"
 
 namespace vpm {
@@ -12,7 +13,7 @@ RenderSettings RenderSettings::read(Params& p) {
     r.height = int(p.integer("height", r.height, Range::closed(1, 65536)));
     r.spp = int(p.integer("spp", r.spp, Range::closed(1, 1 << 24)));
     r.seed = uint64_t(p.integer("seed", int64_t(r.seed), Range::at_least(0)));
-    r.threads = int(p.integer("threads", r.threads, Range::closed(0, 4096)));
+    r.threads = int(p.integer("threads", r.threads, Range::closed(0, kMaxThreads)));
     r.output = p.string("output", r.output);
     r.exposure = p.real("exposure", r.exposure, Range::closed(-64, 64));
     r.passes = int(p.integer("passes", r.passes, Range::closed(1, 1 << 24)));

@@ -135,6 +135,19 @@ TEST(PhotonMap, RejectsNonFinitePositions) {
     EXPECT_THROW(PhotonMap{in}, Error);
 }
 
+// Powers are stored as unsigned codes: a negative one is refused, not clamped to zero.
+TEST(PhotonMap, RejectsNegativePower) {
+    std::vector<PhotonInput> in(3);
+    for (auto& p : in) p.power = Rgb(1, 1, 1);
+    in[2].power = Rgb(1, -1e-9, 1);
+    try {
+        PhotonMap map(in);
+        FAIL() << "a negative power was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("photon 2 has negative power"), std::string::npos) << e.what();
+    }
+}
+
 TEST(PhotonMap, TotalPowerAndBounds) {
     std::vector<PhotonInput> in(100);
     for (int i = 0; i < 100; ++i) in[i].position = Vec3(i, -i, 2 * i), in[i].power = Rgb(0.01, 0.02, 0.03);
