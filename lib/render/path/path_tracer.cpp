@@ -1,7 +1,9 @@
 #include "render/path/path_tracer.h"
 
 #include <optional>
+#include <ostream>
 
+#include "config/params.h"
 #include "core/henyey_greenstein.h"
 #include "core/sampling.h"
 #include "transport/direct_light.h"
@@ -79,12 +81,20 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
     return radiance;
 }
 
+void PathTracer::prepare(const PassContext& context, RunStats&) {
+    if (sized_passes_ && context.first_of_run && context.log)
+        *context.log << "path: render.time_limit: passes of 1 sample per pixel until the limit (render.spp = "
+                     << context.configured_spp << " without render.passes is no pass size; set render.passes to pin "
+                        "spp / passes)\n";
+}
+
 namespace {
 
 struct PathTracerSettings : IntegratorSettings {
     WalkSettings walk;
+    bool sized_passes = false;
     std::unique_ptr<Integrator> create(const Scene& scene) const override {
-        return std::make_unique<PathTracer>(scene, walk);
+        return std::make_unique<PathTracer>(scene, walk, sized_passes);
     }
 };
 
@@ -93,6 +103,10 @@ struct PathTracerSettings : IntegratorSettings {
 std::unique_ptr<IntegratorSettings> read_path_tracer_settings(Params& render, Params&) {
     auto s = std::make_unique<PathTracerSettings>();
     s->walk = WalkSettings::read(render);
+    // render.passes pins the pass (spp / passes samples); render.spp alone, which scene files carry
+    // for runs without a limit, does not (as for the photon map's plan: docs/passes.md).
+    s->sized_passes = render.has("time_limit") && render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) > 0.0 &&
+                      !render.has("passes");
     return s;
 }
 

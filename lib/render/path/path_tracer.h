@@ -26,14 +26,21 @@ class Params;
 
 class PathTracer : public Integrator {
 public:
-    explicit PathTracer(const Scene& scene, const WalkSettings& walk = {}) : scene_(scene), walk_(walk) {}
+    // sized_passes: under render.time_limit with render.passes unset, every pass holds one sample
+    // per pixel, so that the first pass fits the limit wherever one sample per pixel does and the
+    // limit, not spp, says how many are taken (a constant: the same passes on any machine).
+    PathTracer(const Scene& scene, const WalkSettings& walk = {}, bool sized_passes = false)
+        : scene_(scene), walk_(walk), sized_passes_(sized_passes) {}
+    void prepare(const PassContext& context, RunStats& stats) override;
     Rgb radiance(const Ray& ray, Rng& rng) const override;
     std::string name() const override { return "path"; }
     bool stateless_passes() const override { return true; }   // nothing to prepare per pass
+    int samples_per_pass(int configured) const override { return sized_passes_ ? 1 : configured; }
 
 private:
     const Scene& scene_;
     WalkSettings walk_;
+    bool sized_passes_ = false;
 };
 
 // The registry's reader: the walk keys of [render].

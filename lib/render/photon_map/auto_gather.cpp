@@ -34,7 +34,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     PlanInputs in;
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
     in.count = settings_.count;
-    in.pilot_count = first_map_photons(context);
+    in.pilot_count = first_map_photons(context, stats);
     // The configured pass: the plan's sizes start from it, and a pass over budget / kPlanMinPasses
     // may still be as large as it (when unsized the plan only picks the gather at these samples).
     in.spp = std::max(1, context.configured_spp);

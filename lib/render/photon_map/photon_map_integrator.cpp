@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <ostream>
+#include <sstream>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -16,6 +17,8 @@
 #include "photon/estimate/bounded_radius.h"
 #include "render/photon_map/beam_gather.h"
 #include "render/photon_map/photon_beam_gather.h"
+#include "render/plan/pass_plan.h"
+#include "render/plan/work_units.h"
 #include "transport/seen_through.h"
 #include "transport/segment_direct_light.h"
 #include "transport/single_scattering.h"
@@ -131,7 +134,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         surface_map_ = nullptr;
     } else if (scene_.has_media() || surface) {
         // Pass 0 of an auto plan is first traced at photons.count: the pilot's map, which the plan is made on.
-        trace_maps(context, plan_ ? plan_->count : first_map_photons(context), surface, stats);
+        trace_maps(context, plan_ ? plan_->count : first_map_photons(context, stats), surface, stats);
         if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
         // k above the stored count: say so once per run (the maps are then not queried).
         const bool volume_short = scene_.has_media() && settings_.gather != GatherMode::photon_beams && volume_map_starved();
@@ -170,7 +173,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         *log << "photons: final_gather = true, so no surface photon map (paths continue through surfaces)\n";
 }
 
-int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context) {
+int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context, RunStats& stats) {
     if (first_map_photons_ > 0) return first_map_photons_;
     first_map_photons_ = settings_.count;
     if (owns_maps_ && settings_.size_photons && scene_.has_media()) {
@@ -184,7 +187,35 @@ int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context) {
                          << ": a probe of " << p.probe_photons << " stored " << p.stored_per_photon << " per photon, and "
                          << kPilotStoredPhotons << " stored are what the pilot needs (render/photon_map/photon_pass.h)\n";
     }
+    if (owns_maps_ && !settings_.size_photons && settings_.time_limit > 0.0 && scene_.has_media())
+        check_pinned_count_fits(context, stats);
     return first_map_photons_;
+}
+
+// photons.count pinned under render.time_limit: the pass is traced at that count whatever the
+// limit, so a probe's counted work (render/plan/work_units.h: deterministic, no clock) says before
+// the trace whether its photon pass alone fits, and a warning (log and sidecar) names the count that would.
+void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, RunStats& stats) {
+    const Timer probe_timer;
+    const PilotPhotonCount p = pilot_photon_count(scene_, settings_, context, traces_surface_map(), allocation_);
+    one_off_seconds_ += probe_timer.seconds();
+    ledger_.probe += uint64_t(p.probe_photons);
+    const WorkUnits w = work_units(scene_, k_);
+    double per_photon = w.path + w.collision * p.collisions_per_photon + w.stored * p.stored_per_photon;
+    // The point-beam gather then finds every stored photon's radius: a kNN query each.
+    if (settings_.gather == GatherMode::beam)
+        per_photon += p.stored_per_photon * query_price(w, std::max(1.0, p.stored_per_photon * double(settings_.count)));
+    const double budget = settings_.time_limit * kWorkUnitsPerSecond, work = per_photon * double(settings_.count);
+    if (!(work > budget)) return;
+    std::ostringstream s;
+    s.precision(3);
+    s << "render.time_limit = " << settings_.time_limit << " s: photons.count = " << settings_.count
+      << " is set, and its photon pass alone counts " << work / kWorkUnitsPerSecond << " s of one core (a probe of "
+      << p.probe_photons << " photons: " << p.collisions_per_photon << " collisions and " << p.stored_per_photon
+      << " stored per photon), so the first pass overruns the limit; about " << std::floor(budget / per_photon)
+      << " photons fit, or leave photons.count unset for the plan to size it";
+    stats.warnings.push_back(s.str());
+    if (context.log) *context.log << "warning: " << s.str() << "\n";
 }
 
 void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats) {

@@ -184,7 +184,8 @@ private:
     // The photons of the run's first map (and of the auto plan's pilot map): photons.count, or fewer
     // where an auto plan sizes the count and walks store many photons each (render/photon_map/photon_pass.h).
     // Decided once per run, on a probe with the run's streams, so every pass range plans alike.
-    int64_t first_map_photons(const PassContext& context);
+    int64_t first_map_photons(const PassContext& context, RunStats& stats);
+    void check_pinned_count_fits(const PassContext& context, RunStats& stats);
     int64_t first_map_photons_ = 0;   // 0: not decided yet
     double one_off_seconds_ = 0.0;    // one_off_seconds(): the probe, the pilot, its map when traced again, the decision map
     double last_trace_seconds_ = 0.0; // trace_maps' last photon pass

@@ -61,6 +61,7 @@ PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings&
     const PhotonTraceResult traced = trace_photons(scene, probe);
     p.probe_photons = int64_t(traced.paths);
     p.stored_per_photon = traced.paths ? double(traced.photons.size()) / double(traced.paths) : 0.0;
+    p.collisions_per_photon = traced.paths ? double(traced.collisions) / double(traced.paths) : 0.0;
     if (p.stored_per_photon * double(ps.count) > kPilotStoredPhotons) {
         const double wanted = kPilotStoredPhotons / p.stored_per_photon;
         p.count = std::min(ps.count, std::max(kPilotProbePhotons, int64_t(std::ceil(wanted / double(kPilotProbePhotons))) * kPilotProbePhotons));

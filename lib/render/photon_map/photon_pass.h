@@ -39,6 +39,7 @@ struct PilotPhotonCount {
     int64_t count = 0;               // the pilot map's photons: a multiple of the probe's, at most photons.count
     int64_t probe_photons = 0;
     double stored_per_photon = 0.0;  // volume photons stored per emitted, in the probe
+    double collisions_per_photon = 0.0;   // real medium collisions per emitted, in the probe
 };
 // surface_map: whether the run's passes trace one (the photons per light are computed with it, as
 // the passes would, when `allocation` is still empty).

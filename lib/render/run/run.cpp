@@ -125,10 +125,14 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
             first_group_passes = done;
         }
         const double mean_pass = seconds_per_pass();
-        if (options.log && before == 0 && rs.time_limit > 0 && run_timer.seconds() > rs.time_limit)
-            *options.log << "warning: render.time_limit = " << rs.time_limit << " s is shorter than the first "
-                         << (n > 1 ? "passes" : "pass") << " (" << run_timer.seconds() << " s): " << done
-                         << (done > 1 ? " passes" : " pass") << " written, at least render.passes = " << rs.passes << "\n";
+        if (before == 0 && rs.time_limit > 0 && run_timer.seconds() > rs.time_limit) {
+            std::ostringstream w;
+            w << "render.time_limit = " << rs.time_limit << " s is shorter than the first " << (n > 1 ? "passes" : "pass")
+              << " (" << run_timer.seconds() << " s): " << done << (done > 1 ? " passes" : " pass")
+              << " written, at least render.passes = " << rs.passes;
+            result.stats.warnings.push_back(w.str());
+            if (options.log) *options.log << "warning: " << w.str() << "\n";
+        }
         const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
                                                 done < kMaxPasses - rs.first_pass)) &&
                           !(options.cancelled && options.cancelled());

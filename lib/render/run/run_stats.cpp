@@ -133,6 +133,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("passes.image_mean_std", s.image_mean_std());
     }
     if (!stats.integrator_used.empty()) record.set("integrator_used", stats.integrator_used);
+    if (!stats.warnings.empty()) record.set("warnings", stats.warnings);
     if (stats.gather_used) record.set("gather_used", *stats.gather_used);
     if (stats.map_estimates) record.set("map_estimates", *stats.map_estimates);
     if (const auto& l = stats.photon_ledger) {

@@ -164,6 +164,8 @@ struct RunStats {
     // March points' weights relative to their value where the majorant is exact (T sigma_t /
     // (mu e^-tau_mu) = 1 in homogeneous media): the largest and the mean, over the camera pass.
     std::optional<double> march_weight_max, march_weight_mean;
+    // What the run could not honour and went on with (the sidecar's "warnings", also logged).
+    std::vector<std::string> warnings;
 
     // Counts a pass in the summary and keeps its record while fewer than kPassRecords are kept.
     void add_pass(const PassStats& p);

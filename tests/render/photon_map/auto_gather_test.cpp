@@ -102,10 +102,13 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
         EXPECT_EQ(pinned.stats.integrator_used, "photon_map");
         EXPECT_EQ(pinned.stats.photons->emitted, 20000u * pinned.stats.pass_count());
     }
-    // Where the plan keeps the count the pilot's map is pass 0's: nothing is traced for the pilot alone.
+    // Where the plan keeps the count the pilot's map is pass 0's: nothing is traced for the pilot alone
+    // (only the probe that checks whether the pinned count fits the limit; here it does not, and says so).
     ASSERT_TRUE(a.stats.photon_ledger);
     EXPECT_EQ(a.stats.photon_ledger->pilot_only, 0u);
-    EXPECT_EQ(a.stats.photon_ledger->probe, 0u);
+    EXPECT_EQ(a.stats.photon_ledger->probe, uint64_t(kPilotProbePhotons));
+    ASSERT_EQ(a.stats.warnings.size(), 2u);   // and the limit shorter than the first pass
+    EXPECT_NE(a.stats.warnings[0].find("photons.count = 20000 is set"), std::string::npos) << a.stats.warnings[0];
     EXPECT_EQ(a.stats.photon_ledger->pass_maps, 20000u * a.stats.pass_count());
     EXPECT_EQ(a.stats.photon_ledger->estimates, *a.stats.map_estimates);
     const RunResult no_limit = render(f, {"photons.count=20000"});

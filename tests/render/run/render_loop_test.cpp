@@ -186,3 +186,54 @@ TEST(Passes, ShrinkScheduleFollowsKnausZwickerAndStaysUnbiased) {
     // k_floor below the estimator's minimum + 1 is refused.
     EXPECT_THROW(RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml", {"photons.k_floor=2"}), ConfigError);
 }
+
+// Issue 47: under render.time_limit the path tracer's pass is one sample per pixel unless
+// render.passes pins spp / passes, so a scene file's large spp no longer makes a first pass that
+// overruns the limit (configs/cornell_smoke_path.toml at 1 s: 46.8 s before, 1.1 s now). A limit
+// far below one pass writes exactly one pass: a count, not a time, is asserted.
+TEST(Passes, TimeLimitedPathPassesHoldOneSampleUnlessPassesIsSet) {
+    RunOptions o;
+    o.progress = false;
+    auto path_run = [&](std::vector<std::string> sets) {
+        for (const char* s : {"render.width=5", "render.height=3", "render.integrator=path", "render.time_limit=1e-9"})
+            sets.push_back(s);
+        return run(RunConfig::load(VPM_SOURCE_DIR "/configs/homogeneous.toml", sets), o);
+    };
+    const RunResult sized = path_run({"render.spp=4096"});
+    EXPECT_EQ(sized.stats.pass_count(), 1u);
+    EXPECT_EQ(sized.stats.render.samples, 15u);
+    ASSERT_EQ(sized.stats.passes.size(), 1u);
+    EXPECT_EQ(sized.stats.passes[0].spp, 1);
+    const RunResult pinned = path_run({"render.spp=64", "render.passes=4"});
+    EXPECT_EQ(pinned.stats.pass_count(), 4u);   // render.passes is the minimum
+    EXPECT_EQ(pinned.stats.render.samples, 15u * 64u);
+    ASSERT_FALSE(pinned.stats.warnings.empty());
+    EXPECT_NE(pinned.stats.warnings[0].find("shorter than the first passes"), std::string::npos) << pinned.stats.warnings[0];
+    // Without a limit spp is the pass, as always.
+    RunOptions untimed;
+    untimed.progress = false;
+    const RunResult plain = run(RunConfig::load(VPM_SOURCE_DIR "/configs/homogeneous.toml",
+                                                {"render.width=5", "render.height=3", "render.integrator=path", "render.spp=8"}),
+                                untimed);
+    EXPECT_EQ(plain.stats.render.samples, 15u * 8u);
+    EXPECT_TRUE(plain.stats.warnings.empty());
+}
+
+// A photons.count that is set is honoured under a time limit; a probe's counted work says before
+// the trace when its photon pass alone cannot fit, in the log and the sidecar's warnings.
+TEST(Passes, PinnedPhotonCountThatCannotFitTheLimitIsWarnedAbout) {
+    RunOptions o;
+    o.progress = false;
+    auto furnace = [&](const char* count, const char* limit) {
+        return run(RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
+                                   {"render.width=4", "render.height=4", "render.spp=1", "render.passes=1",
+                                    count, "photons.gather=\"collision\"", limit}),
+                   o);
+    };
+    const RunResult tight = furnace("photons.count=20000", "render.time_limit=1e-6");
+    ASSERT_FALSE(tight.stats.warnings.empty());
+    EXPECT_NE(tight.stats.warnings[0].find("photons.count = 20000 is set"), std::string::npos) << tight.stats.warnings[0];
+    EXPECT_EQ(tight.stats.photons->emitted, 20000u);   // honoured all the same
+    const RunResult roomy = furnace("photons.count=1000", "render.time_limit=0.2");   // ~1e-3 s of counted work
+    for (const auto& w : roomy.stats.warnings) EXPECT_EQ(w.find("photons.count"), std::string::npos) << w;
+}
