@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <ostream>
+#include <sstream>
 
 #include "core/progress.h"
 #include "core/rng.h"
@@ -180,6 +181,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         map_ = &empty_map_;
         surface_map_ = nullptr;
     }
+    warn_if_pinned_samples_overrun(context, in, measured[size_t(plan.chosen)], stats);
     AutoGatherStats a;
     a.candidates = measured;
     a.photon_cost = in.photon_cost;
@@ -199,7 +201,11 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     if (context.log) {
         std::ostream& log = *context.log;
         // One short line with the choice, then one indented line per candidate with its figures.
-        log << "gather: auto chose \"" << a.chosen << "\" of " << measured.size() << " candidates (pilot: "
+        if (settings_.gather == GatherMode::automatic || settings_.chooses_integrator)
+            log << "gather: auto chose \"" << a.chosen << "\" of " << measured.size() << " candidates";
+        else
+            log << "gather: \"" << a.chosen << "\" (photons.gather), measured to size the passes under render.time_limit";
+        log << " (pilot: "
             << kPilotSide * kPilotSide << " pixels x up to " << kPilotSamples << " samples with the map and its halves, up to "
             << kNoMapPilotSamples << " without a map; work " << in.photon_cost << " per photon)\n";
         if (map->size() == 0)
@@ -248,6 +254,25 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                 << (in.size_samples ? "sized" : "given") << "), the map's variance taken as N^-" << plan.beta
                 << (plan.beta_measured ? " (measured)" : " (assumed)") << "\n";
     }
+}
+
+// render.spp pinned under render.time_limit: the passes hold its samples whatever the limit, so the
+// chosen gather's counted work per sample (the pilot's, deterministic) says whether the camera pass alone fits.
+void PhotonMapIntegrator::warn_if_pinned_samples_overrun(const PassContext& context, const PlanInputs& in,
+                                                        const GatherMeasurement& chosen, RunStats& stats) const {
+    if (in.size_samples || !(in.budget > 0.0) || chosen.sample_cost <= 0.0) return;
+    const double work = chosen.sample_cost * in.pixels * double(in.spp);
+    if (!(work > in.budget)) return;
+    std::ostringstream s;
+    s.precision(3);
+    s << "render.time_limit = " << settings_.time_limit << " s: render.spp is set, so every pass holds " << in.spp
+      << " samples per pixel, and the camera pass alone counts " << work / kWorkUnitsPerSecond
+      << " s of one core (gather \"" << chosen.name << "\"), so the first pass overruns the limit; ";
+    if (const double fit = std::floor(in.budget / (chosen.sample_cost * in.pixels)); fit >= 1.0) s << "about " << fit << " samples per pixel fit";
+    else s << "not one sample per pixel fits";
+    s << ", or leave render.spp and render.passes unset for the plan to size the pass";
+    stats.warnings.push_back(s.str());
+    if (context.log) *context.log << "warning: " << s.str() << "\n";
 }
 
 }  // namespace vpm

@@ -212,8 +212,10 @@ void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, Ru
     s << "render.time_limit = " << settings_.time_limit << " s: photons.count = " << settings_.count
       << " is set, and its photon pass alone counts " << work / kWorkUnitsPerSecond << " s of one core (a probe of "
       << p.probe_photons << " photons: " << p.collisions_per_photon << " collisions and " << p.stored_per_photon
-      << " stored per photon), so the first pass overruns the limit; about " << std::floor(budget / per_photon)
-      << " photons fit, or leave photons.count unset for the plan to size it";
+      << " stored per photon), so the first pass overruns the limit; ";
+    if (const double fit = std::floor(budget / per_photon); fit >= 1.0) s << "about " << fit << " photons fit";
+    else s << "not one photon fits";
+    s << ", or leave photons.count unset for the plan to size it";
     stats.warnings.push_back(s.str());
     if (context.log) *context.log << "warning: " << s.str() << "\n";
 }

@@ -258,6 +258,8 @@ private:
     PathTracer continuation_;
     PhotonMap empty_map_;   // the "continue" candidate's map in the pilot
     void plan_auto(const PassContext& context, RunStats& stats);
+    void warn_if_pinned_samples_overrun(const PassContext& context, const PlanInputs& in, const GatherMeasurement& chosen,
+                                        RunStats& stats) const;
     // Runs f with fresh per-thread counters and buffers, so that a pilot's work is not the run's.
     void with_fresh_counters(const std::function<void()>& f);
     // Operations counted so far over all threads (render/plan/pass_plan.h).

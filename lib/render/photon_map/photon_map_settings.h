@@ -153,7 +153,7 @@ struct PhotonMapSettings {
     // render.integrator = "auto": the plan may render the run with the path tracer instead of the
     // map (render/plan/no_map_candidate.h). "photon_map" (false) always estimates from its maps.
     bool chooses_integrator = false;
-    // A plan (gather = "auto", or the "auto" integrator) with render.time_limit > 0 sizes the photons
+    // A plan (gather = "auto", "collision" or "march", or the "auto" integrator) with render.time_limit > 0 sizes the photons
     // per pass unless photons.count is given, the samples per pass unless render.spp or
     // render.passes is.
     bool size_photons = false, size_samples = false;
@@ -174,8 +174,9 @@ struct PhotonMapSettings {
     PassRadii radii_for_pass(int pass_index, bool volume, bool surface) const;
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
-    // Whether a plan runs on the first pass (render/plan/pass_plan.h): gather = "auto" or the "auto" integrator.
-    bool plans() const { return gather == GatherMode::automatic || chooses_integrator; }
+    // Whether a plan runs on the first pass (render/plan/pass_plan.h): gather = "auto", the "auto"
+    // integrator, or a collision or march gather whose passes a time limit sizes.
+    bool plans() const { return gather == GatherMode::automatic || chooses_integrator || size_photons || size_samples; }
     // Reads [photons] and the walk keys of [render]; throws ConfigError (k below the estimator's
     // minimum names both keys) and warns on stderr about corrected with k = 2 (not for the "auto"
     // integrator's reading of the same table: chooses_integrator).

@@ -94,13 +94,23 @@ TEST(AutoGather, SizesPassesOnlyUnderATimeLimitAndHonoursGivenSizes) {
     ASSERT_TRUE(given.stats.auto_gather);
     EXPECT_FALSE(given.stats.auto_gather->size_samples);
     EXPECT_EQ(given.stats.render.samples, 144u * 3u);
-    // photons.gather given: no plan, that gather in every pass, named in the stats.
+    // photons.gather given: that gather in every pass, named in the stats. Under the limit the plan
+    // measures it alone and sizes what is left unset (here the samples); with every size given, no plan.
     for (const char* g : {"collision", "march"}) {
-        const RunResult pinned = render(f, {"render.time_limit=1e-9", "photons.count=20000", std::string("photons.gather=\"") + g + "\""});
+        const std::string gather = std::string("photons.gather=\"") + g + "\"";
+        const RunResult sized = render(f, {"render.time_limit=1e-9", "photons.count=20000", gather});
+        ASSERT_TRUE(sized.stats.auto_gather);
+        EXPECT_EQ(sized.stats.auto_gather->candidates.size(), 1u);
+        EXPECT_FALSE(sized.stats.auto_gather->size_photons);
+        EXPECT_TRUE(sized.stats.auto_gather->size_samples);
+        EXPECT_EQ(sized.stats.render.samples, 144u * uint64_t(sized.stats.auto_gather->spp) * sized.stats.pass_count());
+        const RunResult pinned = render(f, {"render.time_limit=1e-9", "photons.count=20000", "render.spp=2", gather});
         EXPECT_FALSE(pinned.stats.auto_gather);
-        EXPECT_EQ(pinned.stats.gather_used, g);
-        EXPECT_EQ(pinned.stats.integrator_used, "photon_map");
-        EXPECT_EQ(pinned.stats.photons->emitted, 20000u * pinned.stats.pass_count());
+        for (const RunResult* r : {&sized, &pinned}) {
+            EXPECT_EQ(r->stats.gather_used, g);
+            EXPECT_EQ(r->stats.integrator_used, "photon_map");
+            EXPECT_EQ(r->stats.photons->emitted, 20000u * r->stats.pass_count());
+        }
     }
     // Where the plan keeps the count the pilot's map is pass 0's: nothing is traced for the pilot alone
     // (only the probe that checks whether the pinned count fits the limit; here it does not, and says so).

@@ -237,3 +237,28 @@ TEST(Passes, PinnedPhotonCountThatCannotFitTheLimitIsWarnedAbout) {
     const RunResult roomy = furnace("photons.count=1000", "render.time_limit=0.2");   // ~1e-3 s of counted work
     for (const auto& w : roomy.stats.warnings) EXPECT_EQ(w.find("photons.count"), std::string::npos) << w;
 }
+
+TEST(Passes, PinnedSamplesThatCannotFitTheLimitAreWarnedAbout) {
+    // A given gather under a limit: the plan measures it and sizes the photons; render.spp pinned at
+    // 64 per pass is honoured, and where its counted camera work exceeds the limit the run says so.
+    RunOptions o;
+    o.progress = false;
+    // The homogeneous sphere, photons.count left unset.
+    auto sphere = [&](const char* spp, const char* limit) {
+        return run(RunConfig::load(VPM_SOURCE_DIR "/configs/homogeneous.toml",
+                                   {"render.width=8", "render.height=8", spp, "render.integrator=\"photon_map\"",
+                                    "photons.gather=\"collision\"", limit}),
+                   o);
+    };
+    const RunResult tight = sphere("render.spp=64", "render.time_limit=1e-6");
+    ASSERT_TRUE(tight.stats.auto_gather);
+    EXPECT_TRUE(tight.stats.auto_gather->size_photons);
+    EXPECT_FALSE(tight.stats.auto_gather->size_samples);
+    EXPECT_EQ(tight.stats.gather_used, "collision");
+    EXPECT_EQ(tight.stats.render.samples, 64u * 64u);   // honoured all the same
+    bool said = false;
+    for (const auto& w : tight.stats.warnings) said = said || w.find("render.spp is set") != std::string::npos;
+    EXPECT_TRUE(said);
+    const RunResult roomy = sphere("render.spp=1", "render.time_limit=0.05");   // ~1e-3 s of counted camera work per pass
+    for (const auto& w : roomy.stats.warnings) EXPECT_EQ(w.find("render.spp"), std::string::npos) << w;
+}
