@@ -3,6 +3,7 @@
 // queries and the in-scattered radiance estimate at arbitrary points.
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -108,11 +109,23 @@ std::vector<PhotonInput> photons_from_arrays(const py::handle& positions, const 
     return out;
 }
 
+// Integer arguments arrive as int64 so that a negative or huge value is a vpm.Error naming the
+// argument and its range, not pybind's TypeError or a silent wrap.
+int64_t checked_int(int64_t v, int64_t lo, int64_t hi, const char* what) {
+    if (v < lo || v > hi)
+        throw Error(std::string(what) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                    std::to_string(v));
+    return v;
+}
+// photons.k's range (render/photon_map/photon_map_settings.cpp).
+constexpr int64_t kMaxK = int64_t(1) << 20;
+
 PyPhotonMap from_arrays(const py::handle& positions, const py::handle& powers, const py::handle& directions,
-                        size_t leaf_size) {
+                        int64_t leaf_size) {
+    checked_int(leaf_size, 1, int64_t(1) << 30, "PhotonMap: leaf_size");
     const std::vector<PhotonInput> photons = photons_from_arrays(positions, powers, directions);
     PyPhotonMap m;
-    call_native([&](const std::atomic<bool>&) { m.map = std::make_shared<const PhotonMap>(photons, leaf_size); });
+    call_native([&](const std::atomic<bool>&) { m.map = std::make_shared<const PhotonMap>(photons, size_t(leaf_size)); });
     return m;
 }
 
@@ -171,11 +184,19 @@ double radius_or_infinity(std::optional<double> r, const char* what) {
     return *r;
 }
 
-py::tuple knn(const PyPhotonMap& m, const py::handle& points, size_t k, std::optional<double> max_radius) {
+py::tuple knn(const PyPhotonMap& m, const py::handle& points, int64_t k_given, std::optional<double> max_radius) {
+    const size_t k = size_t(checked_int(k_given, 1, kMaxK, "knn: k"));
     const Points q = rows_of_three(points, "points");
     const double radius = radius_or_infinity(max_radius, "max_radius");
-    if (k < 1) throw Error("knn: k must be at least 1");
     const py::ssize_t n = q.shape(0), kk = py::ssize_t(k);
+    // The (m, k) distances and indices: 16 bytes a neighbour, refused beyond half of the memory.
+    if (const double bytes = 16.0 * double(n) * double(kk); bytes > 0.5 * double(physical_memory_bytes())) {
+        std::ostringstream msg;
+        msg.precision(3);
+        msg << "knn: " << double(n) << " points x k = " << kk << " need " << bytes / 1e9
+            << " GB of results, more than half of this machine's " << double(physical_memory_bytes()) / 1e9 << " GB";
+        throw Error(msg.str());
+    }
     py::array_t<double> distances({n, kk});
     py::array_t<int64_t> indices({n, kk});
     const double* qp = q.data();
@@ -209,9 +230,11 @@ double scene_g(const PyPhotonMap& m) {
 }
 
 py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::handle& directions,
-                   std::optional<std::string> estimator, std::optional<size_t> k, std::optional<std::string> kernel,
+                   std::optional<std::string> estimator, std::optional<int64_t> k, std::optional<std::string> kernel,
                    std::optional<double> g, std::optional<double> max_radius, bool return_radius,
-                   std::optional<int> pass_index) {
+                   std::optional<int64_t> pass_index) {
+    if (k) checked_int(*k, 1, kMaxK, "estimate: k");
+    if (pass_index) checked_int(*pass_index, 0, std::numeric_limits<int>::max(), "estimate: pass_index");
     if (m.kind != "volume") throw Error("estimate: only the volume photon map has an in-scattering estimate");
     const Points q = rows_of_three(points, "points"), w = rows_of_three(directions, "directions");
     if (w.shape(0) != q.shape(0))
@@ -220,12 +243,11 @@ py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::ha
     const PhotonMapSettings& s = m.config ? photon_map_settings(*m.config) : defaults;
     Estimator e = estimator ? Estimator::named(*estimator).with_kernel(s.estimator.kernel()) : s.estimator;
     if (kernel) e = e.with_kernel(Kernel::named(*kernel));
-    size_t kk = k ? *k : size_t(s.k);
+    size_t kk = k ? size_t(*k) : size_t(s.k);
     if (pass_index) {   // the config's photons.schedule at that pass, starting from k: the pass's k and radius scale
-        if (*pass_index < 0) throw Error("estimate: pass_index must be >= 0, got " + std::to_string(*pass_index));
         PhotonMapSettings scheduled = s;
         scheduled.k = int(kk);
-        const PassRadii r = scheduled.radii_for_pass(*pass_index, true, false);
+        const PassRadii r = scheduled.radii_for_pass(int(*pass_index), true, false);
         kk = size_t(r.k);
         e = e.with_radius_scale(r.volume_scale);
     }

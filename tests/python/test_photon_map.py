@@ -132,6 +132,27 @@ def test_estimate_and_knn_refuse_what_the_constructor_refuses():
         m.knn(nan_point, 4)
 
 
+def test_integer_arguments_out_of_range_are_one_clear_error():
+    # Negative, zero or huge ints: vpm.Error naming the argument and its range (not pybind's
+    # TypeError, not a leaf size of 0 clamped to 1, not k wrapped to int in a pass's schedule).
+    m = uniform_map(1000, np.random.default_rng(5))
+    p = np.full((1, 3), 0.5)
+    d = np.array([[0.0, 0.0, 1.0]])
+    for k in (0, -1, 2 ** 40):
+        with pytest.raises(vpm.Error, match=r"estimate: k must be in \[1, 1048576\]"):
+            m.estimate(p, d, k=k, g=0.0)
+        with pytest.raises(vpm.Error, match=r"knn: k must be in \[1, 1048576\]"):
+            m.knn(p, k)
+    with pytest.raises(vpm.Error, match=r"pass_index must be in \[0, 2147483647\]"):
+        m.estimate(p, d, k=8, g=0.0, pass_index=2 ** 40)
+    for leaf in (0, -1):
+        with pytest.raises(vpm.Error, match=r"leaf_size must be in \[1, "):
+            vpm.PhotonMap(m.positions, m.powers, m.directions, leaf_size=leaf)
+    # knn's (m, k) results beyond half the memory: refused before the allocation.
+    with pytest.raises(vpm.Error, match=r"knn: .* GB of results"):
+        m.knn(np.broadcast_to(p, (10 ** 7, 3)), 2 ** 20)
+
+
 def test_negative_powers_are_refused():
     rng = np.random.default_rng(4)
     n = 100

@@ -194,6 +194,7 @@ PhotonMap::PhotonMap(PhotonMap&&) noexcept = default;
 PhotonMap& PhotonMap::operator=(PhotonMap&&) noexcept = default;
 
 PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
+    if (leaf_size < 1) throw Error("photon map: leaf_size must be at least 1, got 0");
     if (in.size() >= std::numeric_limits<uint32_t>::max())
         throw Error("photon map: too many photons (" + std::to_string(in.size()) + ", max 2^32-2)");
     double max_power = 0.0;
@@ -237,7 +238,7 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
             r.reserved = exponent_bits(e, p.group);
         }
     });
-    index_ = std::make_unique<Index>(photons_.data(), photons_.size(), std::max<size_t>(1, leaf_size));
+    index_ = std::make_unique<Index>(photons_.data(), photons_.size(), leaf_size);
 }
 
 size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourList& out) const {

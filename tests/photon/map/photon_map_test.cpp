@@ -148,6 +148,13 @@ TEST(PhotonMap, RejectsNegativePower) {
     }
 }
 
+TEST(PhotonMap, RejectsALeafSizeOfZero) {
+    std::vector<PhotonInput> in(3);
+    for (auto& p : in) p.power = Rgb(1, 1, 1);
+    EXPECT_THROW(PhotonMap(in, 0), Error);   // nanoflann's leaf_max_size 0 was clamped to 1 silently
+    EXPECT_EQ(PhotonMap(in, 1).size(), 3u);
+}
+
 TEST(PhotonMap, TotalPowerAndBounds) {
     std::vector<PhotonInput> in(100);
     for (int i = 0; i < 100; ++i) in[i].position = Vec3(i, -i, 2 * i), in[i].power = Rgb(0.01, 0.02, 0.03);
