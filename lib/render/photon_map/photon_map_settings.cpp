@@ -75,6 +75,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.chooses_integrator = chooses_integrator;
     s.walk = WalkSettings::read(render);
     s.count = p.integer("count", s.count, Range::closed(1, int64_t(1) << 40));
+    s.count_given = p.has("count");
     std::vector<std::pair<std::string, Estimator>> estimators;
     for (const Estimator& e : Estimator::all()) estimators.emplace_back(e.name(), e);
     s.estimator = p.choice("estimator", s.estimator, estimators);

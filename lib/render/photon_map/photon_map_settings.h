@@ -128,6 +128,7 @@ struct PassRadii {
 
 struct PhotonMapSettings {
     int64_t count = 100000;
+    bool count_given = false;   // photons.count was set (else count is its default)
     int k = 32;
     Estimator estimator = Estimator::named("corrected");   // carries the kernel (photons.kernel)
     DirectLighting direct = DirectLighting::nee;

@@ -236,6 +236,15 @@ TEST(Passes, PinnedPhotonCountThatCannotFitTheLimitIsWarnedAbout) {
     EXPECT_EQ(tight.stats.photons->emitted, 20000u);   // honoured all the same
     const RunResult roomy = furnace("photons.count=1000", "render.time_limit=0.2");   // ~1e-3 s of counted work
     for (const auto& w : roomy.stats.warnings) EXPECT_EQ(w.find("photons.count"), std::string::npos) << w;
+    // A gather the plan does not size, at the default count: named as the default, with the way out.
+    const RunResult beam = run(RunConfig::load(VPM_SOURCE_DIR "/configs/homogeneous.toml",
+                                               {"render.width=4", "render.height=4", "render.spp=1",
+                                                "render.integrator=\"photon_map\"", "photons.gather=\"point_beam\"",
+                                                "render.time_limit=1e-6"}),
+                               o);
+    ASSERT_FALSE(beam.stats.warnings.empty());
+    EXPECT_NE(beam.stats.warnings[0].find("photons.count = 100000 (its default)"), std::string::npos) << beam.stats.warnings[0];
+    EXPECT_NE(beam.stats.warnings[0].find("set photons.count to fit"), std::string::npos) << beam.stats.warnings[0];
 }
 
 TEST(Passes, PinnedSamplesThatCannotFitTheLimitAreWarnedAbout) {
