@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <ostream>
+#include <sstream>
 #include <vector>
 
 #include <tbb/blocked_range2d.h>
@@ -34,6 +36,23 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
     std::atomic<uint64_t> nonfinite{0}, negative{0};
     Progress progress("render", uint64_t(o.height), o.progress);
     const Timer timer;
+    // The projected end of this go over the image against the time limit: said once, from the
+    // rows done so far (a message only; what is rendered does not depend on it).
+    const bool watch_limit = o.seconds_left > 0.0 && o.log;
+    std::atomic<uint64_t> rows_done{0};
+    std::atomic<bool> warned{false};
+    auto warn_if_projected_past_limit = [&] {
+        const uint64_t done = ++rows_done;
+        if (done < std::max<uint64_t>(1, rows / 20) || warned.load(std::memory_order_relaxed)) return;
+        const double projected = timer.seconds() * double(rows) / double(done);
+        if (!(projected > 2.0 * o.seconds_left) || warned.exchange(true)) return;
+        std::ostringstream msg;
+        msg.precision(3);
+        msg << "warning: render.time_limit = " << o.time_limit << " s: this pass projects to about " << projected
+            << " s (" << done << " of " << rows << " rows in " << timer.seconds()
+            << " s); a pass is not cut short, so the run ends then (Ctrl-C stops it)\n";
+        *o.log << msg.str() << std::flush;
+    };
     tbb::parallel_for(tbb::blocked_range<int>(0, o.height, 1), [&](const tbb::blocked_range<int>& range) {
         std::vector<double> row(static_cast<size_t>(passes), 0.0);   // this row's sum per pass (written once: no false sharing)
         for (int y = range.begin(); y != range.end(); ++y) {
@@ -75,6 +94,7 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
             if (bad) nonfinite += bad;
             if (below_zero) negative += below_zero;
             progress.advance();
+            if (watch_limit) warn_if_projected_past_limit();
         }
     });
     progress.done();

@@ -9,6 +9,7 @@
 // negative: a wrong estimator) are kept in the average, so the mean stays the estimator's, and
 // counted the same way.
 #include <cstdint>
+#include <iosfwd>
 #include <vector>
 
 #include "core/sampler.h"
@@ -33,6 +34,12 @@ struct RenderOptions {
     // Stream offset so that independent renders (e.g. repeats) can share a seed without sharing noise.
     uint64_t stream_offset = 0;
     SamplerKind sampler = SamplerKind::independent;   // render.sampler
+    // Under render.time_limit, the seconds left when the go over the image starts (0: no limit).
+    // Once a twentieth of the rows is done, a projected end past it is said once on `log`; the
+    // go over the image is not cut short, so the image does not depend on the clock.
+    double seconds_left = 0.0;
+    double time_limit = 0.0;   // render.time_limit, for the message
+    std::ostream* log = nullptr;
 };
 
 Image render_image(const Camera& camera, const Integrator& integrator, const RenderOptions& options,

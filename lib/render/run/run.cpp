@@ -100,6 +100,11 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         ro.progress = options.progress;
         ro.stream_offset = stream;
         ro.sampler = rs.sampler;
+        if (rs.time_limit > 0 && done == 0) {   // the first group: later ones are sized by the measured pass time
+            ro.seconds_left = std::max(1e-9, rs.time_limit - run_timer.seconds());
+            ro.time_limit = rs.time_limit;
+            ro.log = options.log;
+        }
         RenderStats group_render;
         render_passes(config.scene->camera, *integrator, ro, int(n), kPassStreamStride, sum, means, group_render);
         result.stats.phase("render", group_render.seconds);

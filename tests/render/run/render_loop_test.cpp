@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <sstream>
+#include <string>
 
 #include <tbb/task_arena.h>
 
@@ -270,4 +272,23 @@ TEST(Passes, PinnedSamplesThatCannotFitTheLimitAreWarnedAbout) {
     EXPECT_TRUE(said);
     const RunResult roomy = sphere("render.spp=1", "render.time_limit=0.05");   // ~1e-3 s of counted camera work per pass
     for (const auto& w : roomy.stats.warnings) EXPECT_EQ(w.find("render.spp"), std::string::npos) << w;
+}
+
+TEST(Passes, AFirstPassProjectedPastTheLimitIsSaidWhileItRuns) {
+    // A pass is never cut short; where its rows so far project past the limit, the log says so
+    // during the pass (not only after it). A limit of 1e-6 s is past at any speed.
+    std::ostringstream log;
+    RunOptions o;
+    o.progress = false;
+    o.log = &log;
+    const RunResult r = run(RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
+                                            {"render.width=4", "render.height=8", "render.spp=1", "render.passes=1",
+                                             "photons.count=2000", "photons.gather=\"collision\"", "render.time_limit=1e-6"}),
+                            o);
+    EXPECT_EQ(r.stats.pass_count(), 1u);
+    const std::string text = log.str();
+    const size_t projected = text.find("this pass projects to about");
+    ASSERT_NE(projected, std::string::npos) << text;
+    EXPECT_EQ(text.find("this pass projects to about", projected + 1), std::string::npos) << "said once";
+    EXPECT_LT(projected, text.find("is shorter than the first pass")) << text;   // before the pass ends
 }
