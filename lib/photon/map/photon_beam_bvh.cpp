@@ -128,7 +128,12 @@ void PhotonBeamBvh::nearest(const Vec3& origin, const Vec3& dir, double tmax, si
         const Node& node = nodes_[top.node];
         if (node.count == 0) {
             for (const uint32_t child : {top.node + 1, node.first}) {
-                const double d = segment_box_distance_max_norm(nodes_[child].bounds, origin, dir, tmax);
+                // The cheap tests first: the slab, then the line bound; the max-norm one last.
+                const Bounds3& box = nodes_[child].bounds;
+                if (!box_meets_segment_slab(box, origin, dir, tmax)) continue;   // no crossing inside
+                const double line = box_line_distance_sphere(box, origin, dir);
+                if (!reachable(line)) continue;
+                const double d = std::max(line, segment_box_distance_max_norm(box, origin, dir, tmax));
                 if (!reachable(d)) continue;
                 queue.push_back({d, child});
                 std::push_heap(queue.begin(), queue.end(), farther);

@@ -82,9 +82,10 @@ public:
 
     // The k crossing beams of smallest u, u < max_distance (kInfinity: unbounded), in `out`
     // sorted by (u, index); fewer where fewer cross. `skip`: a beam index left out (a beam's own
-    // neighbours; UINT32_MAX for none). Best-first: nodes in the order of their max-norm distance
-    // to the segment (photon/map/segment_box_distance.h), stopping at the first node farther than
-    // the k-th crossing found so far, so no node beyond the final k-th distance is opened.
+    // neighbours; UINT32_MAX for none). Best-first: nodes in the order of a lower bound of their
+    // distance to the segment (the larger of the max-norm and the line bound, photon/map/segment_box_distance.h;
+    // boxes outside the segment's slab skipped), stopping at the first node farther than the k-th
+    // crossing found so far, so no node beyond the final k-th distance is opened.
     void nearest(const Vec3& origin, const Vec3& dir, double tmax, size_t k, double max_distance,
                  std::vector<BeamCrossing>& out, uint32_t skip = UINT32_MAX, uint64_t* tested = nullptr) const;
 

@@ -1,4 +1,5 @@
 #pragma once
+// Segment-box tests for the photon-beam BVH's k-nearest query (photon/map/photon_beam_bvh.h).
 // The max-norm distance from a segment o + t d, t in [0, tmax], to an axis-aligned box: the
 // smallest r >= 0 for which the box grown by r on every side meets the segment. It is a lower
 // bound of the Euclidean distance (|x|_inf <= |x|_2), so a BVH query for everything within
@@ -41,6 +42,29 @@ inline double segment_box_distance_max_norm(const Bounds3& box, const Vec3& o, c
             if (j != i) r = std::max(r, (near[i] * speed[j] - far[j] * speed[i]) / (speed[i] + speed[j]));
     }
     return r;
+}
+
+// A lower bound of the Euclidean distance from any point of the box to the line o + t d (d unit
+// length): the distance from the box's centre to the line less the half-diagonal. A crossing's u
+// is the distance from a point of the beam (inside the box) to a point of the line, so it is at
+// least this; tighter than the max-norm bound across oblique lines, looser along elongated boxes,
+// and the query takes the larger of the two.
+inline double box_line_distance_sphere(const Bounds3& box, const Vec3& o, const Vec3& d) {
+    const Vec3 e = 0.5 * (box.lo + box.hi) - o;
+    return std::max(0.0, (e - e.dot(d) * d).norm() - 0.5 * (box.hi - box.lo).norm());
+}
+
+// Whether the box meets the slab 0 <= (x - o).d <= tmax (d unit length) between the planes through
+// the segment's ends normal to it. A beam crosses the segment at t* in [0, tmax] with its own
+// closest point at o + t* d + u n (n normal to d), inside that slab, so a box holding the beam's
+// piece must meet it: a filter beside the distance above, whose max-norm ball around a short
+// segment is a cube of side 2r where the crossings lie in a disc of thickness tmax. The slack
+// keeps a box whose crossing falls on a plane to rounding.
+inline bool box_meets_segment_slab(const Bounds3& box, const Vec3& o, const Vec3& d, double tmax) {
+    const Vec3 centre = 0.5 * (box.lo + box.hi), half = 0.5 * (box.hi - box.lo);
+    const double s = (centre - o).dot(d), h = half.cwiseAbs().dot(d.cwiseAbs());
+    const double slack = 1e-9 * (std::abs(s) + h + (std::isfinite(tmax) ? tmax : 0.0));
+    return s + h >= -slack && (!std::isfinite(tmax) || s - h <= tmax + slack);
 }
 
 }  // namespace vpm

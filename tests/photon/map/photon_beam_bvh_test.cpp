@@ -217,6 +217,34 @@ TEST(PhotonBeamBvh, SegmentBoxMaxNormDistanceIsWhereTheGrownBoxIsFirstHit) {
     EXPECT_GT(hits_at_zero, 5000);
 }
 
+TEST(PhotonBeamBvh, SlabFilterAndLineBoundHoldForEveryPointOfTheBox) {
+    // The k-nearest query skips a box outside the slab 0 <= (x - o).d <= tmax and orders boxes by
+    // at least their sphere distance to the line: both must hold for every point of the box (a
+    // beam's foot may be anywhere in it). Random points of random boxes, against segments as above.
+    Rng rng(17, 0);
+    int skipped = 0, bounded = 0;
+    for (int i = 0; i < 5000; ++i) {
+        const Vec3 lo(rng.uniform(), rng.uniform(), rng.uniform());
+        const Bounds3 box{lo, lo + Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 0.5};
+        const Vec3 o = Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 3.0 - Vec3::Constant(1.0);
+        Vec3 d = sample_uniform_sphere(rng.uniform(), rng.uniform());
+        if (i % 5 == 1) d = Vec3::Unit(i % 3) * (i % 2 ? 1.0 : -1.0);
+        const double tmax = i % 7 == 0 ? kInfinity : i % 7 == 1 ? 0.0 : 0.2 * rng.uniform();
+        const bool meets = box_meets_segment_slab(box, o, d, tmax);
+        const double line = box_line_distance_sphere(box, o, d);
+        skipped += !meets;
+        bounded += line > 0.0;
+        for (int j = 0; j < 64; ++j) {
+            const Vec3 x = box.lo + (box.hi - box.lo).cwiseProduct(Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
+            const double s = (x - o).dot(d);
+            if (s >= 0.0 && s <= tmax) ASSERT_TRUE(meets) << i;   // a point in the slab: the box meets it
+            ASSERT_LE(line, (x - o - s * d).norm() + 1e-12) << i;   // no point nearer the line than the bound
+        }
+    }
+    EXPECT_GT(skipped, 1000);   // the filter does skip boxes, and the bound is not always 0
+    EXPECT_GT(bounded, 1000);
+}
+
 TEST(PhotonBeamBvh, GrazingAxisParallelAndParallelRaysMatchBruteForce) {
     const Field f = make_field(2000, true, 13);
     for (const double p : kPieces) {
