@@ -16,7 +16,14 @@
 namespace vpm {
 
 int PhotonMapIntegrator::samples_per_pass(int configured) const {
+    // The "auto" integrator's path tracer under a limit takes passes of one sample per pixel, as
+    // render.integrator = "path" does (render/path/path_tracer.h), unless render.passes pins them.
+    if (no_map_ && path_tracer_sized_passes()) return 1;
     return plan_ && settings_.size_samples ? plan_->spp : configured;
+}
+
+bool PhotonMapIntegrator::path_tracer_sized_passes() const {
+    return settings_.time_limit > 0.0 && !settings_.passes_given;
 }
 
 void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats) {
@@ -248,11 +255,12 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         if (no_map_)
             log << "photons: no photon pass after this one: the map " << (measured[0].per_sample.map_used > 0.0 ? "did not pay for its pass" : "was never used (every kNN ball wider than photons.max_radius_mfp)")
                 << ", so every pass, this one included, is the path tracer's (the same estimator, unbiased)\n";
-        if (in.size_photons || in.size_samples)
+        const bool one_spp = no_map_ && path_tracer_sized_passes();
+        if (in.size_photons || in.size_samples || one_spp)
             log << "passes: " << (no_map_ ? std::string("no photons") : std::to_string(a.count) + " photons per pass (" + (in.size_photons ? "sized" : "photons.count") + ")")
-                << ", " << (in.size_samples ? std::to_string(plan.spp) : std::string("render.spp")) << " samples per pass ("
-                << (in.size_samples ? "sized" : "given") << "), the map's variance taken as N^-" << plan.beta
-                << (plan.beta_measured ? " (measured)" : " (assumed)") << "\n";
+                << ", " << (one_spp ? std::string("1 sample per pass (the path tracer's passes under render.time_limit)")
+                            : in.size_samples ? std::to_string(plan.spp) + " samples per pass (sized)" : std::string("render.spp samples per pass (given)"))
+                << ", the map's variance taken as N^-" << plan.beta << (plan.beta_measured ? " (measured)" : " (assumed)") << "\n";
     }
 }
 
@@ -261,6 +269,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
 void PhotonMapIntegrator::warn_if_pinned_samples_overrun(const PassContext& context, const PlanInputs& in,
                                                         const GatherMeasurement& chosen, RunStats& stats) const {
     if (in.size_samples || !(in.budget > 0.0) || chosen.sample_cost <= 0.0) return;
+    if (no_map_ && path_tracer_sized_passes()) return;   // 1-spp passes: render.spp is no pass size there
     const double work = chosen.sample_cost * in.pixels * double(in.spp);
     if (!(work > in.budget)) return;
     std::ostringstream s;

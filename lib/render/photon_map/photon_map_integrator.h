@@ -97,6 +97,8 @@ public:
     uint64_t map_estimates() const;
     // gather = "auto" under render.time_limit: the plan's samples per pass (render/plan/pass_plan.h).
     int samples_per_pass(int configured) const override;
+    // The "auto" integrator's path tracer under render.time_limit without render.passes: passes of 1 spp.
+    bool path_tracer_sized_passes() const;
     // Once the "auto" integrator's plan chose "continue" no pass traces photons: the passes may go in groups, and the
     // first pass's photon pass and pilot are not what a later pass costs (render/run/run.cpp).
     bool stateless_passes() const override { return no_map_; }

@@ -158,6 +158,7 @@ struct PhotonMapSettings {
     // per pass unless photons.count is given, the samples per pass unless render.spp or
     // render.passes is.
     bool size_photons = false, size_samples = false;
+    bool passes_given = false;   // render.passes set (under a limit: it pins the pass, also the path tracer's)
     double time_limit = 0.0;   // render.time_limit (the plan's budget)
     double alpha = 0.0;   // 0: "auto" (alpha_for)
     int k_floor = 4;

@@ -491,3 +491,21 @@ TEST(AutoGather, APlanWithoutTheMapRendersThePathTracersImage) {
     ASSERT_GT(b.image.mean(), 0.0);
     EXPECT_EQ(a.image.rgb, b.image.rgb);
 }
+
+TEST(AutoGather, ThePathTracerChosenUnderALimitTakesOneSamplePassesUnlessPassesIsSet) {
+    // The dense cube, where the "auto" integrator takes the path tracer: under a limit its passes
+    // hold one sample per pixel, as render.integrator = "path" does, however render.spp is set;
+    // render.passes pins spp / passes.
+    const std::string dense = write("dense_limit.toml", thin_cube(1.0, 1000.0, 0.9));
+    const std::vector<std::string> sets = {"render.width=16", "render.height=16", "render.spp=8",
+                                           "render.integrator=\"auto\"", "render.time_limit=1e-3"};
+    const RunResult sized = render(dense, sets);
+    ASSERT_EQ(sized.stats.integrator_used, "path");
+    EXPECT_EQ(sized.stats.render.samples, 256u * sized.stats.pass_count());
+    for (const auto& w : sized.stats.warnings) EXPECT_EQ(w.find("render.spp is set"), std::string::npos) << w;
+    std::vector<std::string> pinned = sets;
+    pinned.push_back("render.passes=2");
+    const RunResult given = render(dense, pinned);
+    ASSERT_EQ(given.stats.integrator_used, "path");
+    EXPECT_EQ(given.stats.render.samples, 256u * 4u * given.stats.pass_count());
+}
