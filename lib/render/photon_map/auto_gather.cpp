@@ -280,8 +280,7 @@ void PhotonMapIntegrator::warn_if_pinned_samples_overrun(const PassContext& cont
     if (const double fit = std::floor(in.budget / (chosen.sample_cost * in.pixels)); fit >= 1.0) s << "about " << fit << " samples per pixel fit";
     else s << "not one sample per pixel fits";
     s << ", or leave render.spp and render.passes unset for the plan to size the pass";
-    stats.warnings.push_back(s.str());
-    if (context.log) *context.log << "warning: " << s.str() << "\n";
+    stats.warn(s.str(), context.log);
 }
 
 }  // namespace vpm

@@ -209,19 +209,16 @@ void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, Ru
     if (!(work > budget)) return;
     std::ostringstream s;
     s.precision(3);
-    // A count the plan could have sized was set by the user; for the other gathers it may be the default.
-    const bool sizable = settings_.gather == GatherMode::automatic || settings_.gather == GatherMode::collision ||
-                         settings_.gather == GatherMode::march || settings_.chooses_integrator;
     s << "render.time_limit = " << settings_.time_limit << " s: photons.count = " << settings_.count
       << (settings_.count_given ? " is set" : " (its default)") << ", and its photon pass alone counts " << work / kWorkUnitsPerSecond << " s of one core (a probe of "
       << p.probe_photons << " photons: " << p.collisions_per_photon << " collisions and " << p.stored_per_photon
       << " stored per photon), so the first pass overruns the limit; ";
     if (const double fit = std::floor(budget / per_photon); fit >= 1.0) s << "about " << fit << " photons fit";
     else s << "not one photon fits";
-    if (sizable) s << ", or leave photons.count unset for the plan to size it";
+    // A count the plan could have sized was set by the user; for the other gathers it may be the default.
+    if (settings_.plan_sizes_passes()) s << ", or leave photons.count unset for the plan to size it";
     else s << " (the plan sizes photons only for the \"collision\" and \"march\" gathers: set photons.count to fit)";
-    stats.warnings.push_back(s.str());
-    if (context.log) *context.log << "warning: " << s.str() << "\n";
+    stats.warn(s.str(), context.log);
 }
 
 void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats) {

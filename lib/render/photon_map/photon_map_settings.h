@@ -158,7 +158,7 @@ struct PhotonMapSettings {
     // per pass unless photons.count is given, the samples per pass unless render.spp or
     // render.passes is.
     bool size_photons = false, size_samples = false;
-    bool passes_given = false;   // render.passes set (under a limit: it pins the pass, also the path tracer's)
+    bool passes_given = false;   // render.passes set (under a limit it pins the pass, the path tracer's too)
     double time_limit = 0.0;   // render.time_limit (the plan's budget)
     double alpha = 0.0;   // 0: "auto" (alpha_for)
     int k_floor = 4;
@@ -176,6 +176,12 @@ struct PhotonMapSettings {
     PassRadii radii_for_pass(int pass_index, bool volume, bool surface) const;
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
+    // Whether a time limit's plan may size this run's passes: the gathers the pilot measures
+    // ("auto", "collision", "march") or the "auto" integrator.
+    bool plan_sizes_passes() const {
+        return gather == GatherMode::automatic || gather == GatherMode::collision || gather == GatherMode::march ||
+               chooses_integrator;
+    }
     // Whether a plan runs on the first pass (render/plan/pass_plan.h): gather = "auto", the "auto"
     // integrator, or a collision or march gather whose passes a time limit sizes.
     bool plans() const { return gather == GatherMode::automatic || chooses_integrator || size_photons || size_samples; }

@@ -135,8 +135,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
             w << "render.time_limit = " << rs.time_limit << " s is shorter than the first " << (n > 1 ? "passes" : "pass")
               << " (" << run_timer.seconds() << " s): " << done << (done > 1 ? " passes" : " pass")
               << " written, at least render.passes = " << rs.passes;
-            result.stats.warnings.push_back(w.str());
-            if (options.log) *options.log << "warning: " << w.str() << "\n";
+            result.stats.warn(w.str(), options.log);
         }
         const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
                                                 done < kMaxPasses - rs.first_pass)) &&

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 
 #include <nlohmann/json.hpp>
 
@@ -103,6 +104,11 @@ double RunStats::seconds(const std::string& name) const {
     for (const PhaseStats& p : phases)
         if (p.name == name) return p.seconds;
     return 0.0;
+}
+
+void RunStats::warn(const std::string& message, std::ostream* log) {
+    warnings.push_back(message);
+    if (log) *log << "warning: " << message << "\n";
 }
 
 void write_run_stats(const RunStats& stats, RunRecord& record) {

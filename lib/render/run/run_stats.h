@@ -3,6 +3,7 @@
 // the stress matrix, benchmarks) reads them as they are; write_run_stats serialises them into
 // the run's JSON record, once, under the keys docs/rendering.md documents.
 #include <cstdint>
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <vector>
@@ -166,6 +167,8 @@ struct RunStats {
     std::optional<double> march_weight_max, march_weight_mean;
     // What the run could not honour and went on with (the sidecar's "warnings", also logged).
     std::vector<std::string> warnings;
+    // Keeps `message` in warnings and writes "warning: message" on log (when given).
+    void warn(const std::string& message, std::ostream* log);
 
     // Counts a pass in the summary and keeps its record while fewer than kPassRecords are kept.
     void add_pass(const PassStats& p);
