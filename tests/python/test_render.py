@@ -81,3 +81,14 @@ def test_result_says_what_ran_and_how_long():
     path = vpm.render(vpm.load_config(FURNACE, overrides=dict(SMALL, **{"render.integrator": "path"})), progress=False)
     assert path.integrator_used == "path" and path.gather_used == "none" and path.map_estimates == 0
     assert path.photons_traced == 0
+
+
+def test_warnings_of_a_limit_the_pins_cannot_fit_are_in_the_stats():
+    # A pinned photons.count and a limit far below one pass: both said in result.stats["warnings"],
+    # as in the sidecar and the log.
+    config = vpm.load_config(FURNACE, overrides=["render.width=4", "render.height=4", "render.spp=1",
+                                                 "render.passes=1", "photons.count=20000",
+                                                 'photons.gather="collision"', "render.time_limit=1e-6"])
+    warnings = vpm.render(config, progress=False).stats["warnings"]
+    assert any("photons.count = 20000 is set" in w for w in warnings), warnings
+    assert any("is shorter than the first pass" in w for w in warnings), warnings
