@@ -20,9 +20,10 @@ PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> b
       max_width_(max_width), exact_(homogeneous_media(scene)) {
     built_.widths = beam_widths_name(widths);
     built_.k = k;
-    // Long beams as pieces in both BVHs (photon/map/photon_beam_bvh.h): the same answers, fewer
-    // tests, for the camera rays' queries and for the sample-point widths' (each beam's own segment:
-    // 284 tests per query against 2,894 whole in bench_photon_beam_bvh; docs/photon_beams.md, "Cost").
+    // Long beams as pieces in the camera rays' BVH (photon/map/photon_beam_bvh.h): the same answers,
+    // fewer tests. The sample-point widths' queries (each beam's own segment) keep whole beams: pieces
+    // there were 6.2x faster in the furnace but 5.8x slower in a dense sphere, where most own
+    // segments are crossed by fewer than k beams and search every item (docs/photon_beams.md, "Cost").
     const double piece = PhotonBeamBvh::automatic_piece_length(beams_);
     built_.piece_length = piece;
     std::vector<double> radii;
@@ -30,7 +31,7 @@ PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> b
         // Each beam's width from its own k nearest other beams (its segment as the query), found in
         // a BVH of widths 0; independent of any camera ray.
         const Timer timer;
-        const PhotonBeamBvh plain(beams_, {}, piece);
+        const PhotonBeamBvh plain(beams_, {});
         radii.assign(beams_.size(), kInfinity);
         tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
         tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
