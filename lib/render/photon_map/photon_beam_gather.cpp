@@ -21,9 +21,9 @@ PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> b
     built_.widths = beam_widths_name(widths);
     built_.k = k;
     // Long beams as pieces in the camera rays' BVH (photon/map/photon_beam_bvh.h): the same answers,
-    // fewer tests. The sample-point widths' queries (each beam's own segment) keep whole beams: pieces
-    // there were 6.2x faster in the furnace but 5.8x slower in a dense sphere, where most own
-    // segments are crossed by fewer than k beams and search every item (docs/photon_beams.md, "Cost").
+    // fewer tests. The sample-point widths' queries (each beam's own segment) keep whole beams: where
+    // most own segments are crossed by fewer than k beams (dense media) a query searches every item,
+    // and pieces multiply the items (docs/photon_beams.md, "Cost").
     const double piece = PhotonBeamBvh::automatic_piece_length(beams_);
     built_.piece_length = piece;
     std::vector<double> radii;

@@ -32,7 +32,7 @@ TEST(BeamGather, FurnaceIsUnbiasedForEveryK) {
                                              {"render.width=16", "render.height=16", "photons.count=10000",
                                               "photons.gather=\"beam\""});
     PhotonMapSettings ps = photon_map_settings(config);
-    ASSERT_EQ(ps.gather, GatherMode::beam);
+    ASSERT_EQ(ps.gather, GatherMode::point_beam);
     const double env = config.scene->escaped_radiance(Vec3::UnitZ())[1];
     const int ks[] = {2, 8, 32};
     std::vector<test::Sample> s(3), ratio(3);
@@ -46,7 +46,7 @@ TEST(BeamGather, FurnaceIsUnbiasedForEveryK) {
         for (int i = 0; i < 3; ++i) {
             ps.beam_k = ks[i];
             const PhotonMapIntegrator integrator(*config.scene, ps, map);
-            ASSERT_EQ(integrator.gather(), PhotonMapIntegrator::Gather::beam);
+            ASSERT_EQ(integrator.gather(), GatherMode::point_beam);
             m[i] = test::image_mean(config, integrator, 31 + uint64_t(r), 1) / env;
             s[size_t(i)].add(m[i]);
         }
