@@ -230,8 +230,8 @@ struct PhotonMap::Index {
         return node;
     }
 
-    // After the records have moved into leaf order (leaf range [left, right) = records left..right-1)
-    // the permutation array is no longer needed.
+    // Once the records are in leaf order (leaf range [left, right) = records left..right-1) the
+    // permutation array is redundant: freed.
     void release_order(const Photon* data) {
         std::vector<uint32_t>().swap(tree.vAcc);
         adaptor.data = data;
