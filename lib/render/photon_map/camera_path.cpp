@@ -5,8 +5,7 @@
 #include <vector>
 
 #include "core/henyey_greenstein.h"
-#include "render/photon_map/beam_gather.h"
-#include "render/photon_map/photon_beam_gather.h"
+#include "render/photon_map/gathers/segment_gather.h"
 #include "transport/direct_light.h"
 #include "transport/equiangular.h"
 #include "transport/march_points.h"
@@ -55,7 +54,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         // A path continued from a march point (first_depth > 0) gathers at its collisions: marching
         // again would branch at every point, a tree that grows without bound where every ball is wide.
         const bool march = first_depth == 0 && marches(ray, t_end);
-        const bool beam = maps_.gather == GatherMode::point_beam || maps_.gather == GatherMode::photon_beams;
+        const bool beam = maps_.segment != nullptr;
         // The collision gather's segments with direct = "nee", where every collision takes NEE: point
         // and spot lights are also sampled equiangularly along it (transport/equiangular.h). The march's
         // and the beam's segments do the same in march_in_scattering and segment_direct_light.
@@ -274,8 +273,7 @@ Rgb CameraPath::incident_at_march_point(const Vec3& x, const Vec3& dir, double g
 }
 
 Rgb CameraPath::beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c) const {
-    Rgb l = maps_.gather == GatherMode::photon_beams ? maps_.photon_beams->in_scattering(ray, t_end, rng)
-                                                     : maps_.point_beam->in_scattering(ray, t_end, rng);
+    Rgb l = maps_.segment->in_scattering(ray, t_end, rng);
     if (settings_.direct == DirectLighting::nee)
         l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, c.rays,
                                   settings_.walk.equiangular);

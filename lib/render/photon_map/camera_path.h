@@ -34,8 +34,7 @@
 
 namespace vpm {
 
-class BeamGather;
-class PhotonBeamGather;
+class SegmentGather;
 struct SegmentPoint;
 
 // One thread's counts and buffers of the camera paths, summed over threads for the run record and
@@ -64,8 +63,7 @@ struct PassMaps {
     size_t k = 0;
     double max_radius = kInfinity;
     GatherMode gather = GatherMode::collision;    // never "auto" or "pilot": what they chose
-    const BeamGather* point_beam = nullptr;       // gather = "point_beam": this pass's disc BVH
-    const PhotonBeamGather* photon_beams = nullptr;   // gather = "photon_beams": this pass's beams
+    const SegmentGather* segment = nullptr;       // a segment gather in force (gathers/segment_gather.h): its pass's structure
 };
 
 class CameraPath {

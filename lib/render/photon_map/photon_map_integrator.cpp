@@ -14,8 +14,7 @@
 #include "core/sampling.h"
 #include "photon/estimate/ball_extinction.h"
 #include "photon/estimate/bounded_radius.h"
-#include "render/photon_map/beam_gather.h"
-#include "render/photon_map/photon_beam_gather.h"
+#include "render/photon_map/gathers/segment_gather.h"
 #include "render/plan/pass_plan.h"
 #include "render/plan/work_units.h"
 #include "transport/seen_through.h"
@@ -64,7 +63,7 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSett
     gather_ = initial_gather(settings.gather);
     both_strategies_ = settings.walk.mis && bounces_find_lights(scene);
     schedule_pass(0);
-    if (gather_ == GatherMode::point_beam) build_beam(nullptr, nullptr);
+    if (gather_entry(gather_).build) build_segment_gather(nullptr, nullptr);
 }
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
@@ -101,7 +100,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         trace_maps(context, plan_ ? plan_->count : first_map_photons(context, stats), surface, stats);
         if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
         // k above the stored count: say so once per run (the maps are then not queried).
-        const bool volume_short = scene_.has_media() && settings_.gather != GatherMode::photon_beams && volume_map_starved();
+        const bool volume_short = scene_.has_media() && !gather_entry(settings_.gather).stores_beams && volume_map_starved();
         const bool surface_short = surface_map_ && surface_map_->size() < k_;
         if ((volume_short || surface_short) && !warned_k_ && context.log) {
             warned_k_ = true;
@@ -110,8 +109,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
                          << ": no estimate can use k photons, so camera paths are path traced past every "
                          << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)\n";
         }
-        if (settings_.gather == GatherMode::point_beam) build_beam(log, &stats);
-        if (settings_.gather == GatherMode::photon_beams) build_photon_beams(log, &stats);
+        if (gather_entry(settings_.gather).build) build_segment_gather(log, &stats);
     } else if (log) {
         *log << "photons: no media and no surface map, so no photon pass\n";
     }
@@ -186,8 +184,7 @@ void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, Ru
 }
 
 void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats) {
-    retire_beam();           // its BVH points into the last pass's map
-    retire_photon_beams();
+    retire_segment_gather(stats);   // its structure points into the last pass's map
     owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
     PhotonMapSettings pass_settings = settings_;
     pass_settings.count = count;
@@ -205,8 +202,7 @@ bool PhotonMapIntegrator::traces_surface_map() const {
 }
 
 bool PhotonMapIntegrator::wants_decision_map() const {
-    return scene_.has_media() && settings_.max_radius_mfp > 0.0 && settings_.gather != GatherMode::point_beam &&
-           settings_.gather != GatherMode::photon_beams;
+    return scene_.has_media() && settings_.max_radius_mfp > 0.0 && gather_entry(settings_.gather).uses_decision_map;
 }
 
 void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStats& stats) {
@@ -327,33 +323,7 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
                  << " mean free paths, or fewer than k = " << k_ << " photons in the map); "
                  << stats.volume_estimates->queries << " map queries in all\n";
     }
-    if (beam_) {
-        stats.beam = beam_->stats();
-        stats.beam->radii_seconds += beam_before_.radii_seconds;
-        stats.beam->bvh_seconds += beam_before_.bvh_seconds;
-        stats.beam->queries += beam_before_.queries;
-        stats.beam->crossed += beam_before_.crossed;
-        stats.beam->tracking_lookups += beam_before_.tracking_lookups;
-        if (log)
-            *log << "beam: " << stats.beam->queries << " segment queries crossed " << stats.beam->crossed << " photon discs ("
-                 << (stats.beam->queries ? double(stats.beam->crossed) / double(stats.beam->queries) : 0.0) << " per query)\n";
-    }
-    if (photon_beams_) {
-        PhotonBeamGatherStats b = photon_beams_->stats();
-        b.widths_seconds += photon_beams_before_.widths_seconds;
-        b.bvh_seconds += photon_beams_before_.bvh_seconds;
-        b.queries += photon_beams_before_.queries;
-        b.crossed += photon_beams_before_.crossed;
-        b.tested += photon_beams_before_.tested;
-        b.starved += photon_beams_before_.starved;
-        b.tracking_lookups += photon_beams_before_.tracking_lookups;
-        stats.photon_beams = b;
-        if (log)
-            *log << "photon_beams: " << b.queries << " segment queries weighed " << b.crossed << " beams ("
-                 << (b.queries ? double(b.crossed) / double(b.queries) : 0.0) << " per query, "
-                 << (b.queries ? double(b.tested) / double(b.queries) : 0.0) << " crossing tests per query); "
-                 << b.starved << " found fewer than k beams (estimate 0)\n";
-    }
+    if (segment_gather_) segment_gather_->add_to(stats, log);
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
         stats.surface_estimates = ss;
@@ -405,81 +375,26 @@ PassMaps PhotonMapIntegrator::pass_maps(GatherMode gather, const PhotonMap& volu
     return PassMaps{VolumeEstimator{volume, decision, k_, volume_estimator_, max_radius_, settings_.max_radius_mfp,
                                     settings_.extinction, settings_.leaves_group_out(), threads_->ball,
                                     settings_.neighbourhood},
-                    surface, &surface_estimator_, k_, max_radius_, gather, beam_.get(), photon_beams_.get()};
+                    surface, &surface_estimator_, k_, max_radius_, gather,
+                    gather_entry(gather).build ? segment_gather_.get() : nullptr};
 }
 
 double PhotonMapIntegrator::decision_ratio_for(double emitted) const {
     return decision_emitted_ > 0.0 ? emitted / decision_emitted_ : decision_ratio_;
 }
 
-void PhotonMapIntegrator::retire_beam() {
-    if (!beam_) return;
-    const BeamGatherStats b = beam_->stats();
-    beam_before_.radii_seconds += b.radii_seconds;
-    beam_before_.bvh_seconds += b.bvh_seconds;
-    beam_before_.queries += b.queries;
-    beam_before_.crossed += b.crossed;
-    beam_before_.tracking_lookups += b.tracking_lookups;
-    beam_.reset();
+void PhotonMapIntegrator::build_segment_gather(std::ostream* log, RunStats* stats) {
+    const GatherEntry& entry = gather_entry(settings_.gather);
+    SegmentGatherInputs inputs{scene_, settings_, *map_, owned_.beams, k_, max_radius_, beam_scale_};
+    segment_gather_ = entry.build(inputs);
+    segment_gather_->report_build(stats, log);
+    gather_ = segment_gather_->usable() ? entry.mode : GatherMode::march;
 }
 
-void PhotonMapIntegrator::build_beam(std::ostream* log, RunStats* stats) {
-    retire_beam();
-    beam_ = std::make_unique<BeamGather>(scene_, *map_, size_t(settings_.beam_k), settings_.estimator.kernel(), max_radius_,
-                                         settings_.max_radius_mfp, beam_scale_);
-    const BeamGatherStats b = beam_->stats();
-    if (stats) {
-        stats->phase("build_radii", b.radii_seconds);
-        stats->phase("build_beam_bvh", b.bvh_seconds);
-    }
-    // A map of at most beam_k photons has no disc: its segments gather like "march", whose points
-    // take NEE and a continued path where the map is starved (unbiased, and every segment still
-    // gets its single scattering by NEE, as the beam's would).
-    gather_ = beam_->usable() ? GatherMode::point_beam : GatherMode::march;
-    if (log) {
-        *log << "beam: radii (beam_k = " << b.k << ") " << b.radii_seconds << " s, BVH over " << b.photons << " discs "
-             << b.bvh_seconds << " s; " << b.total_bytes_per_photon << " bytes/photon (map " << b.map_bytes_per_photon
-             << " + BVH " << b.bvh_bytes_per_photon << ")\n";
-        if (!beam_->usable() && scene_.has_media())
-            *log << "warning: photons.beam_k = " << b.k << " is not below the " << map_->size()
-                 << " volume photons stored: no photon has a beam_k-th neighbour, so this pass gathers like \"march\"\n";
-    }
-}
-
-void PhotonMapIntegrator::retire_photon_beams() {
-    if (!photon_beams_) return;
-    const PhotonBeamGatherStats b = photon_beams_->stats();
-    photon_beams_before_.widths_seconds += b.widths_seconds;
-    photon_beams_before_.bvh_seconds += b.bvh_seconds;
-    photon_beams_before_.queries += b.queries;
-    photon_beams_before_.crossed += b.crossed;
-    photon_beams_before_.tested += b.tested;
-    photon_beams_before_.starved += b.starved;
-    photon_beams_before_.tracking_lookups += b.tracking_lookups;
-    photon_beams_.reset();
-}
-
-void PhotonMapIntegrator::build_photon_beams(std::ostream* log, RunStats* stats) {
-    retire_photon_beams();
-    photon_beams_ = std::make_unique<PhotonBeamGather>(scene_, std::move(owned_.beams), settings_.beam_widths, k_,
-                                                       settings_.estimator.traits().keeps_kth,
-                                                       settings_.estimator.kernel(), max_radius_);
-    owned_.beams.clear();
-    const PhotonBeamGatherStats b = photon_beams_->stats();
-    if (stats) {
-        if (settings_.beam_widths == BeamWidths::sample_point) stats->phase("build_beam_widths", b.widths_seconds);
-        stats->phase("build_photon_beam_bvh", b.bvh_seconds);
-    }
-    // No beam at all (no media, or every flight outside them): the segments gather like "march".
-    gather_ = photon_beams_->usable() ? GatherMode::photon_beams : GatherMode::march;
-    if (log) {
-        *log << "photon_beams: " << b.beams << " beams, widths \"" << b.widths << "\" (k = " << b.k << ", "
-             << settings_.estimator.label() << " in 1D)";
-        if (settings_.beam_widths == BeamWidths::sample_point) *log << ", widths " << b.widths_seconds << " s";
-        *log << ", BVH " << b.bvh_seconds << " s, " << b.bytes_per_beam << " bytes/beam\n";
-        if (!photon_beams_->usable() && scene_.has_media())
-            *log << "warning: no photon beam was recorded in the media, so this pass gathers like \"march\"\n";
-    }
+void PhotonMapIntegrator::retire_segment_gather(RunStats& stats) {
+    if (!segment_gather_) return;
+    segment_gather_->add_to(stats, nullptr);
+    segment_gather_.reset();
 }
 
 void PhotonMapIntegrator::choose_gather(const PassContext& context) {

@@ -16,8 +16,6 @@
 #include "render/photon_map/photon_map_settings.h"
 #include "render/plan/pass_plan.h"
 #include "render/path/path_tracer.h"
-#include "render/photon_map/beam_gather_stats.h"
-#include "render/photon_map/photon_beam_gather_stats.h"
 #include "render/photon_map/photon_pass.h"
 #include "render/photon_map/camera_path.h"
 #include "render/photon_map/volume_estimate.h"
@@ -28,8 +26,7 @@
 
 namespace vpm {
 
-class BeamGather;
-class PhotonBeamGather;
+class SegmentGather;
 
 class PhotonMapIntegrator : public Integrator {
 public:
@@ -61,10 +58,8 @@ public:
     // first pass's photon pass and pilot are not what a later pass costs (render/run/run.cpp).
     bool stateless_passes() const override { return no_map_; }
     double one_off_seconds() const override { return one_off_seconds_; }
-    // The gather in force: photons.gather, or for "pilot" what this pass's pilot chose.
-    // threshold ("auto"): per segment, the march where its majorant optical depth <= march_max_optical_depth.
-    // beam: one BVH query per segment (render/photon_map/beam_gather.h); a map without discs falls back to march.
-    // photon_beams: one BVH query of the photon beams per segment (render/photon_map/photon_beam_gather.h).
+    // The gather in force: photons.gather, or what "auto" or "pilot" chose; "march" for a pass whose
+    // segment gather had nothing to query.
     GatherMode gather() const { return gather_; }
     const std::optional<GatherPilotStats>& gather_pilot() const { return pilot_; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
@@ -120,17 +115,13 @@ private:
     void schedule_pass(int pass);
     bool warned_k_ = false;   // "k exceeds the stored count" is logged once per run
     std::unique_ptr<ThreadState> threads_;
-    std::unique_ptr<BeamGather> beam_;   // gather = "beam": this pass's radii and disc BVH
-    BeamGatherStats beam_before_;        // earlier passes' beam counts and build times
-    // gather = "beam": builds beam_ over map_ (or falls back to collision) and logs it.
-    void build_beam(std::ostream* log, RunStats* stats);
-    // Frees beam_, keeping its counts in beam_before_.
-    void retire_beam();
-    std::unique_ptr<PhotonBeamGather> photon_beams_;   // gather = "photon_beams": this pass's beams and BVH
-    PhotonBeamGatherStats photon_beams_before_;        // earlier passes' counts and build times
-    // gather = "photon_beams": builds photon_beams_ from this pass's beams (owned_.beams) and logs it.
-    void build_photon_beams(std::ostream* log, RunStats* stats);
-    void retire_photon_beams();
+    // A segment gather in force (photons.gather = "point_beam", "photon_beams"): this pass's structure.
+    std::unique_ptr<SegmentGather> segment_gather_;
+    // Builds it over this pass's maps (logging and timing the build when given); an unusable one
+    // (nothing to query) leaves the pass gathering like "march".
+    void build_segment_gather(std::ostream* log, RunStats* stats);
+    // Adds its counts to the run's statistics and frees it.
+    void retire_segment_gather(RunStats& stats);
     // This pass's photon maps with `count` photons (the last pass's freed first).
     void trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats);
     // The photons of the run's first map (and of the auto plan's pilot map): photons.count, or fewer

@@ -7,7 +7,7 @@
 #include "config/params.h"
 #include "photon/estimate/radius_schedule.h"
 #include "core/sampler_registry.h"
-#include "render/photon_map/photon_beam_gather.h"
+#include "render/photon_map/gathers/photon_beams_gather.h"
 
 namespace vpm {
 

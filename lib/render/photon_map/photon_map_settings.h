@@ -21,7 +21,7 @@ enum class DirectLighting { nee, photon_map };
 enum class ExtinctionNormalisation { ball, point, linear };
 enum class Clustering { ignore, leave_group_out };
 enum class PhotonAllocationRule { importance, power };
-enum class BeamWidths;   // render/photon_map/photon_beam_gather.h
+enum class BeamWidths;   // render/photon_map/gathers/photon_beams_gather.h
 enum class KSchedule { fixed, shrink, progressive };
 
 // One pass's k and radius scales (photons.schedule; photon/estimate/radius_schedule.h).

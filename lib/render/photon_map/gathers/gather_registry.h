@@ -7,10 +7,14 @@
 // where the free flight collides ("collision"), points along the segment ("march"), or one query over
 // a BVH of photon discs ("point_beam") or photon beams ("photon_beams"). "auto" and "pilot" choose one
 // of them per run or per pass; "threshold" per segment.
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace vpm {
+
+class SegmentGather;
+struct SegmentGatherInputs;
 
 enum class GatherMode { collision, march, automatic, pilot, threshold, point_beam, photon_beams };
 
@@ -21,6 +25,10 @@ struct GatherEntry {
     bool chooses;              // picks another gather per run or pass ("auto", "pilot"): never in force itself
     bool plan_measures;        // the map-noise pilot measures it: a candidate of the automatic plan, whose
                                // time-limit sizing then applies to it
+    bool stores_beams;         // the photon pass records the photons' free flights as beams, not volume photons
+    bool uses_decision_map;    // its estimates follow photons.max_radius_mfp's switch (the decision map)
+    // The per-pass structure of a segment gather (segment_gather.h); null for the point gathers.
+    std::unique_ptr<SegmentGather> (*build)(SegmentGatherInputs& inputs);
 };
 
 // The gathers in the order lists show them.
