@@ -11,6 +11,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/map/photon_map.h"
+#include "photon/map/walk_group_split.h"
 #include "photon/trace/photon_tracer.h"
 #include "render/run/run_config.h"
 
@@ -191,4 +192,15 @@ albedo = 0.8
     EXPECT_EQ(a.walk_count(), one.storing_walks);
     ASSERT_EQ(a.size(), b.size());
     for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a.walk(i), b.walk(i)) << i;
+}
+
+// The pilot's split maps (walk_group_split.h) keep every photon's walk: each walk lands whole in one
+// part, so the parts' walks add up to the map's.
+TEST(PhotonWalks, SplitByWalkGroupKeepsTheWalks) {
+    const std::vector<PhotonInput> in = clustered_walks(500, 12, false);
+    const PhotonMap map(in);
+    const std::vector<PhotonMap> parts = split_by_walk_group(map, 2);
+    ASSERT_EQ(parts.size(), 2u);
+    EXPECT_EQ(parts[0].walk_count() + parts[1].walk_count(), map.walk_count());
+    EXPECT_EQ(parts[0].size() + parts[1].size(), map.size());
 }
