@@ -312,6 +312,7 @@ std::string PhotonMapIntegrator::gather_used() const {
         case Gather::march: return "march";
         case Gather::threshold: return "threshold";
         case Gather::beam: return "beam";
+        case Gather::photon_beams: return "photon_beams";
     }
     return "collision";
 }
@@ -407,7 +408,7 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
             *log << "photon_beams: " << b.queries << " segment queries weighed " << b.crossed << " beams ("
                  << (b.queries ? double(b.crossed) / double(b.queries) : 0.0) << " per query, "
                  << (b.queries ? double(b.tested) / double(b.queries) : 0.0) << " crossing tests per query); "
-                 << b.starved << " found fewer than k beams (estimate 0)\n";
+                 << b.starved << " found fewer than k beams (the path went on there, as the collision gather's)\n";
     }
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
@@ -467,7 +468,17 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
         // again would branch at every point, a tree that grows without bound where every ball is
         // wide (the stress matrix's furnace and pathological cells hung once "auto" chose the march).
         const bool march = first_depth == 0 && marches(ray, t_end);
-        const bool beam = gather_ == Gather::beam || gather_ == Gather::photon_beams;
+        bool beam = gather_ == Gather::beam || gather_ == Gather::photon_beams;
+        // Photon beams with balloon widths: a segment crossed by fewer than k beams has no width.
+        // It is gathered as the collision gather's are (the path goes on from its free flight, as
+        // a starved point map makes it), not counted as 0.
+        Rgb beams = Rgb::Zero();
+        if (gather_ == Gather::photon_beams && !(max_depth >= 0 && depth + 1 > max_depth)) {
+            bool starved = false;
+            beams = photon_beams_->in_scattering(ray, t_end, rng, &starved);
+            if (starved) beam = false;
+        }
+        const Rgb* taken = gather_ == Gather::photon_beams ? &beams : nullptr;
         // The collision gather's segments with direct = "nee", where every collision takes NEE: point
         // and spot lights are also sampled equiangularly along it (transport/equiangular.h). The march's
         // and the beam's segments do the same in march_in_scattering and segment_direct_light.
@@ -498,14 +509,15 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
                 break;
             }
             radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, local.profile, local.rays);
-            if (gathers) radiance += throughput * beam_in_scattering(ray, t_end, rng);
+            if (gathers) radiance += throughput * beam_in_scattering(ray, t_end, rng, taken);
             break;
         }
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             if (march && !(max_depth >= 0 && depth + 1 > max_depth))
                 radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng);
-            if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng);
+            if (beam && !(max_depth >= 0 && depth + 1 > max_depth))
+                radiance += throughput * beam_in_scattering(ray, kInfinity, rng, taken);
             break;
         }
         if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
@@ -517,7 +529,7 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
             if (event) break;
         }
         if (beam) {   // the same rule with the whole segment in one query
-            radiance += throughput * beam_in_scattering(ray, t_end, rng);
+            radiance += throughput * beam_in_scattering(ray, t_end, rng, taken);
             if (event) break;
         }
         if (event) {
@@ -858,8 +870,10 @@ void PhotonMapIntegrator::build_photon_beams(std::ostream* log, RunStats* stats)
     }
 }
 
-Rgb PhotonMapIntegrator::beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const {
-    Rgb l = gather_ == Gather::photon_beams ? photon_beams_->in_scattering(ray, t_end, rng) : beam_->in_scattering(ray, t_end, rng);
+Rgb PhotonMapIntegrator::beam_in_scattering(const Ray& ray, double t_end, Rng& rng, const Rgb* beams) const {
+    Rgb l = beams                               ? *beams
+            : gather_ == Gather::photon_beams ? photon_beams_->in_scattering(ray, t_end, rng)
+                                              : beam_->in_scattering(ray, t_end, rng);
     if (settings_.direct == DirectLighting::nee)
         l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, threads_->local.local().rays,
                                   settings_.walk.equiangular);

@@ -193,7 +193,8 @@ private:
     double last_trace_seconds_ = 0.0; // trace_maps' last photon pass
     PhotonLedger ledger_;             // photons traced per phase (RunStats::photon_ledger)
     // gather = "beam": the segment's in-scattering, single scattering by NEE when direct = "nee".
-    Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const;
+    // beams: the photon-beams gather's value for this segment when already taken (trace()).
+    Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng, const Rgb* beams = nullptr) const;
 
     // The camera path's radiance from `ray` on, after `first_depth` scattering events; emission it
     // meets first counts as `first_emission` says.

@@ -242,6 +242,10 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.photon_beams.crossed", b->crossed);
         record.set("photons.photon_beams.tested", b->tested);
         record.set("photons.photon_beams.starved", b->starved);
+        record.set("photons.photon_beams.widths_bounded", b->widths_bounded);
+        record.set("photons.photon_beams.widths_extrapolated", b->widths_extrapolated);
+        record.set("photons.photon_beams.widths_typical", b->widths_typical);
+        record.set("photons.photon_beams.beams_left_out", b->beams_left_out);
         record.set("photons.photon_beams.tracking_lookups", b->tracking_lookups);
     }
     if (const auto& b = stats.beam) {
