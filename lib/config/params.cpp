@@ -114,7 +114,10 @@ void apply_override(ConfigDocument& doc, const std::string& assignment) {
     if (eq == std::string::npos || eq == 0)
         throw ConfigError("--set " + assignment + ": expected KEY=VALUE, e.g. media.0.sigma_t_scale=10");
     const std::string key = assignment.substr(0, eq);
-    const std::string where = "--set " + assignment;
+    // Messages stay one line: a line break in the value is shown as \n.
+    std::string shown;
+    for (char c : assignment) shown += c == '\n' ? std::string("\\n") : c == '\r' ? std::string("\\r") : std::string(1, c);
+    const std::string where = "--set " + shown;
     const auto parts = split(key, '.');
     if (parts.size() > size_t(kMaxConfigNesting))
         throw ConfigError(where + ": the key has " + std::to_string(parts.size()) + " parts; the limit is " +

@@ -187,12 +187,14 @@ TEST(Caustics, PhotonMapAgreesWithThePathTracerOnTheGlassSphereInFog) {
 
 // Shapes of every scale in one scene (issue 61): rays leave each surface by an offset of its own
 // scale. A clear glass sphere of radius 1e-6 under a sky of 0.5 stays invisible next to a far
-// mirror quad of half-size 10 (with offsets of 1e-6 of the scene's extent it read 0.2340).
+// mirror quad of half-size 10 (with offsets of 1e-6 of the scene's extent, larger than the sphere,
+// paths entered the glass and never left it: 1 / eta^2 of the sky).
 TEST(Caustics, TinyGlassSphereBesideALargeMirrorIsInvisible) {
     const char* text = R"(
 [camera]
-position = [0, 0, 4e-6]
+position = [0, 0, 1]
 look_at = [0, 0, 0]
+fov = 1.2e-4
 [[lights]]
 type = "environment"
 radiance = 0.5
@@ -209,9 +211,11 @@ u = [10, 0, 0]
 v = [0, 10, 0]
 material = "mirror"
 )";
+    // Rays from a unit distance: they meet the sphere (from 4 radii, offsets of 1e-6 of the scene's
+    // extent, 5.5e-5, skipped it whole).
     const double r = 1e-6;
-    const Ray rays[] = {Ray{Vec3(0, 0, 4 * r), Vec3(0, 0, -1)}, Ray{Vec3(0.3 * r, 0.1 * r, 4 * r), Vec3(0, 0, -1)},
-                        Ray{Vec3(0.59 * r, 0, 4 * r), Vec3(0, 0, -1)}, Ray{Vec3(0, 0, 4 * r), Vec3(0.12, 0.05, -1).normalized()}};
+    const Ray rays[] = {Ray{Vec3(0, 0, 1), Vec3(0, 0, -1)}, Ray{Vec3(0.3 * r, 0.1 * r, 1), Vec3(0, 0, -1)},
+                        Ray{Vec3(0.59 * r, 0, 1), Vec3(0, 0, -1)}, Ray{Vec3(0.9 * r, 0.3 * r, 1), Vec3(0, 0, -1)}};
     for (const char* integrator : {"render.integrator=path", "render.integrator=photon_map"}) {
         const RunConfig config = RunConfig::build(parse_config(text, "tiny_glass.toml", ".", {integrator}));
         const auto pt = prepared(config);

@@ -87,6 +87,7 @@ PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> b
     const Timer bvh_timer;
     bvh_ = PhotonBeamBvh(beams_, radii, piece);
     built_.bvh_seconds = bvh_timer.seconds();
+    built_.recorded = beams_.size();
     built_.beams = bvh_.size();
     built_.beams_left_out = beams_.size() - bvh_.size();   // non-finite or empty flights: no width, no light
     built_.pieces = bvh_.item_count();

@@ -8,6 +8,7 @@ namespace vpm {
 struct PhotonBeamGatherStats {
     std::string widths;              // photons.beam_widths: "balloon" | "sample_point"
     uint64_t k = 0;                  // photons.k of the last pass (photons.schedule may shrink it)
+    uint64_t recorded = 0;           // beams the photon pass recorded (last pass)
     uint64_t beams = 0;              // beams in the BVH (last pass)
     uint64_t pieces = 0;             // the BVH's items: long beams cut into pieces (last pass)
     double piece_length = 0.0;       // the longest piece (PhotonBeamBvh::automatic_piece_length)

@@ -231,6 +231,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& b = stats.photon_beams) {
         record.set("photons.photon_beams.widths", b->widths);
         record.set("photons.photon_beams.k", b->k);
+        record.set("photons.photon_beams.recorded", b->recorded);
         record.set("photons.photon_beams.beams", b->beams);
         record.set("photons.photon_beams.pieces", b->pieces);
         record.set("photons.photon_beams.piece_length", b->piece_length);
