@@ -404,6 +404,16 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
         b.starved += photon_beams_before_.starved;
         b.tracking_lookups += photon_beams_before_.tracking_lookups;
         stats.photon_beams = b;
+        if (const uint64_t guessed = b.widths_extrapolated + b.widths_typical) {
+            std::ostringstream w;
+            w << "photons.beam_widths = \"sample_point\": " << guessed << " of " << b.recorded
+              << " beams are crossed by fewer than photons.k others (short flights: a dense medium, or few photons); "
+                 "their widths are extrapolated ("
+              << b.widths_extrapolated << ") or the median (" << b.widths_typical
+              << "), and such wide beams blur their light beyond the medium's features (a dense cube read -50% at "
+                 "20,000 photons); balloon widths, a smaller photons.k or photons.max_radius bound it";
+            stats.warn(w.str(), log);
+        }
         if (log)
             *log << "photon_beams: " << b.queries << " segment queries weighed " << b.crossed << " beams ("
                  << (b.queries ? double(b.crossed) / double(b.queries) : 0.0) << " per query, "
