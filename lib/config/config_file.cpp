@@ -1,5 +1,6 @@
 #include "config/config_file.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -32,7 +33,13 @@ std::string read_config_text(const std::string& path, const std::string& what) {
     std::stringstream text;
     text << in.rdbuf();
     if (in.bad()) throw FileError(path + ": cannot read " + what);
-    return text.str();
+    // A config is text: an image or a grid given by mistake is named as what it is, not parsed.
+    const std::string bytes = text.str();
+    const bool exr = bytes.compare(0, 4, "\x76\x2f\x31\x01") == 0;
+    if (exr || bytes.find('\0') != std::string::npos)
+        throw FileError(path + ": cannot read " + what + ": it is " + (exr ? "an OpenEXR image" : "a binary file") +
+                        ", not text; a config is TOML, or JSON such as a run's sidecar (the .json beside its image)");
+    return bytes;
 }
 
 void check_toml_shape(const std::string& text, const std::string& name) {
@@ -130,9 +137,10 @@ namespace vpm {
 
 namespace {
 
-toml::array json_array_to_toml(const nlohmann::json& j, const std::string& name, int depth);
+// `path`: the dotted key of the value, for messages ("render.seed", "shapes.0.radius").
+toml::array json_array_to_toml(const nlohmann::json& j, const std::string& name, const std::string& path, int depth);
 
-toml::table json_object_to_toml(const nlohmann::json& j, const std::string& name, int depth);
+toml::table json_object_to_toml(const nlohmann::json& j, const std::string& name, const std::string& path, int depth);
 
 void check_json_depth(int depth, const std::string& name) {
     if (depth > kMaxConfigNesting)
@@ -140,32 +148,41 @@ void check_json_depth(int depth, const std::string& name) {
 }
 
 template <class Insert>
-void json_value_to_toml(const nlohmann::json& v, const std::string& name, int depth, Insert&& insert) {
+void json_value_to_toml(const nlohmann::json& v, const std::string& name, const std::string& path, int depth,
+                        Insert&& insert) {
     switch (v.type()) {
-        case nlohmann::json::value_t::object: insert(json_object_to_toml(v, name, depth + 1)); break;
-        case nlohmann::json::value_t::array: insert(json_array_to_toml(v, name, depth + 1)); break;
+        case nlohmann::json::value_t::object: insert(json_object_to_toml(v, name, path + ".", depth + 1)); break;
+        case nlohmann::json::value_t::array: insert(json_array_to_toml(v, name, path + ".", depth + 1)); break;
         case nlohmann::json::value_t::string: insert(v.get<std::string>()); break;
         case nlohmann::json::value_t::boolean: insert(v.get<bool>()); break;
         case nlohmann::json::value_t::number_integer: insert(v.get<int64_t>()); break;
-        case nlohmann::json::value_t::number_unsigned: insert(int64_t(v.get<uint64_t>())); break;
+        case nlohmann::json::value_t::number_unsigned:
+            // Configs hold 64-bit signed integers (TOML's): a larger one must not wrap to a negative.
+            if (v.get<uint64_t>() > uint64_t(INT64_MAX))
+                throw ConfigError(name + ": " + path + ": integer " + std::to_string(v.get<uint64_t>()) +
+                                  " is out of range; integers are 64-bit signed, at most 9223372036854775807 (2^63 - 1)");
+            insert(int64_t(v.get<uint64_t>()));
+            break;
         case nlohmann::json::value_t::number_float: insert(v.get<double>()); break;
-        default: throw ConfigError(name + ": a null or binary value has no TOML equivalent");
+        default: throw ConfigError(name + ": " + path + ": a null or binary value has no TOML equivalent");
     }
 }
 
-toml::array json_array_to_toml(const nlohmann::json& j, const std::string& name, int depth) {
+toml::array json_array_to_toml(const nlohmann::json& j, const std::string& name, const std::string& path, int depth) {
     check_json_depth(depth, name);
     toml::array a;
-    for (const auto& v : j) json_value_to_toml(v, name, depth, [&](auto&& x) { a.push_back(std::move(x)); });
+    size_t i = 0;
+    for (const auto& v : j)
+        json_value_to_toml(v, name, path + std::to_string(i++), depth, [&](auto&& x) { a.push_back(std::move(x)); });
     return a;
 }
 
-toml::table json_object_to_toml(const nlohmann::json& j, const std::string& name, int depth) {
+toml::table json_object_to_toml(const nlohmann::json& j, const std::string& name, const std::string& path, int depth) {
     check_json_depth(depth, name);
     toml::table t;
     for (const auto& item : j.items()) {   // not a structured binding: C++17 lambdas cannot capture one
         const std::string& key = item.key();
-        json_value_to_toml(item.value(), name, depth, [&](auto&& x) { t.insert_or_assign(key, std::move(x)); });
+        json_value_to_toml(item.value(), name, path + key, depth, [&](auto&& x) { t.insert_or_assign(key, std::move(x)); });
     }
     return t;
 }
@@ -226,9 +243,9 @@ toml::table config_from_json(const std::string& text, const std::string& name) {
     if (!j.is_object()) throw ConfigError(name + ": expected a JSON object");
     if (j.contains("config")) {   // a run sidecar: its resolved config
         if (!j["config"].is_object()) throw ConfigError(name + ": config: expected an object");
-        return json_object_to_toml(j["config"], name, 0);
+        return json_object_to_toml(j["config"], name, "", 0);
     }
-    return json_object_to_toml(j, name, 0);
+    return json_object_to_toml(j, name, "", 0);
 }
 
 }  // namespace vpm

@@ -68,16 +68,45 @@ void check_index(const std::string& where, const std::string& p, const std::stri
                           std::to_string(n) + " entries" + range);
 }
 
-// Parses the right-hand side of --set as a TOML value; a bare word that is not TOML is a string.
+// An integer literal (decimal, optional sign and underscores) that TOML's 64-bit integers cannot hold.
+bool out_of_range_integer(const std::string& value) {
+    const size_t b = value.find_first_not_of(" \t"), e = value.find_last_not_of(" \t");
+    if (b == std::string::npos) return false;
+    std::string digits;
+    for (size_t i = b; i <= e; ++i) {
+        const char c = value[i];
+        if ((c == '+' || c == '-') && i == b) continue;
+        if (c == '_') continue;
+        if (c < '0' || c > '9') return false;
+        digits += c;
+    }
+    if (digits.empty()) return false;
+    digits.erase(0, std::min(digits.find_first_not_of('0'), digits.size() - 1));
+    const std::string limit = value[b] == '-' ? "9223372036854775808" : "9223372036854775807";
+    return digits.size() > limit.size() || (digits.size() == limit.size() && digits > limit);
+}
+
+// Parses the right-hand side of --set as one TOML value; a bare word that is not TOML is a string.
 toml::table parse_override_value(const std::string& value, const std::string& where) {
+    if (out_of_range_integer(value))
+        throw ConfigError(where + ": integer out of range; integers are 64-bit signed, from -9223372036854775808 to "
+                                  "9223372036854775807 (2^63 - 1)");
     check_toml_shape("v = " + value, where);
+    toml::table t;
     try {
-        return toml::parse("v = " + value);
+        t = toml::parse("v = " + value);
     } catch (const toml::parse_error&) {
-        toml::table t;
+        if (value.find_first_of("\r\n") != std::string::npos)
+            throw ConfigError(where + ": the value spans lines and is no TOML value; give one value per --set "
+                                      "(a string with a line break must be quoted: \"a\\nb\")");
         t.insert("v", value);
         return t;
     }
+    // "16\nrender.height = 4" parses as two keys: everything after the first value would be lost.
+    if (t.size() != 1)
+        throw ConfigError(where + ": more than one value (a line break ends the first and starts a key); give "
+                                  "one value per --set, e.g. --set render.width=16 --set render.height=4");
+    return t;
 }
 
 void apply_override(ConfigDocument& doc, const std::string& assignment) {
@@ -85,7 +114,10 @@ void apply_override(ConfigDocument& doc, const std::string& assignment) {
     if (eq == std::string::npos || eq == 0)
         throw ConfigError("--set " + assignment + ": expected KEY=VALUE, e.g. media.0.sigma_t_scale=10");
     const std::string key = assignment.substr(0, eq);
-    const std::string where = "--set " + assignment;
+    // Messages stay one line: a line break in the value is shown as \n.
+    std::string shown;
+    for (char c : assignment) shown += c == '\n' ? std::string("\\n") : c == '\r' ? std::string("\\r") : std::string(1, c);
+    const std::string where = "--set " + shown;
     const auto parts = split(key, '.');
     if (parts.size() > size_t(kMaxConfigNesting))
         throw ConfigError(where + ": the key has " + std::to_string(parts.size()) + " parts; the limit is " +
@@ -125,6 +157,11 @@ void apply_override(ConfigDocument& doc, const std::string& assignment) {
     toml::node* value = parsed.get("v");
     const std::string& last = parts.back();
     if (auto* t = cur->as_table()) {
+        // A table given whole would drop every key of the table it replaces that it leaves out.
+        if (const toml::node* old = t->get(last); old && old->is_table() && value->is_table())
+            throw ConfigError(where + ": '" + key + "' is a table (" + origin(key) +
+                              "); a table value would replace all of its keys, not only the ones given. Set the keys "
+                              "one by one: --set " + key + ".KEY=VALUE");
         t->insert_or_assign(last, std::move(*value));
     } else if (auto* a = cur->as_array(); a && is_index(last) && std::stoull(last.substr(0, 18)) < a->size()) {
         a->replace(a->cbegin() + static_cast<std::ptrdiff_t>(std::stoul(last)), std::move(*value));
@@ -236,7 +273,11 @@ std::string Params::path_of(const std::string& key) const { return prefix_ + key
 
 std::string Params::where(const std::string& key) const {
     const std::string full = path_of(key);
-    if (doc_->overridden.count(full)) return "--set " + full;
+    // Set on the command line, itself or within a table or array given there (--set 'shapes=[...]').
+    for (size_t end = full.size(); end != std::string::npos && end > 0; end = full.rfind('.', end - 1)) {
+        const std::string path = full.substr(0, end);
+        if (doc_->overridden.count(path)) return "--set " + path;
+    }
     const toml::node* n = table_->get(key);
     const auto& src = n ? n->source() : table_->source();
     const std::string file = src.path ? *src.path : doc_->file;   // keys from a base config name it
@@ -475,7 +516,16 @@ std::vector<Params> Params::tables(const std::string& key) {
     auto* out = resolved_->insert_or_assign(key, toml::array{}).first->second.as_array();
     for (size_t i = 0; i < a->size(); ++i) {
         const auto* t = a->get(i)->as_table();
-        if (!t) fail(key, "entry " + std::to_string(i) + " is not a table");
+        if (!t) {
+            // Named by where the entry came from: a --set (of the entry or the whole array) or its line.
+            const std::string entry = key + "." + std::to_string(i);
+            std::string at = where(entry);
+            const auto& src = a->get(i)->source();
+            if (at.rfind("--set ", 0) != 0 && src.begin.line > 0)
+                at = (src.path ? *src.path : doc_->file) + ":" + std::to_string(src.begin.line);
+            throw ConfigError(at + ": " + path_of(entry) + ": expected a table (an entry of [[" + path_of(key) + "]]), got " +
+                              type_name(*a->get(i)));
+        }
         out->push_back(toml::table{});
     }
     for (size_t i = 0; i < a->size(); ++i)

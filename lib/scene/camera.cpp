@@ -1,5 +1,6 @@
 #include "scene/camera.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "core/error.h"
@@ -21,6 +22,10 @@ Camera Camera::from_params(Params& p, int width, int height) {
     const double fov = p.real("fov", 40.0, Range::open(0.0, 180.0));
     const Vec3 forward = look_at - position;
     if (forward.norm() == 0.0) p.fail("look_at", "must differ from camera.position");
+    // The viewing direction is (look_at - position) normalised: its length must be a finite number.
+    if (!std::isfinite(forward.norm()))
+        p.fail("position", "is too far from camera.look_at: the distance between them must be below 1e154 (sqrt of "
+                           "the largest double), so that the viewing direction can be computed");
     if (forward.normalized().cross(up).norm() < 1e-9) p.fail("up", "must not be parallel to the viewing direction");
     p.finish();
     return Camera(position, look_at, up, fov, width, height);

@@ -1,16 +1,16 @@
 #include "transport/walk_steps.h"
 
+#include <algorithm>
+
+#include "scene/surfaces/offsets.h"
+
 namespace vpm {
 
 namespace {
-// Offset for rays leaving a surface. Positions are double and Embree sees float coordinates
-// relative to the scene's centre (surfaces.cpp, which also skips self-hits by the refined double
-// distance), so the offset must not grow with the distance from the origin: 1e-4 * |p| moved
-// spawned rays 100 units at 1e6 (found by the translated cells of `vpm stress`). It must not be
-// absolute either: a fixed 1e-4 put rays leaving the floor of a scene scaled by 1e-6 100 scene
-// sizes away. The surfaces' own epsilon (1e-6 of their half extent) plus ~2^22 double
-// ulps of |p| keeps the origin on the right side anywhere and scales with the scene.
-double surface_epsilon(const SurfaceHit& hit) { return hit.epsilon + 1e-9 * hit.position.cwiseAbs().maxCoeff(); }
+// Offset for rays leaving a surface: the hit's own bound (scene/surfaces/offsets.h: its
+// coordinates and shape, never the scene's extent, so a 1e6 shape elsewhere leaves a 1e-6 sphere
+// intact), and at least the rounding of the position itself for hits made by hand.
+double surface_epsilon(const SurfaceHit& hit) { return std::max(hit.epsilon, kSpawnOffset * magnitude(hit.position)); }
 }  // namespace
 
 Ray spawn_ray(const SurfaceHit& hit, const Vec3& dir) {

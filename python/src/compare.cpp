@@ -1,6 +1,7 @@
 // vpm.compare: images against a reference with the metrics `vpm sweep` and `vpm compare` report
 // (lib/analysis/error_metrics.h), computed by the same code; vpm/__init__.py turns files and render
 // results into arrays and adds the samples check.
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 
 #include "analysis/error_metrics.h"
 #include "analysis/reference_samples.h"
+#include "render/run/run_outputs.h"
 #include "bindings.h"
 #include "core/error.h"
 
@@ -20,17 +22,38 @@ namespace vpm::python {
 
 namespace {
 
-using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// An (H, W, 3) array as an Image (copied).
-Image to_image(const FloatArray& a, const std::string& name) {
+// An (H, W, 3) array of numbers as an Image (float32, copied). Read as float64 first, so that a
+// value beyond float32's range is an error naming it, not an infinity. finite_only: NaN and Inf
+// pixels are refused as `vpm compare` refuses them (the error against a reference is undefined).
+Image to_image(const py::handle& h, const std::string& name, bool finite_only = true) {
+    DoubleArray a;
+    try {
+        a = DoubleArray::ensure(h);
+    } catch (const py::error_already_set&) {
+        a = DoubleArray();
+    }
+    if (!a) throw Error(name + ": expected an array of numbers of shape (height, width, 3), got a " +
+                        std::string(py::str(py::type::handle_of(h).attr("__name__"))));
     if (a.ndim() != 3 || a.shape(2) != 3)
         throw Error(name + ": expected an array of shape (height, width, 3), got " + std::to_string(a.ndim()) +
                     " dimensions" + (a.ndim() == 3 ? " with " + std::to_string(a.shape(2)) + " channels" : std::string()));
     if (a.shape(0) < 1 || a.shape(1) < 1) throw Error(name + ": an empty image");
     Image im(int(a.shape(1)), int(a.shape(0)));
-    const float* p = a.data();
-    im.rgb.assign(p, p + a.size());
+    const double* p = a.data();
+    for (py::ssize_t i = 0; i < a.size(); ++i) {
+        const double v = p[i];
+        if (std::isfinite(v) && std::abs(v) > double(std::numeric_limits<float>::max())) {
+            const py::ssize_t pixel = i / 3, x = pixel % a.shape(1), y = pixel / a.shape(1);
+            throw Error(name + ": value " + std::to_string(v) + " at [" + std::to_string(y) + ", " + std::to_string(x) +
+                        ", " + std::to_string(i % 3) + "] is beyond float32's range (+-3.4e38), which images hold");
+        }
+        im.rgb[size_t(i)] = float(v);
+    }
+    if (const size_t bad = finite_only ? count_nonfinite_pixels(im) : 0)
+        throw Error(name + ": " + std::to_string(bad) + " of " + std::to_string(size_t(im.width) * size_t(im.height)) +
+                    " pixels are NaN or Inf; the error against the reference is undefined");
     return im;
 }
 
@@ -38,7 +61,7 @@ double nan_if(bool unknown, double v) { return unknown ? std::numeric_limits<dou
 
 // Per image: the channel-wise and luminance errors; over all of them as repeats (two or more):
 // the repeat metrics.
-py::dict compare(const std::vector<FloatArray>& images, const FloatArray& reference) {
+py::dict compare(const std::vector<py::object>& images, const py::object& reference) {
     if (images.empty()) throw Error("compare: no images");
     const Image ref = to_image(reference, "reference");
     std::vector<Image> ims;
@@ -82,8 +105,8 @@ py::dict compare(const std::vector<FloatArray>& images, const FloatArray& refere
     return out;
 }
 
-py::array luminance_of(const FloatArray& image) {
-    const Image im = to_image(image, "image");
+py::array luminance_of(const py::object& image) {
+    const Image im = to_image(image, "image", false);
     py::array_t<double> out({size_t(im.height), size_t(im.width)});
     double* o = out.mutable_data();
     for (size_t p = 0; p < size_t(im.width) * size_t(im.height); ++p)

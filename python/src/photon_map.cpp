@@ -100,10 +100,25 @@ std::vector<PhotonInput> photons_from_arrays(const py::handle& positions, const 
     auto pp = p.unchecked<2>();
     auto ww = w.unchecked<2>();
     auto dd = d.unchecked<2>();
+    // The records hold positions as float32 offsets from the map's centre and powers as binary16
+    // mantissas under a per-photon exponent: a coordinate beyond +-1e38 (offsets then pass float32's
+    // 3.4e38) or a non-finite value would become an infinity silently.
+    constexpr double kMaxCoordinate = 1e38;
     for (size_t i = 0; i < out.size(); ++i) {
         const auto r = py::ssize_t(i);
         out[i].position = Vec3(pp(r, 0), pp(r, 1), pp(r, 2));
         out[i].power = Rgb(ww(r, 0), ww(r, 1), ww(r, 2));
+        if (!out[i].position.allFinite() || out[i].position.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+            std::ostringstream m;
+            m << "PhotonMap: positions[" << i << "] = (" << out[i].position.transpose()
+              << ") is not a finite point within +-1e38 (photon records store float32 offsets)";
+            throw Error(m.str());
+        }
+        if (!out[i].power.allFinite()) {
+            std::ostringstream m;
+            m << "PhotonMap: powers[" << i << "] = (" << out[i].power.transpose() << ") is not finite";
+            throw Error(m.str());
+        }
         out[i].direction = unit_direction(Vec3(dd(r, 0), dd(r, 1), dd(r, 2)), i, "PhotonMap: directions");
     }
     return out;
@@ -252,6 +267,10 @@ py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::ha
         e = e.with_radius_scale(r.volume_scale);
     }
     e.validate_k(kk);
+    // Fewer photons than k: every estimate would use them all, silently a smaller k.
+    if (kk > m.map->size())
+        throw Error("estimate: k = " + std::to_string(kk) + (k ? "" : " (photons.k of the config)") + " but the map holds " +
+                    std::to_string(m.map->size()) + " photons; k must be at most " + std::to_string(m.map->size()));
     const double gg = g ? *g : scene_g(m);
     if (!(gg > -1.0 && gg < 1.0)) throw Error("estimate: g must be in (-1, 1), got " + std::to_string(gg));
     const double radius = max_radius ? radius_or_infinity(max_radius, "max_radius") : s.search_radius();

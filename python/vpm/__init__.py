@@ -33,8 +33,50 @@ import warnings
 from . import _vpm
 from ._vpm import Config, ConfigError, Error, FileError, PhotonMap, RenderResult, luminance, read_exr
 
+def _one_line(text):
+    return " ".join(line.strip() for line in text.splitlines() if line.strip())
+
+
+def _typed(function, name):
+    """`function` with pybind11's TypeError for arguments of the wrong type raised as vpm.Error naming
+    `name` and the signature it accepts (every error of the module is a vpm.Error)."""
+    def call(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except TypeError as e:
+            message = str(e)
+            if "incompatible function arguments" not in message and "incompatible constructor arguments" not in message:
+                raise
+            allowed = message.split("supported:", 1)[-1].split("Invoked with", 1)[0]
+            raise Error("%s: arguments of the wrong type; accepted: %s" % (name, _one_line(allowed))) from None
+    call.__name__ = getattr(function, "__name__", name)
+    call.__doc__ = getattr(function, "__doc__", None)
+    return call
+
+
+class _TypedModule:
+    """The native module with every function's argument TypeErrors raised as vpm.Error."""
+
+    def __init__(self, module):
+        self._module = module
+
+    def __getattr__(self, attr):
+        value = getattr(self._module, attr)
+        if callable(value) and not isinstance(value, type):
+            return _typed(value, attr.lstrip("_"))
+        return value
+
+
+for _method in ("__init__", "knn", "estimate"):
+    setattr(PhotonMap, _method, _typed(getattr(PhotonMap, _method),
+                                       "PhotonMap" if _method == "__init__" else "PhotonMap." + _method))
+RenderResult.save = _typed(RenderResult.save, "RenderResult.save")
+luminance = _typed(luminance, "luminance")
+read_exr = _typed(read_exr, "read_exr")
+
 __version__ = _vpm.__version__
 git_revision = _vpm.git_revision
+_vpm = _TypedModule(_vpm)
 
 __all__ = ["load_config", "render", "trace_photons", "study", "sweep", "compare", "luminance", "info", "read_exr", "Config",
            "RenderResult",
@@ -90,19 +132,33 @@ def load_config(source, overrides=None):
     return _vpm._load_config(source, False, "", "", sets)
 
 
-def _dict_values(table, path, non_finite):
+# A config's nesting limit, as for TOML and JSON files (lib/config/config_file.h: kMaxConfigNesting).
+_MAX_NESTING = 64
+
+
+def _dict_values(table, path, non_finite, open_containers=()):
     """A copy of a config dict that JSON can carry: every key a str and every value a bool, number,
     str, list or dict (else vpm.ConfigError naming the key). JSON has no NaN or infinity, so such
-    floats are replaced by 0 and their dotted paths collected in non_finite, to go in as overrides."""
+    floats are replaced by 0 and their dotted paths collected in non_finite, to go in as overrides.
+    open_containers: the ids of the dicts and lists around this value (a cycle, or nesting deeper
+    than a config allows, is a ConfigError, not Python's RecursionError)."""
+    if isinstance(table, (dict, list, tuple)):
+        if id(table) in open_containers:
+            raise ConfigError("<dict>: %s: the value contains itself (a cycle); a config is a tree of tables, "
+                              "lists and values" % (path or "<top>"))
+        if len(open_containers) >= _MAX_NESTING:
+            raise ConfigError("<dict>: %s: nesting deeper than %d levels (tables and lists); a scene needs a handful"
+                              % (path, _MAX_NESTING))
+        open_containers = open_containers + (id(table),)
     if isinstance(table, dict):
         out = {}
         for key, value in table.items():
             if not isinstance(key, str):
                 raise ConfigError("<dict>: %s: a config key must be a str, got a %s" % (path or "<top>", type(key).__name__))
-            out[key] = _dict_values(value, path + "." + key if path else key, non_finite)
+            out[key] = _dict_values(value, path + "." + key if path else key, non_finite, open_containers)
         return out
     if isinstance(table, (list, tuple)):
-        return [_dict_values(v, "%s.%d" % (path, i), non_finite) for i, v in enumerate(table)]
+        return [_dict_values(v, "%s.%d" % (path, i), non_finite, open_containers) for i, v in enumerate(table)]
     if isinstance(table, (bool, str)) or isinstance(table, numbers.Integral):
         return table
     if isinstance(table, numbers.Real):

@@ -81,6 +81,46 @@ TEST(ConfigInput, SetErrorsBlameTheSet) {
     expect_error(dir, quote(dir.path / "inc.toml") + " --set render.spp.x=1", {"'render.spp' is a single value"});
 }
 
+// Issue 61: the messages of undesigned --set values, seeds and files.
+TEST(ConfigInput, SetValuesNameTheSetAndWhatIsAllowed) {
+    ScratchDir dir;
+    write_file(dir.path / "s.toml", tiny_scene());
+    const std::string s = quote(dir.path / "s.toml");
+    // Seeds past 2^63 - 1: an integer out of range (was "expected an integer, got a string").
+    expect_error(dir, s + " --set render.seed=9223372036854775808", {"--set render.seed", "integer out of range", "9223372036854775807"});
+    // A newline inside a value: the rest was ignored silently.
+    expect_error(dir, s + " --set 'render.width=16\nrender.height=4'", {"--set render.width", "more than one value"});
+    // A whole table replaced [render], dropping the file's keys silently.
+    expect_error(dir, s + " --set 'render={width=16}'", {"--set render={width=16}", "is a table", "--set render.KEY=VALUE"});
+    // Values set on the command line are blamed on the --set, not on a line of the file.
+    expect_error(dir, s + " --set 'camera.position=[1e308,0,0]'", {"--set camera.position", "too far from camera.look_at"});
+    expect_error(dir, s + " --set lights.0=5", {"--set lights.0: lights.0: expected a table", "got an integer"});
+    expect_error(dir, s + " --set 'shapes=[{type=\"sphere\", center=[0,0,0], radius=-1}]'", {"--set shapes: shapes.0.radius"});
+    // A table created by --set is still merged with later --set keys.
+    const Outcome ok = run_vpm("render -q " + s + " --set render.seed=9223372036854775807 -o " + quote(dir.path / "ok.exr"), dir.path);
+    EXPECT_EQ(ok.code, 0) << ok.err;
+}
+
+TEST(ConfigInput, JsonSeedsPast2To63AreRefusedNotWrapped) {
+    ScratchDir dir;
+    write_file(dir.path / "s.json", "{\"render\": {\"width\": 4, \"height\": 4, \"spp\": 1, \"seed\": 9223372036854775808},"
+                                    " \"lights\": [{\"type\": \"point\", \"position\": [0, 3, 0], \"intensity\": 5}]}");
+    expect_error(dir, quote(dir.path / "s.json"), {"s.json: render.seed: integer 9223372036854775808 is out of range", "2^63 - 1"});
+}
+
+TEST(ConfigInput, AnImageGivenAsAConfigIsNamedAsSuch) {
+    ScratchDir dir;
+    write_file(dir.path / "s.toml", tiny_scene());
+    const Outcome r = run_vpm("render -q " + quote(dir.path / "s.toml") + " -o " + quote(dir.path / "img.exr"), dir.path);
+    ASSERT_EQ(r.code, 0) << r.err;
+    expect_error(dir, quote(dir.path / "img.exr"), {"img.exr: cannot read config file: it is an OpenEXR image"});
+    const Outcome info = run_vpm("info " + quote(dir.path / "img.exr"), dir.path);
+    EXPECT_EQ(info.code, 2) << info.err;
+    EXPECT_TRUE(info.one_line()) << info.err;
+    EXPECT_NE(info.err.find("is an OpenEXR image; vpm info reads a scene config"), std::string::npos) << info.err;
+    EXPECT_EQ(info.err.find("TOML syntax error"), std::string::npos) << info.err;
+}
+
 TEST(ConfigInput, ProgressLinesWhenStderrIsNotATerminal) {
     // The interval is 5 s by default; VPM_PROGRESS_SECONDS=0 makes every step print, so the test
     // does not depend on how long the render takes.

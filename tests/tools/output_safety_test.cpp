@@ -122,18 +122,47 @@ TEST(OutputSafety, PassesTableIsPartOfTheRunsFiles) {
     EXPECT_NE(read_file(dir.path / "r.passes.csv").find("pass,spp,elapsed_s"), std::string::npos);
 }
 
-TEST(OutputSafety, SymlinkIsWrittenThrough) {
+// Issue 61: an image written through a link parted from its preview and sidecar (written beside
+// the link, named after it). The link is refused before the work, naming its target.
+TEST(OutputSafety, SymlinkAsTheImageIsRefused) {
     ScratchDir dir;
     write_file(dir.path / "s.toml", tiny_medium_scene());
     fs::create_directories(dir.path / "real");
     fs::create_symlink("real/target.exr", dir.path / "link.exr");   // relative, dangling for now
     const Outcome o = run_vpm("render -q " + quote(dir.path / "s.toml") + " -o " + quote(dir.path / "link.exr"), dir.path);
-    ASSERT_EQ(o.code, 0) << o.err;
-    EXPECT_TRUE(fs::is_symlink(dir.path / "link.exr")) << "the link was replaced by a file";
-    ASSERT_TRUE(fs::is_regular_file(dir.path / "real" / "target.exr"));
+    EXPECT_EQ(o.code, 1) << o.err;
+    EXPECT_TRUE(o.one_line()) << o.err;
+    EXPECT_NE(o.err.find("symbolic link"), std::string::npos) << o.err;
+    EXPECT_NE(o.err.find("real/target.exr"), std::string::npos) << o.err;
+    EXPECT_TRUE(fs::is_symlink(dir.path / "link.exr"));
+    EXPECT_FALSE(fs::exists(dir.path / "real" / "target.exr"));
+    EXPECT_FALSE(fs::exists(dir.path / "link.png"));
+    EXPECT_FALSE(fs::exists(dir.path / "link.json"));
+    // The target itself is written, with its preview and sidecar beside it.
+    const Outcome direct = run_vpm("render -q " + quote(dir.path / "s.toml") + " -o " + quote(dir.path / "real" / "target.exr"),
+                                   dir.path);
+    ASSERT_EQ(direct.code, 0) << direct.err;
     EXPECT_EQ(read_exr(dir.path / "link.exr").width, 4);
-    EXPECT_TRUE(fs::is_regular_file(dir.path / "link.png"));
-    EXPECT_TRUE(fs::is_regular_file(dir.path / "link.json"));
+    EXPECT_TRUE(fs::is_regular_file(dir.path / "real" / "target.png"));
+    EXPECT_TRUE(fs::is_regular_file(dir.path / "real" / "target.json"));
+}
+
+// Issue 61: a name too long for its temporary failed only after the render; -o '' fell back to
+// render.output silently. Both are refused before the work.
+TEST(OutputSafety, OverLongAndEmptyNamesAreRefusedBeforeTheWork) {
+    ScratchDir dir;
+    write_file(dir.path / "s.toml", tiny_scene());
+    const std::string long_name = std::string(240, 'a') + ".exr";   // fits NAME_MAX (255), its temporary does not
+    const Outcome o = run_vpm("render " + quote(dir.path / "s.toml") + " -o " + quote(dir.path / long_name), dir.path);
+    EXPECT_EQ(o.code, 1) << o.err;
+    EXPECT_TRUE(o.one_line()) << o.err;
+    EXPECT_NE(o.err.find("bytes"), std::string::npos) << o.err;
+    EXPECT_EQ(o.err.find("load:"), std::string::npos) << o.err;   // before the work
+    const Outcome empty = run_vpm("render " + quote(dir.path / "s.toml") + " -o ''", dir.path);
+    EXPECT_EQ(empty.code, 2) << empty.err;
+    EXPECT_NE(empty.err.find("-o"), std::string::npos) << empty.err;
+    EXPECT_NE(empty.err.find("empty"), std::string::npos) << empty.err;
+    EXPECT_FALSE(fs::exists(dir.path / "out"));
 }
 
 TEST(OutputSafety, UnwritableOutputFailsBeforeTheWork) {

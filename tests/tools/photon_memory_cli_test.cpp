@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -59,4 +60,54 @@ TEST(PhotonMemory, GuardProjectsFromThePilotAndLogsProgress) {
         EXPECT_NE(m.find("cannot fit in memory"), std::string::npos) << m;
         EXPECT_NE(m.find("fits"), std::string::npos) << m;
     }
+}
+
+// Issue 61: photon beams are projected like photons (before, the guard counted stored photons
+// only, and the photon-beams gather stores none: photons.count = 1e7 in the furnace ran 81 s into
+// std::bad_alloc at 1,172 bytes per beam).
+TEST(PhotonMemory, BeamsAreProjectedWithTheirBvh) {
+    const auto guard = make_photon_pass_guard(1e9, nullptr);
+    PhotonTraceProgress p;
+    p.total = 10000000;
+    p.emitted = 65536;
+    p.beams = 4 * 65536;   // 4 beams per photon: 4e7 beams
+    EXPECT_NEAR(projected_beams(p), 4e7, 1e-3);
+    EXPECT_GT(peak_bytes_per_beam(), 1000.0);   // the record, the width and up to 9 BVH pieces
+    try {
+        guard(p);
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("cannot fit in memory"), std::string::npos) << m;
+        EXPECT_NE(m.find("photon beams"), std::string::npos) << m;
+        // The count that fits: 1e9 bytes over 4 beams per photon.
+        const double fits = std::floor(1e9 / (4.0 * peak_bytes_per_beam()));
+        std::ostringstream want;
+        want.precision(3);
+        want << "photons.count <= " << fits << " fits";
+        EXPECT_NE(m.find(want.str()), std::string::npos) << m;
+    }
+    p.total = 100000;   // 4e5 beams: fits
+    EXPECT_NO_THROW(guard(p));
+}
+
+TEST(PhotonMemory, PhotonBeamsCountThatCannotFitFailsFast) {
+    const fs::path dir = fs::temp_directory_path() / ("vpm_photon_beams_memory_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path out = dir / "img.exr", err_file = dir / "stderr.txt";
+    const std::string cmd = "timeout 120 " + std::string(VPM_BINARY) + " render " + VPM_SOURCE_DIR +
+                            "/configs/homogeneous.toml --set render.integrator=photon_map --set photons.gather=photon_beams"
+                            " --set photons.count=1000000000000 --set render.width=8 --set render.height=8 --threads 1 -o " +
+                            out.string() + " 2> " + err_file.string() + " > /dev/null";
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(err_file);
+    std::stringstream s;
+    s << in.rdbuf();
+    const std::string err = s.str();
+    EXPECT_EQ(WEXITSTATUS(status), 1) << err;
+    EXPECT_NE(err.find("cannot fit in memory"), std::string::npos) << err;
+    EXPECT_NE(err.find("photon beams"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(out));
+    fs::remove_all(dir);
 }

@@ -1,5 +1,6 @@
 // vpm info CONFIG | FILE.vdb [--set KEY=VALUE]... [--json]
 // What a scene or a VDB holds before rendering it (lib/analysis/scene_info.h).
+#include <cctype>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -16,6 +17,14 @@ namespace {
 
 bool is_vdb(const std::string& path) {
     return path.size() >= 4 && path.compare(path.size() - 4, 4, ".vdb") == 0;
+}
+
+// Case-insensitive: "IMG.EXR" is an image as well.
+bool has_extension(const std::string& path, const std::string& ext) {
+    if (path.size() < ext.size()) return false;
+    for (size_t i = 0; i < ext.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(path[path.size() - ext.size() + i])) != ext[i]) return false;
+    return true;
 }
 
 int run_info(int argc, char** argv) {
@@ -36,6 +45,9 @@ int run_info(int argc, char** argv) {
     app.add_flag("--json", json, "One JSON object instead of text");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     nlohmann::json info;
+    if (has_extension(target, ".exr"))
+        throw vpm::cli::UsageError("target: " + target + " is an OpenEXR image; vpm info reads a scene config (TOML, or a "
+                                   "run's JSON sidecar such as the .json beside the image) or an OpenVDB file (.vdb)");
     if (is_vdb(target)) {
         if (!sets.empty()) throw vpm::cli::UsageError("--set: applies to a scene config, not to a VDB file");
         info = vpm::vdb_info(target);

@@ -64,7 +64,7 @@ int run_render(int argc, char** argv) {
     int threads = -1;
     bool quiet = false;
     app.add_option("config", config, "Scene config (TOML)")->required();
-    app.add_option("-o,--output", output, "Output EXR, name ending in .exr; OUT.png and OUT.json go beside it (default: render.output from the config, else out/render.exr)");
+    CLI::Option* output_option = app.add_option("-o,--output", output, "Output EXR, name ending in .exr; OUT.png and OUT.json go beside it (default: render.output from the config, else out/render.exr)");
     app.add_option("--set", sets, "Override a config key by dotted path, e.g. media.0.sigma_t_scale=10 (repeatable)")
         ->allow_extra_args(false);   // one value per --set, so `--set k=v CONFIG` leaves CONFIG alone
     app.add_option("--threads", threads, "Worker threads (0: all cores; default: render.threads)")->check(CLI::Range(0, vpm::kMaxThreads));
@@ -75,6 +75,9 @@ int run_render(int argc, char** argv) {
                    "(pass, spp, elapsed seconds, relative RMSE, relative mean error)")
         ->check(CLI::ExistingFile);
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    if (output_option->count() > 0 && output.empty())
+        throw vpm::cli::UsageError("-o: the output name is empty; give a file name ending in .exr (its .png and .json "
+                                   "are written beside it), or leave -o out for render.output");
 
     // Command-line settings go through the same validation as the file and end up in the
     // resolved config, so the sidecar says exactly what ran.

@@ -41,21 +41,32 @@ double PhotonBeamBvh::automatic_piece_length(const std::vector<PhotonBeam>& beam
     const Vec3 e = box.hi - box.lo;
     const double volume = e.x() * e.y() * e.z();
     const double spacing = volume > 0.0 ? 4.0 / std::sqrt(total / volume) : 0.0;
-    return std::clamp(spacing, mean / 8.0, mean);
+    return std::clamp(spacing, mean / kPiecesPerMeanLength, mean);
 }
 
 PhotonBeamBvh::PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii, double max_piece) {
-    for (size_t i = 0; i < beams.size(); ++i) {
+    // Pieces of beam i (0: left out). Counted first so that the items are allocated once, at their
+    // size (max_bytes_per_beam, the photon pass's memory projection, counts no growth).
+    auto pieces_of = [&](size_t i) -> uint32_t {
         const PhotonBeam& b = beams[i];
         const double w = radii.empty() ? 0.0 : radii[i];
         if (!(b.length > 0.0) || !std::isfinite(b.length) || !std::isfinite(w) || !(w >= 0.0) || !b.origin.allFinite() ||
             !b.dir.allFinite())
-            continue;
-        if (!radii.empty() && !(w > 0.0)) continue;   // a sample-point width of 0 crosses nothing
-        ++beam_count_;
+            return 0;
+        if (!radii.empty() && !(w > 0.0)) return 0;   // a sample-point width of 0 crosses nothing
         const double pieces =
             max_piece > 0.0 && std::isfinite(max_piece) ? std::min(std::ceil(b.length / max_piece), 1e6) : 1.0;
-        const uint32_t m = uint32_t(std::max(pieces, 1.0));
+        return uint32_t(std::max(pieces, 1.0));
+    };
+    size_t total = 0;
+    for (size_t i = 0; i < beams.size(); ++i) total += pieces_of(i);
+    items_.reserve(total);
+    for (size_t i = 0; i < beams.size(); ++i) {
+        const uint32_t m = pieces_of(i);
+        if (m == 0) continue;
+        const PhotonBeam& b = beams[i];
+        const double w = radii.empty() ? 0.0 : radii[i];
+        ++beam_count_;
         for (uint32_t p = 0; p < m; ++p) {
             // The same expression for a piece's end and the next one's start: the pieces tile [0, length].
             const double v0 = p == 0 ? 0.0 : b.length * double(p) / double(m);
@@ -64,7 +75,6 @@ PhotonBeamBvh::PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::ve
         }
     }
     if (items_.empty()) return;
-    items_.shrink_to_fit();
     nodes_.reserve(node_count_for(uint32_t(items_.size())));
     build(0, uint32_t(items_.size()));
 }

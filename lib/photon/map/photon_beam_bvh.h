@@ -74,6 +74,12 @@ public:
     // in bench/bench_photon_beam_bvh.cpp's furnace field the k-nearest query costs within ~10% of
     // the best factor measured (2) at half its memory (docs/photon_beams.md, "Cost").
     static double automatic_piece_length(const std::vector<PhotonBeam>& beams);
+    // The automatic piece is at least the beams' mean length over this, so the pieces number at
+    // most (this + 1) per beam on average (ceil adds at most one to each beam's share).
+    static constexpr double kPiecesPerMeanLength = 8.0;
+    // Bytes of an index over beams cut by automatic_piece_length, at most, per beam: its items and
+    // nodes (at most one node per item) for kPiecesPerMeanLength + 1 pieces each.
+    static double max_bytes_per_beam() { return (kPiecesPerMeanLength + 1.0) * double(sizeof(Item) + sizeof(Node)); }
 
     // visit(const BeamCrossing&, double width) for every beam that crosses the segment with u below
     // its width. `dir` unit length; tmax finite or kInfinity. tested (if given) += crossing tests made.

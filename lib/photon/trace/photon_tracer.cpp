@@ -254,6 +254,7 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
         totals.emitted = std::min(s.count, first * kBatchSize);
         totals.stored = result.photons.size();
         totals.surface_stored = result.surface_photons.size();
+        totals.beams = result.beams.size();
         totals.seconds = timer.seconds();
         if (s.store_auto && first == kAutoBatches) q = auto_store_probability(result.photons.size(), result.storing_walks);
         if (s.store_auto && totals.emitted > 0) {   // the rest at q, against the mean probability so far
@@ -267,6 +268,8 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
             const double scale = 1.1 * double(s.count) / double(totals.emitted) * (s.store_auto ? q : 1.0);
             result.photons.reserve(size_t(double(totals.stored) * scale) + kBatchSize);
             if (s.store_surface) result.surface_photons.reserve(size_t(double(totals.surface_stored) * scale) + kBatchSize);
+            if (s.store_beams)   // every free flight of a storing walk, unthinned
+                result.beams.reserve(size_t(1.1 * double(totals.beams) * double(s.count) / double(totals.emitted)) + kBatchSize);
         }
     }
     progress.done();

@@ -46,6 +46,7 @@ struct PhotonTraceProgress {
     uint64_t total = 0;            // photon paths to trace in all
     uint64_t stored = 0;           // volume photons stored so far
     uint64_t surface_stored = 0;   // surface photons stored so far
+    uint64_t beams = 0;            // photon beams recorded so far (store_beams)
     double seconds = 0.0;          // since the pass started
     // Volume photons still to trace are stored at this fraction of the rate so far
     // (store_probability = "auto" after its first batch; 1 otherwise).

@@ -54,7 +54,18 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         // A path continued from a march point (first_depth > 0) gathers at its collisions: marching
         // again would branch at every point, a tree that grows without bound where every ball is wide.
         const bool march = first_depth == 0 && marches(ray, t_end);
-        const bool beam = maps_.segment != nullptr;
+        bool beam = maps_.segment != nullptr;
+        // Photon beams with balloon widths: a segment crossed by fewer than k beams has no width.
+        // It is gathered as the collision gather's are (the path goes on from its free flight, as
+        // a starved point map makes it), not counted as 0.
+        Rgb beams = Rgb::Zero();
+        const Rgb* taken = nullptr;
+        if (beam && maps_.gather == GatherMode::photon_beams && !(max_depth >= 0 && depth + 1 > max_depth)) {
+            bool starved = false;
+            beams = maps_.segment->in_scattering(ray, t_end, rng, &starved);
+            taken = &beams;
+            if (starved) beam = false;
+        }
         // The collision gather's segments with direct = "nee", where every collision takes NEE: point
         // and spot lights are also sampled equiangularly along it (transport/equiangular.h). The march's
         // and the beam's segments do the same in march_in_scattering and segment_direct_light.
@@ -84,14 +95,14 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
                 break;
             }
             radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, c.profile, c.rays);
-            if (gathers) radiance += throughput * beam_in_scattering(ray, t_end, rng, c);
+            if (gathers) radiance += throughput * beam_in_scattering(ray, t_end, rng, c, taken);
             break;
         }
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             if (march && !(max_depth >= 0 && depth + 1 > max_depth))
                 radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng, c);
-            if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng, c);
+            if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng, c, taken);
             break;
         }
         if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
@@ -103,7 +114,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
             if (event) break;
         }
         if (beam) {   // the same rule with the whole segment in one query
-            radiance += throughput * beam_in_scattering(ray, t_end, rng, c);
+            radiance += throughput * beam_in_scattering(ray, t_end, rng, c, taken);
             if (event) break;
         }
         if (event) {
@@ -272,8 +283,8 @@ Rgb CameraPath::incident_at_march_point(const Vec3& x, const Vec3& dir, double g
     return in + b.incident;
 }
 
-Rgb CameraPath::beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c) const {
-    Rgb l = maps_.segment->in_scattering(ray, t_end, rng);
+Rgb CameraPath::beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c, const Rgb* taken) const {
+    Rgb l = taken ? *taken : maps_.segment->in_scattering(ray, t_end, rng);
     if (settings_.direct == DirectLighting::nee)
         l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, c.rays,
                                   settings_.walk.equiangular);

@@ -99,7 +99,8 @@ private:
     Rgb incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight, int depth,
                                 Rng& rng, CameraCounters& c, const SegmentPoint* at = nullptr) const;
     // The beam gathers' segment: one BVH query, single scattering by NEE when direct = "nee".
-    Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c) const;
+    // taken: the segment gather's value for this segment when already taken (trace()).
+    Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c, const Rgb* taken = nullptr) const;
 };
 
 }  // namespace vpm

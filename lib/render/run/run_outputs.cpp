@@ -32,6 +32,16 @@ void check_run_outputs(const fs::path& output, const std::vector<fs::path>& extr
                                           "preview and the JSON sidecar are written beside it, as " +
                         preview_path_for(output).filename().string() + " and " +
                         sidecar_path_for(output).filename().string() + ")");
+    // A link named as the image would take the image elsewhere and leave the preview and the
+    // sidecar beside the link (their names come from the path as given): the set would part.
+    if (fs::is_symlink(output)) {
+        check_output_file(output);   // a link to a device or folder is named as such first
+        const fs::path target = resolve_output_target(output);
+        throw FileError(output.string() + ": is a symbolic link to " + target.string() + "; the image would be written " +
+                        "there and its preview and sidecar beside the link (" + preview_path_for(output).string() +
+                        ", " + sidecar_path_for(output).string() + "), apart from it. Give " + target.string() +
+                        " itself as the output (all three are written beside it), or a path that is not a link");
+    }
     // The folder first: a missing one is created here, before the work, not after it.
     prepare_output_folder(folder_of(output));
     std::vector<fs::path> all = {output, preview_path_for(output), sidecar_path_for(output)};

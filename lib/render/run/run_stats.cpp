@@ -231,6 +231,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
     if (const auto& b = stats.photon_beams) {
         record.set("photons.photon_beams.widths", b->widths);
         record.set("photons.photon_beams.k", b->k);
+        record.set("photons.photon_beams.recorded", b->recorded);
         record.set("photons.photon_beams.beams", b->beams);
         record.set("photons.photon_beams.pieces", b->pieces);
         record.set("photons.photon_beams.piece_length", b->piece_length);
@@ -242,6 +243,10 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.photon_beams.crossed", b->crossed);
         record.set("photons.photon_beams.tested", b->tested);
         record.set("photons.photon_beams.starved", b->starved);
+        record.set("photons.photon_beams.widths_bounded", b->widths_bounded);
+        record.set("photons.photon_beams.widths_extrapolated", b->widths_extrapolated);
+        record.set("photons.photon_beams.widths_typical", b->widths_typical);
+        record.set("photons.photon_beams.beams_left_out", b->beams_left_out);
         record.set("photons.photon_beams.tracking_lookups", b->tracking_lookups);
     }
     if (const auto& b = stats.beam) {

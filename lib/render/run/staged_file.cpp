@@ -23,6 +23,9 @@ namespace {
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
+// The longest ".tmp-<pid>-<n>" a StagedFile appends: 5 + a 10-digit pid + 1 + a 20-digit counter.
+constexpr size_t kTemporarySuffixBytes = 36;
+
 [[noreturn]] void fail(const fs::path& path, const std::string& reason) {
     throw FileError(path.string() + ": " + reason);
 }
@@ -109,6 +112,15 @@ void check_output_file(const fs::path& path) {
     if (fs::exists(st) && !fs::is_regular_file(st))
         fail(path, std::string("cannot write") + via + ": it is " + kind_of(st.type()) +
                        "; vpm only replaces regular files");
+    // The temporary (".tmp-<pid>-<n>" after the name) must fit the folder's name limit too, or
+    // the write would fail only at the end.
+    const long name_max = ::pathconf(parent.c_str(), _PC_NAME_MAX);
+    const size_t name = target.filename().string().size();
+    if (name_max > 0 && name + kTemporarySuffixBytes > size_t(name_max))
+        fail(path, "cannot write" + via + ": the file name is " + std::to_string(name) + " bytes; this folder allows " +
+                       std::to_string(name_max) + " and vpm writes through a temporary name " +
+                       std::to_string(kTemporarySuffixBytes) + " bytes longer, so at most " +
+                       std::to_string(size_t(name_max) - kTemporarySuffixBytes) + " bytes");
 }
 
 void prepare_output_folder(const fs::path& folder_in) {

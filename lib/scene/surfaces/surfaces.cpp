@@ -23,17 +23,24 @@
 //                      applied in that order: p_world = T * R * S * p_object
 //
 // Precision. Geometry is kept in double precision here; Embree sees float vertices relative to
-// the centre of the scene's bounds (so scenes far from the origin lose nothing), and ray origins
+// the centre of the triangles' bounds (so scenes far from the origin lose nothing), and ray origins
 // are shifted by the same centre in double before rounding. Embree's float hit distance is then
 // refined in double against the plane of the hit triangle, and the normal is computed in double.
-// Self-intersection: every query ignores hits at t <= epsilon, with
-// epsilon = 1e-6 * (half the largest extent of the scene's bounds), judged by the refined double
-// distance: a float hit on the very surface a grazing ray starts from (float error / cos can
-// exceed any fixed epsilon) refines to t ~ 0 and is skipped, and the ray traced on.
-// Keep scenes free of single shapes vastly larger than the region of interest (a 1e4-wide
-// ground plane under a unit medium makes epsilon 0.005). Measured: 1e-7 still passes the
-// surface-start test, 1e-9 starts to fail it.
+// Self-intersection, judged at the scale of the hit and the ray, never of the whole scene (a
+// 1e6-wide shape elsewhere must not blur a 1e-6 sphere): see offsets.h for the two tolerances.
+//  - A query skips the surface its ray starts on: a triangle whose plane lies behind the origin or
+//    within kStartTolerance x (the triangle's and the origin's coordinates) of it, judged by the
+//    double-precision distance across the plane (not along the ray, which a grazing angle
+//    stretches without bound); a sphere's root nearest zero when the origin lies within that
+//    tolerance of the sphere (radius, centre and origin coordinates).
+//  - Each hit carries epsilon, kSpawnOffset x the same scale at the hit: an error bound of its
+//    position across the surface with a wide margin, by which spawned rays leave it.
+//  - Embree's float test starts at tnear = kFloatStart x the origin's float coordinates (its own
+//    rounding), so most float self-hits never come back; the rest are refined and skipped above.
+// Triangles are resolved to Embree's float precision about the centre of the triangles' bounds
+// (spheres are not in Embree and do not move that centre); spheres to double precision.
 #include "scene/surfaces/surfaces.h"
+#include "scene/surfaces/offsets.h"
 
 #include <atomic>
 #include <cfloat>
@@ -177,11 +184,13 @@ public:
             geoms_.push_back(std::move(g));
         }
         if (geoms_.empty() && spheres_.empty()) return;   // no shapes
-        center_ = 0.5 * (bounds_.lo + bounds_.hi);
         const double half = 0.5 * (bounds_.hi - bounds_.lo).maxCoeff();
-        eps_ = 1e-6 * std::max(half, 1e-9);
         far_ = 1e6 * std::max(half, 1e-9);
         if (geoms_.empty()) return;   // spheres only: no Embree device
+        Bounds3 triangles;
+        for (const Geometry& g : geoms_)
+            for (const Vec3& v : g.vertices) triangles.extend(v);
+        center_ = 0.5 * (triangles.lo + triangles.hi);
 
         device_ = rtcNewDevice(nullptr);
         if (!device_)
@@ -220,7 +229,7 @@ public:
     }
 
     bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const override {
-        if ((!scene_ && spheres_.empty()) || !(tmax > eps_)) return false;
+        if ((!scene_ && spheres_.empty()) || !(tmax > 0.0)) return false;
         if (is_far(ray)) {
             Ray near;
             double shift;
@@ -237,7 +246,7 @@ public:
     // Embree's any-hit query; its positives are confirmed by intersect() so that the two agree
     // (a grazing self-hit must not shadow). Unoccluded rays, the common case, cost one query.
     bool occluded(const Ray& ray, double tmax) const override {
-        if ((!scene_ && spheres_.empty()) || !(tmax > eps_)) return false;
+        if ((!scene_ && spheres_.empty()) || !(tmax > 0.0)) return false;
         if (is_far(ray)) {
             Ray near;
             double shift;
@@ -282,7 +291,7 @@ public:
         s << ", " << triangles_ << " triangles";
         if (!geoms_.empty() || !spheres_.empty()) {
             s << ", bounds [" << bounds_.lo.x() << ", " << bounds_.lo.y() << ", " << bounds_.lo.z() << "] to ["
-              << bounds_.hi.x() << ", " << bounds_.hi.y() << ", " << bounds_.hi.z() << "], ray epsilon " << eps_;
+              << bounds_.hi.x() << ", " << bounds_.hi.y() << ", " << bounds_.hi.z() << "]";
             if (!geoms_.empty()) s << ", Embree " << RTC_VERSION_STRING;
             else s << ", no Embree device (spheres only)";
         } else {
@@ -314,22 +323,27 @@ private:
             const Geometry& g = geoms_[rh.hit.geomID];
             const auto& tri = g.triangles[rh.hit.primID];
             const Vec3& a = g.vertices[tri[0]];
-            Vec3 n = (g.vertices[tri[1]] - a).cross(g.vertices[tri[2]] - a);
+            const Vec3& b = g.vertices[tri[1]];
+            const Vec3& c = g.vertices[tri[2]];
+            Vec3 n = (b - a).cross(c - a);
             const double len = n.norm();
             if (len > 0.0 && std::isfinite(len)) n /= len;
             else n = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();   // degenerate in double
-            double t = rh.ray.tfar;
+            const double scale = std::max({magnitude(a), magnitude(b), magnitude(c)}) + magnitude(ray.origin);
             const double cos = n.dot(ray.dir);
+            const double across = n.dot(a - ray.origin);   // signed distance from the origin to the plane
+            if ((cos >= 0.0 ? across : -across) <= kStartTolerance * scale) {
+                // Behind the origin or within rounding of it: the surface the ray starts on (or one
+                // coincident with it), found by Embree's float test. Skip it and trace on.
+                rh.ray.tnear = std::nextafter(rh.ray.tfar, INFINITY);
+                rh.ray.tfar = float_tmax(tmax);
+                if (!(rh.ray.tnear < rh.ray.tfar)) return false;
+                continue;
+            }
+            double t = rh.ray.tfar;
             if (std::abs(cos) > 1e-12) {   // refine the float distance against the double plane
-                const double tr = n.dot(a - ray.origin) / cos;
-                if (tr >= tmax) return false;   // Embree's float tfar let it in; nothing is closer
-                if (tr <= eps_) {
-                    rh.ray.tnear = std::nextafter(rh.ray.tfar, INFINITY);
-                    rh.ray.tfar = float_tmax(tmax);
-                    if (!(rh.ray.tnear < rh.ray.tfar)) return false;
-                    continue;
-                }
-                t = tr;
+                t = across / cos;
+                if (t >= tmax) return false;   // Embree's float tfar let it in; nothing is closer
             }
             hit.t = t;
             hit.position = ray.at(t);
@@ -337,16 +351,17 @@ private:
             hit.reflectance = g.reflectance;
             hit.specular = g.specular;
             hit.exiting = cos > 0.0;   // along the outward winding (dielectric meshes are oriented so)
-            hit.epsilon = eps_;
+            hit.epsilon = kSpawnOffset * (scale + magnitude(hit.position));
             return true;
         }
         return false;
     }
 
-    // The nearest root of |o + t d - c| = r in (epsilon, tmax), in double. The roots come from the
+    // The nearest root of |o + t d - c| = r in (0, tmax), in double. The roots come from the
     // ray's closest approach (no cancellation of |o - c|^2 against r^2 far from the sphere) and the
-    // stable quadratic form; a root within epsilon is the sphere the ray starts on.
-    bool sphere_hit(const Geometry& s, const Ray& ray, double tmax, double& t) const {
+    // stable quadratic form. A ray whose origin lies on the sphere (within kStartTolerance of the
+    // sphere's and the origin's coordinates) starts on it: the root nearest zero is that start.
+    static bool sphere_hit(const Geometry& s, const Ray& ray, double tmax, double& t) {
         const Vec3 oc = ray.origin - s.center;
         const double a = ray.dir.squaredNorm();
         const double b = oc.dot(ray.dir);
@@ -359,8 +374,12 @@ private:
         const double c = (dist - s.radius) * (dist + s.radius);
         double t0 = c / q, t1 = q / a;
         if (t0 > t1) std::swap(t0, t1);
-        t = t0 > eps_ ? t0 : t1;
-        return t > eps_ && t < tmax;
+        const double scale = magnitude(s.center) + s.radius + magnitude(ray.origin);
+        if (std::abs(dist - s.radius) <= kStartTolerance * scale)
+            t = std::abs(t0) < std::abs(t1) ? t1 : t0;   // the other root than the start
+        else
+            t = t0 > 0.0 ? t0 : t1;
+        return t > 0.0 && t < tmax;
     }
 
     bool intersect_spheres(const Ray& ray, double tmax, SurfaceHit& hit) const {
@@ -383,7 +402,7 @@ private:
         hit.reflectance = best->reflectance;
         hit.specular = best->specular;
         hit.exiting = cos > 0.0;
-        hit.epsilon = eps_;
+        hit.epsilon = kSpawnOffset * (magnitude(best->center) + best->radius);
         return true;
     }
 
@@ -391,7 +410,7 @@ private:
     // around a medium of 1e32 units, paths inside it) would reach Embree with float origins
     // beyond its valid range (|org| <= ~1.8e18, asserted by the library) or with no precision
     // left. They are first advanced in double to just outside the surfaces' bounds (backed off by
-    // the bounds' size, so no surface is within epsilon of the new origin) and traced from there.
+    // the bounds' size, so no surface is near the new origin) and traced from there.
     // The new origin is rounded like any point at that distance (relative 1e-16), nothing more.
     // Each step shrinks the distance by ~1e15, so at most a few steps are taken.
     bool is_far(const Ray& ray) const { return !((ray.origin - center_).cwiseAbs().maxCoeff() <= far_); }
@@ -400,10 +419,10 @@ private:
         if (!bounds_.intersect(ray, tmax, t0, t1)) return false;
         // Also back off by several units of rounding of t0 (the new origin is computed from it),
         // so that it lies before the bounds; if it is still far, intersect() repeats the step.
-        const double back = 2.0 * (bounds_.hi - bounds_.lo).norm() + 4.0 * eps_ + 16.0 * DBL_EPSILON * t0;
+        const double back = 2.0 * (bounds_.hi - bounds_.lo).norm() + 16.0 * DBL_EPSILON * t0;
         shift = std::max(0.0, t0 - back);
         near = Ray{ray.at(shift), ray.dir};
-        return tmax - shift > eps_;
+        return tmax - shift > 0.0;
     }
 
     void setup(const Ray& ray, double tmax, RTCRay& r) const {
@@ -413,7 +432,7 @@ private:
         r.dir_x = static_cast<float>(ray.dir.x());
         r.dir_y = static_cast<float>(ray.dir.y());
         r.dir_z = static_cast<float>(ray.dir.z());
-        r.tnear = static_cast<float>(eps_);
+        r.tnear = static_cast<float>(kFloatStart * magnitude(ray.origin - center_) / ray.dir.norm());
         r.tfar = float_tmax(tmax);
         r.time = 0.0f;
         r.mask = 0xFFFFFFFFu;
@@ -445,7 +464,6 @@ private:
     Bounds3 bounds_;
     size_t triangles_ = 0;
     Vec3 center_ = Vec3::Zero();
-    double eps_ = 0.0;
     double far_ = 0.0;   // see is_far
     ErrorLog log_;
     RTCDevice device_ = nullptr;

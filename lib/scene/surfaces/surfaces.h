@@ -23,7 +23,9 @@ struct SurfaceHit {
     // follow it with transport/specular_step.h. Null for Lambertian and black surfaces.
     const Material* specular = nullptr;
     bool exiting = false;          // the ray leaves the inside of a closed, oriented shape (dielectrics)
-    double epsilon = 0.0;          // the surfaces' self-intersection epsilon (relative to their size)
+    // How far a ray leaving this hit starts off the surface: a bound on the rounding of position
+    // across the surface, from the hit's own coordinates and shape (scene/surfaces/offsets.h).
+    double epsilon = 0.0;
     // Set by Scene::intersect when the hit is an area light (black, so paths end there): the light
     // and the radiance it sends back along the ray.
     const Light* emitter = nullptr;
@@ -42,9 +44,9 @@ public:
     static size_t devices_created();
     virtual ~Surfaces() = default;
 
-    // Closest hit in (epsilon, tmax); false when none.
+    // Closest hit in (0, tmax), skipping the surface the ray starts on (offsets.h); false when none.
     virtual bool intersect(const Ray& ray, double tmax, SurfaceHit& hit) const = 0;
-    // Any hit in (epsilon, tmax).
+    // Any hit in (0, tmax), by the same rule.
     virtual bool occluded(const Ray& ray, double tmax) const = 0;
     virtual Bounds3 bounds() const = 0;
     virtual size_t triangle_count() const = 0;

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 #include <ostream>
 
 #include <tbb/parallel_for.h>
 
+#include "core/error.h"
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
 #include "render/photon_map/photon_map_settings.h"
@@ -32,26 +34,66 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
     std::vector<double> radii;
     if (widths == BeamWidths::sample_point) {
         // Each beam's width from its own k nearest other beams (its segment as the query), found in
-        // a BVH of widths 0; independent of any camera ray.
+        // a BVH of widths 0; independent of any camera ray, so any width kept here leaves the
+        // estimate unbiased for the blurred field, and every beam gets one (none is left out).
         const Timer timer;
         const PhotonBeamBvh plain(beams_, {});
         radii.assign(beams_.size(), kInfinity);
+        std::vector<uint32_t> found(beams_.size(), 0);
         tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
         tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
             std::vector<BeamCrossing>& near = scratch.local();
             for (size_t j = range.begin(); j != range.end(); ++j) {
                 const PhotonBeam& b = beams_[j];
                 plain.nearest(b.origin, b.dir, b.length, k, max_width, near, uint32_t(j));
-                // Fewer than k within the bound: the bound itself (none: the beam is left out).
-                radii[j] = near.size() == k ? near.back().u : max_width;
+                found[j] = uint32_t(near.size());
+                // Fewer than k within a bound: the bound itself (a fixed width). Without one, the m < k
+                // found extrapolated: crossings within u grow as u (a field of lines), so the k-th
+                // would lie near u_m k / m.
+                if (near.size() == k) radii[j] = near.back().u;
+                else if (std::isfinite(max_width)) radii[j] = max_width;
+                else if (!near.empty()) radii[j] = near.back().u * double(k) / double(near.size());
             }
         });
+        // A beam no other one crosses: the median of the widths measured with all k neighbours (or,
+        // where no beam has k, of the extrapolated ones); with no crossing at all there is no width
+        // to take, and the run is refused.
+        std::vector<double> measured;
+        for (size_t j = 0; j < beams_.size(); ++j)
+            if (found[j] == k && std::isfinite(radii[j]) && radii[j] > 0.0) measured.push_back(radii[j]);
+        if (measured.empty())
+            for (double r : radii)
+                if (std::isfinite(r) && r > 0.0) measured.push_back(r);
+        double typical = kInfinity;
+        if (!measured.empty()) {
+            std::nth_element(measured.begin(), measured.begin() + std::ptrdiff_t(measured.size() / 2), measured.end());
+            typical = measured[measured.size() / 2];
+        }
+        for (size_t j = 0; j < beams_.size(); ++j) {
+            if (found[j] == k || std::isfinite(max_width)) continue;
+            if (found[j] > 0) {
+                ++built_.widths_extrapolated;
+            } else {
+                ++built_.widths_typical;
+                radii[j] = typical;
+            }
+        }
+        if (!std::isfinite(typical) && built_.widths_typical > 0)
+            throw Error("photons.beam_widths = \"sample_point\": none of the " + std::to_string(beams_.size()) +
+                        " photon beams is crossed by another within its own segment, so no beam has a width to "
+                        "measure; set photons.max_radius (every beam then takes at most it), trace more photons, or use "
+                        "beam_widths = \"balloon\"");
+        built_.widths_bounded = 0;
+        if (std::isfinite(max_width))
+            for (size_t j = 0; j < beams_.size(); ++j) built_.widths_bounded += found[j] < k;
         built_.widths_seconds = timer.seconds();
     }
     const Timer bvh_timer;
     bvh_ = PhotonBeamBvh(beams_, radii, piece);
     built_.bvh_seconds = bvh_timer.seconds();
+    built_.recorded = beams_.size();
     built_.beams = bvh_.size();
+    built_.beams_left_out = beams_.size() - bvh_.size();   // non-finite or empty flights: no width, no light
     built_.pieces = bvh_.item_count();
     built_.bvh_bytes = bvh_.memory_bytes() + beams_.capacity() * sizeof(PhotonBeam);
     built_.bytes_per_beam = double(built_.bvh_bytes) / double(std::max<size_t>(beams_.size(), 1));
@@ -66,7 +108,8 @@ Rgb PhotonBeamsGather::scattering(const Vec3& x, double cos_theta) const {
     return sum;
 }
 
-Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved) const {
+    if (starved) *starved = false;
     Local& local = local_.local();
     std::vector<BeamCrossing>& hits = local.hits;
     std::vector<double>& widths = local.widths;
@@ -81,8 +124,9 @@ Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng) con
             if (!keep_kth_) hits.pop_back();   // corrected: the k-th beam sets the width only
         } else if (std::isfinite(max_width_)) {
             r = max_width_;   // the bound: a fixed-width estimate over every beam within it
-        } else {
+        } else {   // no width: the caller gathers this segment otherwise (it is not 0)
             ++local.starved;
+            if (starved) *starved = true;
             return Rgb::Zero();
         }
         widths.assign(hits.size(), r);
@@ -168,7 +212,17 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
         *log << "photon_beams: " << total.queries << " segment queries weighed " << total.crossed << " beams ("
              << (total.queries ? double(total.crossed) / q : 0.0) << " per query, "
              << (total.queries ? double(total.tested) / q : 0.0) << " crossing tests per query); " << total.starved
-             << " found fewer than k beams (estimate 0)\n";
+             << " found fewer than k beams (the path went on there, as the collision gather's)\n";
+    }
+    if (const uint64_t guessed = total.widths_extrapolated + total.widths_typical) {
+        std::ostringstream w;
+        w << "photons.beam_widths = \"sample_point\": " << guessed << " of " << total.recorded
+          << " beams are crossed by fewer than photons.k others (short flights: a dense medium, or few photons); their "
+             "widths are extrapolated ("
+          << total.widths_extrapolated << ") or the median (" << total.widths_typical
+          << "), and such wide beams blur their light beyond the medium's features (a dense cube read -50% at 20,000 "
+             "photons); balloon widths, a smaller photons.k or photons.max_radius bound it";
+        if (std::find(run.warnings.begin(), run.warnings.end(), w.str()) == run.warnings.end()) run.warn(w.str(), log);
     }
 }
 

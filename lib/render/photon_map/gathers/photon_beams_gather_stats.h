@@ -8,6 +8,7 @@ namespace vpm {
 struct PhotonBeamsGatherStats {
     std::string widths;              // photons.beam_widths: "balloon" | "sample_point"
     uint64_t k = 0;                  // photons.k of the last pass (photons.schedule may shrink it)
+    uint64_t recorded = 0;           // beams the photon pass recorded (last pass)
     uint64_t beams = 0;              // beams in the BVH (last pass)
     uint64_t pieces = 0;             // the BVH's items: long beams cut into pieces (last pass)
     double piece_length = 0.0;       // the longest piece (PhotonBeamBvh::automatic_piece_length)
@@ -18,7 +19,14 @@ struct PhotonBeamsGatherStats {
     uint64_t queries = 0;            // camera segments answered by one BVH query
     uint64_t crossed = 0;            // beams weighed (within the width, feet inside both segments)
     uint64_t tested = 0;             // beam-segment crossing tests in the BVH's leaves (cost)
-    uint64_t starved = 0;            // balloon: queries that found fewer than k beams (estimate 0)
+    uint64_t starved = 0;            // balloon: segments crossed by fewer than k beams (the camera path goes on there)
+    // Rules that would leave light out, counted (last pass). sample_point widths of beams crossed by
+    // fewer than k others: bounded (photons.max_radius), extrapolated (u_m k / m from the m < k
+    // found) or typical (none found: the median width); beams_left_out: non-finite or empty flights.
+    uint64_t widths_bounded = 0;
+    uint64_t widths_extrapolated = 0;
+    uint64_t widths_typical = 0;
+    uint64_t beams_left_out = 0;
     uint64_t tracking_lookups = 0;   // sigma_t lookups of the camera transmittance's ratio tracking
 };
 

@@ -123,7 +123,8 @@ void PointBeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hit
     }
 }
 
-Rgb PointBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+Rgb PointBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved) const {
+    if (starved) *starved = false;   // every segment has discs to gather or none (0 is its estimate)
     Local& local = local_.local();
     std::vector<Hit>& hits = local.hits;
     hits.clear();

@@ -51,7 +51,7 @@ public:
 
     // The in-scattered radiance from the map along `ray` over (0, t_end) (t_end may be kInfinity).
     // `dir` of the ray is unit length.
-    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const override;
+    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved = nullptr) const override;
     void report_build(RunStats* stats, std::ostream* log) const override;
     void add_to(RunStats& run, std::ostream* log) const override;
 

@@ -38,8 +38,11 @@ public:
     // Whether the pass gave it anything to query; if not, the pass's segments gather like "march".
     virtual bool usable() const = 0;
     // The in-scattered radiance from the pass's photons along `ray` over (0, t_end) (t_end may be
-    // kInfinity; ray.dir unit length), single scattering excluded.
-    virtual Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const = 0;
+    // kInfinity; ray.dir unit length), single scattering excluded. *starved (when given) is set
+    // when the gather has no estimate for this segment (balloon photon beams crossed by fewer than
+    // k beams): the value is then 0 and not an estimate, and the caller gathers the segment
+    // otherwise (camera_path.cpp: as the collision gather does).
+    virtual Rgb in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved = nullptr) const = 0;
     // The build's phases (stats, when given) and its log line with any warning (log, when given).
     virtual void report_build(RunStats* stats, std::ostream* log) const = 0;
     // Adds this pass's build figures and query counts to the run's section for this gather; with a
