@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +16,7 @@
 #include "core/thread_limit.h"
 #include "core/progress.h"
 #include "analysis/error_metrics.h"
+#include "analysis/reference_noise.h"
 #include "core/error.h"
 #include "core/registry.h"
 #include "photon/estimate/estimators.h"
@@ -72,7 +74,28 @@ int run_render(int argc, char** argv) {
                    "Reference EXR: after every pass, write the error of the mean so far against it to OUT.passes.csv "
                    "(pass, spp, elapsed seconds, relative RMSE, relative mean error)")
         ->check(CLI::ExistingFile);
+    std::string metric_text = "relmse";
+    double epsilon = vpm::kDefaultMetricEpsilon;
+    app.add_option("--metric", metric_text,
+                   "With --reference: the named error in OUT.passes.csv beside the relative RMSE: relmse, relrmse or smape "
+                   "(docs/metrics.md); REFERENCE.variance.exr beside the reference, when present, gives its noise floor, "
+                   "which is subtracted")
+        ->capture_default_str();
+    app.add_option("--epsilon", epsilon, "With --metric relmse or smape: the denominator's eps")
+        ->capture_default_str()
+        ->check(vpm::cli::finite_in(1e-12, 1e12, "a number > 0"));
+    bool variance = false;
+    app.add_flag("--variance", variance,
+                 "Also write OUT.variance.exr: each pixel's luminance variance as an estimate, from the spread of the "
+                 "independent passes (needs two or more passes); vpm compare subtracts it as the reference's noise");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    vpm::MetricOptions metric;
+    try {
+        metric.metric = vpm::parse_error_metric(metric_text);
+    } catch (const vpm::Error& e) {
+        throw vpm::cli::UsageError(std::string("--metric: ") + e.what());
+    }
+    metric.epsilon = epsilon;
 
     // Command-line settings go through the same validation as the file and end up in the
     // resolved config, so the sidecar says exactly what ran.
@@ -86,13 +109,19 @@ int run_render(int argc, char** argv) {
     const vpm::RunConfig run_config = vpm::RunConfig::load(config, sets);
     const vpm::RenderSettings& render = run_config.render;
     const double load_seconds = load_timer.seconds();
+    if (variance && render.passes < 2 && render.time_limit <= 0)
+        throw vpm::Error("--variance: needs two or more passes (the spread of independent passes), but render.passes = " +
+                         std::to_string(render.passes) + " and no render.time_limit; set render.passes = 2 or more");
+    const std::filesystem::path variance_path = vpm::variance_path_for(render.output);
     // Before the work: a run that cannot write its outputs fails now, not after the render.
     std::filesystem::path passes_path = render.output;
     passes_path.replace_extension(".passes.csv");
     // A run of more than one pass streams one row per pass to OUT.passes.csv (bounded memory).
     const bool passes_table = !reference.empty() || render.passes > 1 || render.time_limit > 0;
-    if (passes_table) vpm::check_run_outputs(render.output, {passes_path});
-    else vpm::check_run_outputs(render.output);
+    std::vector<std::filesystem::path> extra_outputs;
+    if (passes_table) extra_outputs.push_back(passes_path);
+    if (variance) extra_outputs.push_back(variance_path);
+    vpm::check_run_outputs(render.output, extra_outputs);
     const int n_threads = render.threads > 0 ? render.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
 
@@ -104,6 +133,7 @@ int run_render(int argc, char** argv) {
     vpm::RunOptions options;
     options.progress = !quiet;
     options.log = log;
+    options.pass_variance = variance;
     // One row per group of passes rendered together (one pass for the photon map: run.h), written to the table's staged
     // temporary as the run goes (a time-limited run may make millions of passes: nothing per pass
     // stays in memory) and committed with the other files.
@@ -118,11 +148,18 @@ int run_render(int argc, char** argv) {
         passes_csv.open(staged.back().temp());
         if (!passes_csv) staged.back().abort("cannot create the temporary " + staged.back().temp().string());
         passes_csv.precision(9);
-        passes_csv << "pass,spp,elapsed_s,seconds,passes,image_mean" << (reference.empty() ? "" : ",rel_rmse,rel_mean_error") << '\n';
+        const std::string m = vpm::metric_name(metric.metric);
+        passes_csv << "pass,spp,elapsed_s,seconds,passes,image_mean"
+                   << (reference.empty() ? "" : ",rel_rmse,rel_mean_error," + m + "," + m + "_noise_floor") << '\n';
     }
     vpm::RunError last_error;
+    vpm::MetricValue last_metric;
+    std::string noise_source;
     if (!reference.empty()) {
-        const vpm::Image ref = vpm::read_exr(reference);
+        const vpm::NoisyReference noisy = vpm::load_reference(reference);
+        const vpm::Image& ref = noisy.image;
+        noise_source = noisy.noise_source;
+        const std::optional<vpm::Image> ref_variance = noisy.variance;
         if (ref.width != render.width || ref.height != render.height)
             throw vpm::Error(reference + ": reference is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
                              ", the render " + std::to_string(render.width) + "x" + std::to_string(render.height));
@@ -132,11 +169,19 @@ int run_render(int argc, char** argv) {
         } catch (const vpm::Error& e) {
             throw vpm::Error(reference + ": --reference: " + e.what());
         }
-        options.on_pass = [&, ref](const vpm::Image& mean, const vpm::PassGroupStats& p) {
+        options.on_pass = [&, ref, ref_variance](const vpm::Image& mean, const vpm::PassGroupStats& p) {
             last_error = vpm::run_error(mean, ref);
+            last_metric = vpm::measure_error(mean, ref, metric, ref_variance ? &*ref_variance : nullptr);
             pass_row(p);
-            passes_csv << ',' << last_error.rel_rmse << ',' << last_error.rel_mean_error << '\n';
+            passes_csv << ',' << last_error.rel_rmse << ',' << last_error.rel_mean_error << ',' << last_metric.value << ','
+                       << last_metric.floor << '\n';
         };
+        if (log)
+            *log << "error against " << reference << ": " << vpm::metric_formula(metric.metric, metric.epsilon) << "; "
+                 << (noisy.variance ? "reference noise from " + noise_source + ", subtracted"
+                                    : "reference noise unknown (no " + vpm::variance_path_for(reference).string() +
+                                          "): not subtracted")
+                 << "\n";
     } else if (passes_table) {
         options.on_pass_group = [&](const vpm::PassGroupStats& p) {
             pass_row(p);
@@ -148,6 +193,22 @@ int run_render(int argc, char** argv) {
         result.record.set("reference.file", reference);
         result.record.set("reference.rel_rmse", last_error.rel_rmse);
         result.record.set("reference.rel_mean_error", last_error.rel_mean_error);
+        result.record.set("reference.metric", vpm::metric_name(metric.metric));
+        result.record.set("reference.metric_formula", vpm::metric_formula(metric.metric, metric.epsilon));
+        result.record.set("reference.error", last_metric.value);
+        result.record.set("reference.error_raw", last_metric.raw);
+        if (last_metric.floor_known()) result.record.set("reference.noise_floor", last_metric.floor);
+        result.record.set("reference.noise_source", noise_source);
+    }
+    // The variance image is one of the run's files, committed with the others; a run that made one
+    // pass has none.
+    const bool variance_written = variance && result.variance.width > 0;
+    if (variance_written) {
+        staged.push_back(vpm::stage_exr(variance_path, result.variance));
+        result.record.set("variance_file", variance_path.string());
+    } else if (variance) {
+        std::cerr << "vpm render: warning: --variance: one pass ran (render.time_limit = " << render.time_limit
+                  << " s), so there is no spread to measure; " << variance_path.string() << " is not written\n";
     }
     result.record.phase("load", load_seconds);
     result.record.set("threads", n_threads);
@@ -156,12 +217,18 @@ int run_render(int argc, char** argv) {
     // The passes table is one of the run's files: committed together with the image and sidecar.
     if (passes_table) {
         passes_csv.close();
-        if (!passes_csv) staged.back().abort("writing the passes table failed (disk full?)");
+        if (!passes_csv) staged.front().abort("writing the passes table failed (disk full?)");
     }
     vpm::write_run_outputs(render.output, result, render.exposure, {}, std::move(staged));
+    // A variance image from an earlier render to the same OUT would pass for this run's noise.
+    if (!variance_written && std::filesystem::exists(variance_path)) {
+        std::error_code ec;
+        std::filesystem::remove(variance_path, ec);
+        if (log) *log << "removed " << variance_path.string() << ": it belonged to an earlier render to " << render.output << "\n";
+    }
     if (!reference.empty() && log)
-        *log << "error against " << reference << ": rel RMSE " << last_error.rel_rmse << " after "
-             << result.stats.pass_count() << " pass(es)\n";
+        *log << "error against " << reference << ": " << vpm::describe(last_metric) << ", rel RMSE " << last_error.rel_rmse
+             << " after " << result.stats.pass_count() << " pass(es)\n";
     if (passes_table && log) *log << "per pass: " << passes_path.string() << "\n";
     if (log) *log << "wrote " << render.output << " (+ .png, .json)\n";
     if (const size_t bad = vpm::count_nonfinite_pixels(result.image))
