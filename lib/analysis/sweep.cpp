@@ -807,11 +807,12 @@ bool plot_sweep(const fs::path& out, const fs::path& script, const std::function
         if (log) log("sweep: plotting failed (exit " + std::to_string(rc) + "; is python3-matplotlib installed?); the tables are written");
         return false;
     }
-    if (log) log("sweep: plots in " + out.string() + " (error_vs_time.png, error_vs_k.png, bias_vs_k.png)");
+    if (log) log("sweep: plots in " + out.string() + " (error_vs_time, error_vs_k, bias_vs_k: .png, .pdf, .svg)");
     std::ifstream in(out / "summary.md");
     std::stringstream md;
     md << in.rdbuf();
-    md << "\nPlots (tools/plot_sweep.py): error_vs_time.png, error_vs_k.png, bias_vs_k.png.\n";
+    md << "\nPlots (tools/plot_sweep.py), each as .png, .pdf and .svg: error_vs_time (error bars: standard error over "
+          "the repeats; the dashed line: the reference's noise floor), error_vs_k, bias_vs_k.\n";
     write_text_atomic(out / "summary.md", md.str());
     return true;
 }

@@ -9,7 +9,7 @@
 //   points.csv                         one row per configuration: metrics over its repeats
 //   summary.md                         points table and equal-time table
 //   sweep.json                         sidecar: environment, sweep file, plan, counts, timings
-//   error_vs_time.png, error_vs_k.png, bias_vs_k.png   (tools/plot_sweep.py, when available)
+//   error_vs_time, error_vs_k, bias_vs_k .png/.pdf/.svg   (tools/plot_sweep.py, when available)
 // The report (points.csv, summary.md, plots) is always recomputed from every runs*.csv row in
 // the folder and the images, so it is the same whether the runs came in one go, resumed, or from
 // shards merged with merge_sweeps.

@@ -224,7 +224,7 @@ int run_matrix(int argc, char** argv) {
     CLI::App app("The scene matrix: homogeneous box and sphere, the Gaussian blob and the plume across optical\n"
                  "thickness, albedo, g, lights and scale; per cell the path tracer, the photon map's defaults and\n"
                  "each gather forced, at equal time, against cached path-traced references. Writes OUT/MATRIX.md,\n"
-                 "OUT/matrix.csv and OUT/matrix.png (tools/plot_matrix.py, when matplotlib is there).",
+                 "OUT/matrix.csv and OUT/matrix.png/.pdf/.svg (tools/plot_matrix.py, when matplotlib is there).",
                  "vpm bench matrix");
     std::string out = "out/matrix", only, media = vpm::cli::data_file("media").string();
     vpm::MatrixOptions o;
