@@ -113,8 +113,14 @@ int run_compare(int argc, char** argv) {
                              ", but the reference " + reference + " is " + std::to_string(r.width) + "x" +
                              std::to_string(r.height));
     }
-    const std::optional<uint64_t> reference_samples =
-        halves.empty() ? vpm::recorded_samples(reference) : std::optional<uint64_t>();
+    // The reference's camera samples where its sidecar says (halves: both halves'), 0 when unknown.
+    uint64_t reference_samples = 0;
+    if (halves.empty()) {
+        reference_samples = vpm::recorded_samples(reference).value_or(0);
+    } else {
+        const uint64_t a = vpm::recorded_samples(halves[0]).value_or(0), b = vpm::recorded_samples(halves[1]).value_or(0);
+        reference_samples = a > 0 && b > 0 ? a + b : 0;
+    }
     const std::string formula = vpm::metric_formula(metric.metric, metric.epsilon);
     const std::string noise_text = noisy.variance ? "reference noise from " + noisy.noise_source + ", subtracted"
                                                   : "reference noise unknown (no " + vpm::variance_path_for(reference).string() +
@@ -140,7 +146,7 @@ int run_compare(int argc, char** argv) {
         const vpm::RunError y = vpm::run_error(images[i], r);
         const std::optional<uint64_t> samples = vpm::recorded_samples(files[i]);
         if (samples && reference_samples)
-            if (const std::string w = vpm::more_samples_warning(files[i], *samples, reference, *reference_samples); !w.empty())
+            if (const std::string w = vpm::more_samples_warning(files[i], *samples, reference, reference_samples); !w.empty())
                 std::cerr << w << "\n";
         const vpm::MetricValue m = vpm::measure_error(images[i], r, metric, variance);
         chosen.push_back(m);
@@ -156,7 +162,7 @@ int run_compare(int argc, char** argv) {
                             {"reference_mean", e.reference_mean}, {"nonfinite", e.nonfinite},
                             {"luminance_rel_rmse", y.rel_rmse}, {"luminance_rel_bias", y.rel_mean_error}};
         if (samples) j["samples"] = *samples;
-        if (reference_samples) j["reference_samples"] = *reference_samples;
+        if (reference_samples) j["reference_samples"] = reference_samples;
         out_images.push_back(j);
         if (!json)
             std::printf("%s vs %s: %s; relMSE %.4g, relRMSE %.4g, SMAPE %.4g; relative bias %+.4f (mean %.6g, reference %.6g); "
