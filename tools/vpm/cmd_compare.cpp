@@ -63,7 +63,8 @@ int run_compare(int argc, char** argv) {
         ->capture_default_str()
         ->check(vpm::cli::finite_in(1e-12, 1e12, "a number > 0"));
     app.add_option("--crop", crop, "Compare only the pixels in X0,Y0,X1,Y1 (half-open, row 0 at the top)");
-    app.add_option("--exclude", excludes, "Leave out the pixels in X0,Y0,X1,Y1 (e.g. a glint); repeatable");
+    app.add_option("--exclude", excludes, "Leave out the pixels in X0,Y0,X1,Y1 (e.g. a glint); repeatable")
+        ->allow_extra_args(false);
     app.add_option("--mask", mask_file, "EXR of the images' size: compare only where it is non-zero")->check(CLI::ExistingFile);
     app.add_option("--reference-variance", variance_file,
                    "Per-pixel luminance variance of the reference (default: REFERENCE.variance.exr beside it when it exists, "
@@ -73,6 +74,7 @@ int run_compare(int argc, char** argv) {
                    "A.exr B.exr: the reference as two halves rendered on independent streams (their mean; the noise floor "
                    "from their difference); then every positional argument is an image")
         ->expected(2)
+        ->allow_extra_args(false)
         ->check(CLI::ExistingFile);
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     vpm::MetricOptions metric;

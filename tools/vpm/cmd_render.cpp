@@ -17,6 +17,7 @@
 #include "core/progress.h"
 #include "analysis/error_metrics.h"
 #include "analysis/reference_noise.h"
+#include "config/unset_key.h"
 #include "core/error.h"
 #include "core/registry.h"
 #include "photon/estimate/estimators.h"
@@ -56,6 +57,37 @@ std::string registered_names() {
            "  photons.sampler    " + registry_list(vpm::sampler_names()) + "\n";
 }
 
+// Under render.time_limit, the automatic choices that keys the user set switch off
+// (docs/integrator_choice.md, "What the plan chooses when a key is unset"), one line each, said
+// before the work; "" when none.
+std::string pinned_choices(const vpm::ConfigDocument& doc, const vpm::RenderSettings& render, const std::string& integrator) {
+    if (!(render.time_limit > 0)) return "";
+    auto set_at = [&](const std::string& table, const std::string& key) -> const toml::node* {
+        const toml::table* t = doc.root.get_as<toml::table>(table);
+        return t ? t->get(key) : nullptr;
+    };
+    std::ostringstream out;
+    auto pin = [&](const std::string& table, const std::string& key, const std::string& switched_off) {
+        const toml::node* v = set_at(table, key);
+        if (!v || v->value<std::string>() == std::optional<std::string>("auto")) return;   // "auto" is the choice itself
+        std::ostringstream value;
+        v->visit([&](const auto& n) { value << n; });
+        const std::string path = table + "." + key;
+        out << "pin: " << path << " = " << value.str() << " ("
+            << (doc.overridden.count(path) ? std::string("--set") : doc.file) << ") " << switched_off
+            << "; --unset " << path << " lets it choose\n";
+    };
+    if (integrator == "photon_map" || integrator == "auto") {
+        pin("photons", "count", "switches off the time limit's sizing of photons per pass");
+        pin("render", "spp", "switches off the time limit's sizing of samples per pass");
+        pin("render", "passes", "switches off the time limit's sizing of samples per pass");
+        pin("photons", "gather", "switches off the pilot's choice of the gather");
+    } else if (integrator == "path") {
+        pin("render", "passes", "switches off the time limit's passes of one sample per pixel");
+    }
+    return out.str();
+}
+
 int run_render(int argc, char** argv) {
     CLI::App app("Render a scene config to an OpenEXR image, a PNG preview and a JSON sidecar.", "vpm render");
     app.footer(registered_names());
@@ -67,6 +99,11 @@ int run_render(int argc, char** argv) {
     app.add_option("-o,--output", output, "Output EXR, name ending in .exr; OUT.png and OUT.json go beside it (default: render.output from the config, else out/render.exr)");
     app.add_option("--set", sets, "Override a config key by dotted path, e.g. media.0.sigma_t_scale=10 (repeatable)")
         ->allow_extra_args(false);   // one value per --set, so `--set k=v CONFIG` leaves CONFIG alone
+    std::vector<std::string> unsets;
+    app.add_option("--unset", unsets,
+                   "Remove a key the config file sets, so its default or the automatic choice it pins applies again, "
+                   "e.g. --unset photons.count under render.time_limit (repeatable; after every --set)")
+        ->allow_extra_args(false);
     app.add_option("--threads", threads, "Worker threads (0: all cores; default: render.threads)")->check(CLI::Range(0, vpm::kMaxThreads));
     app.add_flag("-q,--quiet", quiet, "No progress bar or log on stderr");
     std::string reference;
@@ -106,7 +143,9 @@ int run_render(int argc, char** argv) {
     sets.insert(sets.begin(), cli_sets.begin(), cli_sets.end());
 
     const vpm::Timer load_timer;
-    const vpm::RunConfig run_config = vpm::RunConfig::load(config, sets);
+    const std::shared_ptr<vpm::ConfigDocument> doc = vpm::load_config(config, sets);
+    for (const std::string& key : unsets) vpm::unset_key(*doc, key);
+    const vpm::RunConfig run_config = vpm::RunConfig::build(doc);
     const vpm::RenderSettings& render = run_config.render;
     const double load_seconds = load_timer.seconds();
     if (variance && render.passes < 2 && render.time_limit <= 0)
@@ -129,6 +168,7 @@ int run_render(int argc, char** argv) {
     if (log) {
         *log << "load: " << config << " in " << load_seconds << " s, " << n_threads << " threads\n";
         for (const auto& line : run_config.scene->build_log) *log << "  " << line << "\n";
+        if (const std::string pins = pinned_choices(*doc, render, run_config.integrator->name); !pins.empty()) *log << pins;
     }
     vpm::RunOptions options;
     options.progress = !quiet;
