@@ -248,7 +248,7 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
     Matrix m{o, {}};
     struct Ref {
         Image image;
-        std::optional<Image> variance;   // per-pixel, from the halves (none in caches written before it was kept)
+        std::optional<Image> variance;   // per-pixel, from the halves (none for a cache entry without REF.variance.exr)
         double noise, seconds;
         std::string name;
         bool reused;
