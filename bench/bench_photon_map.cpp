@@ -2,9 +2,12 @@
 // Not a test: prints figures. usage: bench_photon_map [max_points=1e6] [build_points=1e7]
 //   kNN at 1e5 .. max_points (x10 steps; pass 1e7 for the full table, ~1 GB and a few minutes),
 //   then one build of build_points photons (0: skip). 20000 uniform random queries per case.
+//   Last, the walk-neighbour estimate (photons.neighbours = "walks") against the photon-neighbour
+//   one, both corrected, on a map of random walks of albedo 0.5 (photon/estimate/walk_estimate.h).
 // (a plain main() so that the numbers are one run, single thread, same queries for both.)
 #include <nanoflann.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
@@ -15,6 +18,9 @@
 #include "core/progress.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "core/henyey_greenstein.h"
+#include "photon/estimate/estimators.h"
+#include "photon/estimate/walk_estimate.h"
 #include "photon/map/photon_map.h"
 
 using namespace vpm;
@@ -57,7 +63,7 @@ int main(int argc, char** argv) {
         cloud.xyz.reserve(3 * n);
         for (const auto& p : in)
             for (int a = 0; a < 3; ++a) cloud.xyz.push_back(float(p.position[a]));
-        Cloud sorted;   // the same points in the map's Morton order
+        Cloud sorted;   // the same points in the map's stored (kd-tree leaf) order
         sorted.xyz.reserve(3 * n);
         for (size_t i = 0; i < n; ++i)
             for (int a = 0; a < 3; ++a) sorted.xyz.push_back(float(map.position(i)[a]));
@@ -100,7 +106,7 @@ int main(int argc, char** argv) {
                 sink += d2[k - 1];
             }
             const double us_sorted = t3.seconds() / Q * 1e6;
-            std::printf("  k=%3zu  PhotonMap::knn %.2f us/query | bare nanoflann: input order %.2f, Morton order %.2f "
+            std::printf("  k=%3zu  PhotonMap::knn %.2f us/query | bare nanoflann: input order %.2f, stored order %.2f "
                         "us/query | ratio to the faster bare loop %.2f  [%g]\n",
                         k, us_map, us_bare, us_sorted, us_map / std::min(us_bare, us_sorted), sink > 0 ? 0.0 : 1.0);
         }
@@ -124,6 +130,45 @@ int main(int argc, char** argv) {
             }
         std::printf("n=%zu  build: PhotonMap %.3f s on 1 thread, %.3f s on %d threads (%.2fx), memory %.2f bytes/photon (%.1f MB)\n",
                     build_n, best[0], best[1], all, best[0] / best[1], double(bytes) / double(build_n), bytes / 1e6);
+    }
+    {
+        // Walks of albedo 0.5 (mean 2 photons, an Exp(1) flight apart) in a cube of side 20 mfp, 1e6
+        // photons (~125 per mfp^3); the estimates at the same 20000 interior points, corrected over
+        // photons and over walks, interleaved three times, the least time of each.
+        Rng rng(5, 0);
+        std::vector<PhotonInput> in;
+        for (uint64_t w = 0; in.size() < 1000000; ++w) {
+            Vec3 x(20 * rng.uniform(), 20 * rng.uniform(), 20 * rng.uniform());
+            do {
+                PhotonInput p;
+                p.position = x;
+                p.direction = sample_uniform_sphere(rng.uniform(), rng.uniform());
+                p.power = Rgb::Constant(1e-6);
+                p.walk = w;
+                in.push_back(p);
+                x += -std::log(1.0 - rng.uniform()) * sample_uniform_sphere(rng.uniform(), rng.uniform());
+            } while (rng.uniform() < 0.5);
+        }
+        const PhotonMap map(in);
+        std::vector<Vec3> qs(Q);
+        for (auto& q : qs) q = Vec3(2 + 16 * rng.uniform(), 2 + 16 * rng.uniform(), 2 + 16 * rng.uniform());
+        const Estimator corrected = Estimator::named("corrected");
+        for (size_t k : {8, 32}) {
+            GatherBuffers buf;
+            double best[2] = {1e30, 1e30}, sink = 0;
+            for (int rep = 0; rep < 3; ++rep)
+                for (int form = 0; form < 2; ++form) {
+                    Timer t;
+                    for (const auto& q : qs)
+                        sink += (form == 0 ? estimate_in_scattering(map, q, Vec3::UnitZ(), 0.0, corrected, k, kInfinity, buf)
+                                           : estimate_in_scattering_walks(map, q, Vec3::UnitZ(), 0.0, corrected, k, kInfinity, buf))
+                                    .value[0];
+                    best[form] = std::min(best[form], t.seconds());
+                }
+            std::printf("walks n=%zu (%zu walks)  k=%2zu  corrected estimate over photons %.2f us/query, over walks %.2f us/query: "
+                        "walks / photons %.2fx  [%g]\n",
+                        map.size(), map.walk_count(), k, best[0] / Q * 1e6, best[1] / Q * 1e6, best[1] / best[0], sink > 0 ? 0.0 : 1.0);
+        }
     }
     return 0;
 }

@@ -146,6 +146,7 @@ const char* scenario_name(StudyScenario s) {
         case StudyScenario::beam: return "beam";
         case StudyScenario::stratified: return "stratified";
         case StudyScenario::photon_beams: return "photon_beams";
+        case StudyScenario::walks: return "walks";
     }
     return "unknown";
 }
@@ -154,11 +155,11 @@ StudyScenario parse_scenario(const std::string& name) {
     for (StudyScenario s : {StudyScenario::uniform, StudyScenario::gradient, StudyScenario::gaussian,
                             StudyScenario::boundary, StudyScenario::weighted, StudyScenario::photon_map,
                             StudyScenario::photon_pass, StudyScenario::kernels, StudyScenario::beam,
-                            StudyScenario::stratified, StudyScenario::photon_beams})
+                            StudyScenario::stratified, StudyScenario::photon_beams, StudyScenario::walks})
         if (name == scenario_name(s)) return s;
     throw Error("study: unknown scenario '" + name +
                 "' (allowed: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, "
-                "stratified, photon_beams)");
+                "stratified, photon_beams, walks)");
 }
 
 std::vector<StudyScenario> default_scenarios() {
@@ -372,6 +373,17 @@ void validate_study_options(StudyOptions& opt) {
         throw Error("study: --n (" + std::to_string(opt.n) + ") must be at least 3 x the largest k (" + std::to_string(3 * kmax) +
                     ") for the beam scenario, so that every radius stays below half the unit torus");
     const bool beams = std::find(opt.scenarios.begin(), opt.scenarios.end(), StudyScenario::photon_beams) != opt.scenarios.end();
+    const bool walks = std::find(opt.scenarios.begin(), opt.scenarios.end(), StudyScenario::walks) != opt.scenarios.end();
+    if (walks && opt.walks_per_trial < 16 * kmax)
+        throw Error("study: walks per trial (" + std::to_string(opt.walks_per_trial) + ") must be at least 16 x the largest k (" +
+                    std::to_string(16 * kmax) + ") for the walks scenario, so that every walk ball stays a ball of the periodic cube");
+    if (walks && !(opt.walk_density > 0.0 && std::isfinite(opt.walk_density)))
+        throw Error("study: walk density must be a positive number (got " + std::to_string(opt.walk_density) + ")");
+    if (walks && (opt.walk_queries < 1 || opt.walk_theory_walks < 100 || opt.walk_media.empty()))
+        throw Error("study: the walks scenario needs at least 1 query per trial, 100 theory walks and one medium");
+    for (const WalkMedium& m : walks ? opt.walk_media : std::vector<WalkMedium>{})
+        if (!(m.albedo > 0.0 && m.albedo < 1.0) || !(std::abs(m.g) < 1.0))
+            throw Error("study: walks medium " + m.label() + ": albedo must be in (0, 1) and |g| < 1");
     if (beams && kmax > 256)
         throw Error("study: the photon_beams scenario takes k <= 256 (its field has 410 beams within the widest width "
                     "on average; got " + std::to_string(kmax) + ")");
@@ -388,7 +400,8 @@ void check_study_memory(const StudyOptions& opt) {
     const double nk = double(opt.ks.size()), kmax = double(opt.ks.back());
     const double ne = double(Estimator::all().size());
     for (StudyScenario sc : opt.scenarios) {
-        if (sc == StudyScenario::photon_pass || sc == StudyScenario::photon_beams) continue;   // small per trial
+        if (sc == StudyScenario::photon_pass || sc == StudyScenario::photon_beams || sc == StudyScenario::walks)
+            continue;   // small per trial
         const double stride = nk * ne * (sc == StudyScenario::kernels ? double(opt.kernels.size()) : 1.0);
         double estimates = double(opt.trials), per_thread_points = double(opt.n), point_bytes = double(sizeof(Pt));
         const char* size_option = "--n";
@@ -683,6 +696,62 @@ void attach_theory(const StudyOptions& opt, StudyScenario sc, StudyRow& row) {
     row.th_variance_limit = lim.variance;
 }
 
+// The walks scenario: every medium, opt.trials independent trials each (analysis/walk_trial.h).
+void run_walks(const StudyOptions& opt, StudyResult& res, const Timer& timer, const std::function<void(const std::string&)>& say) {
+    const std::vector<std::string>& methods = walk_study_methods();
+    const size_t nm = methods.size(), nk = opt.ks.size(), kmax = opt.ks.back();
+    WalkTrialSettings st;
+    st.density = opt.walk_density;
+    st.walks = opt.walks_per_trial;
+    st.queries = opt.walk_queries;
+    for (size_t mi = 0; mi < opt.walk_media.size(); ++mi) {
+        const WalkMedium& medium = opt.walk_media[mi];
+        Timer t_sc;
+        std::vector<double> samples(opt.trials * nk * nm, 0.0);
+        std::vector<size_t> photons(opt.trials, 0);
+        tbb::parallel_for(size_t(0), opt.trials, [&](size_t t) {
+            Rng rng = trial_rng(opt.seed, stream_id(StudyScenario::walks, int(mi), t));
+            std::vector<double> out;
+            walk_trial(medium, st, opt.ks, rng, out, photons[t]);
+            std::copy(out.begin(), out.end(), samples.begin() + long(t * nk * nm));
+        });
+        double photons_sum = 0.0;
+        for (size_t p : photons) photons_sum += double(p);
+        const size_t mean_photons = size_t(std::llround(photons_sum / double(opt.trials)));
+        // The theory's radii reach past the Poisson support of k_max photons.
+        const double r_max = 1.01 * std::cbrt(3.0 * (double(kmax) + 12.0 * std::sqrt(double(kmax)) + 30.0) /
+                                              (4.0 * kPi * opt.walk_density));
+        Rng theory_rng = trial_rng(opt.seed, stream_id(StudyScenario::walks, int(mi), uint64_t(1) << 40));
+        const WalkClustering clustering = walk_clustering(medium, opt.walk_theory_walks, theory_rng, r_max);
+        for (size_t ki = 0; ki < nk; ++ki)
+            for (size_t m = 0; m < nm; ++m) {
+                StudyRow row;
+                row.estimator = Estimator::named(m == 0 || m == 2 ? "classic" : "corrected");
+                row.method = methods[m];
+                row.scenario = medium.label();
+                row.dim = 3;
+                row.k = opt.ks[ki];
+                row.n = mean_photons;
+                reduce(samples, opt.trials, nk * nm, ki * nm + m, row);
+                row.has_theory = true;
+                row.theory_source = m >= 3 ? "exact_mean" : "first_order";
+                row.th_error = walk_theory_error(m, row.k, opt.walk_density, clustering);
+                row.th_variance = row.th_mse = row.th_variance_limit = std::nan("");
+                res.rows.push_back(row);
+            }
+        std::ostringstream note;
+        note << medium.label() << ": photons per walk " << fmt_fixed(photons_sum / double(opt.trials * opt.walks_per_trial), 3)
+             << " measured (1/(1 - albedo) = " << fmt_fixed(1.0 / (1.0 - medium.albedo), 3) << "); siblings per photon in a ball of k photons s(k):";
+        for (size_t ki = 0; ki < nk; ++ki)
+            note << (ki ? ", " : " ") << opt.ks[ki] << ": " << fmt_fixed(walk_siblings_at(opt.ks[ki], opt.walk_density, clustering), 4);
+        res.notes.push_back(note.str());
+        char buf[240];
+        std::snprintf(buf, sizeof buf, "study: %-18s 3D  %zu trials x %zu k  %zu walks, ~%zu photons  %.2f s (total %.1f s)",
+                      medium.label().c_str(), opt.trials, nk, opt.walks_per_trial, mean_photons, t_sc.seconds(), timer.seconds());
+        say(buf);
+    }
+}
+
 }  // namespace
 
 StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<void(const std::string&)>& log) {
@@ -706,6 +775,10 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     tbb::combinable<EstimatorStats> stats;
 
     for (StudyScenario sc : opt.scenarios) {
+        if (sc == StudyScenario::walks) {
+            run_walks(opt, res, timer, say);
+            continue;
+        }
         if (sc == StudyScenario::photon_beams) {
             const size_t stride = opt.ks.size() * opt.kernels.size() * 2;
             std::vector<double> samples;

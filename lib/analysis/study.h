@@ -64,6 +64,14 @@
 //              (docs/photon_beams.md): classic E = m1 + k1/(k-1) (k/(k-1) for the constant
 //              kernel), corrected m1, variances with the angular factor pi^2/8. k <= 256; not
 //              among the defaults (ask for it).
+//   walks      (3D) photons that are not independent: random walks in an infinite uniform medium
+//              (analysis/walk_trial.h) at every StudyOptions::walk_media entry (albedo 0.3, 0.5, 0.9,
+//              0.99, g 0 and 0.8), rows "walks/a<albedo>/g<g>": the photon-neighbour classic and
+//              corrected, the walk-neighbour walk_classic and walk_corrected
+//              (photon/estimate/walk_estimate.h) and leave_group_out. Theory: walk_corrected and
+//              leave_group_out exact (0, "exact_mean"); the others first order in the clustering
+//              ("first_order", docs/walk_correlation.md), from the sibling-pair distances of
+//              independent walks. Not among the defaults (ask for it).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -71,14 +79,15 @@
 #include <string>
 #include <vector>
 
+#include "analysis/walk_trial.h"
 #include "photon/estimate/estimators.h"
 
 namespace vpm {
 
-enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, stratified, photon_beams };
+enum class StudyScenario { uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, kernels, beam, stratified, photon_beams, walks };
 const char* scenario_name(StudyScenario s);
 StudyScenario parse_scenario(const std::string& name);   // throws vpm::Error listing allowed names
-std::vector<StudyScenario> default_scenarios();           // all but beam (O(n^2) per trial), stratified and photon_beams: ask for them
+std::vector<StudyScenario> default_scenarios();           // all but beam (O(n^2) per trial), stratified, photon_beams and walks: ask for them
 
 // The stratified scenario's point sets, in row order.
 const std::vector<std::string>& study_point_sets();
@@ -99,6 +108,13 @@ struct StudyOptions {
     size_t photon_map_size = 100000;   // photons per map (photon_map), emitted per map (photon_pass)
     size_t photon_map_queries = 0;     // estimates in the photon_map scenario (0: trials / 4)
     std::vector<Kernel> kernels = default_study_kernels();   // the kernels scenario's kernels
+    // The walks scenario (analysis/walk_trial.h): photon density per mfp^3, walks per trial (at
+    // least 16 x the largest k), query points per trial, walks for the clustering theory, media.
+    double walk_density = 40.0;
+    size_t walks_per_trial = 4096;
+    size_t walk_queries = 8;
+    size_t walk_theory_walks = 4000;
+    std::vector<WalkMedium> walk_media = study_walk_media();
 };
 
 // 2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40, 50, 64, 80, 100, 128, 160, 200, 256
@@ -116,7 +132,7 @@ struct StudyRow {
     double rel_mse = 0, se_mse = 0;       // mean((e - 1)^2) and its standard error
     // theory (finite n where it differs from the limit); variance/MSE may be +inf (k = 2)
     bool has_theory = false;
-    std::string theory_source;            // exact | quadrature | exact_mean (beam) | none
+    std::string theory_source;            // exact | quadrature | exact_mean (beam, walks) | fano | first_order (walks) | none
     double th_error = 0, th_variance = 0, th_mse = 0;
     double th_variance_limit = 0;         // n -> infinity (uniform-type scenarios), else = th_variance
 };

@@ -14,6 +14,7 @@
 
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/kernels.h"
+#include "photon/estimate/walk_estimate.h"
 #include "render/integrator_registry.h"
 #include "render/photon_map/gathers/gather_registry.h"
 #include "scene/lights/light_registry.h"
@@ -76,6 +77,7 @@ TEST(RegistryDocs, ConfigReferenceListsEveryRegistryExactly) {
     EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "estimator"), as_set(Estimator::names()));
     EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "kernel"), as_set(Kernel::names()));
     EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "gather"), as_set(gather_names()));
+    EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "neighbours"), as_set(neighbourhood_names()));
 }
 
 TEST(RegistryDocs, KernelDocumentListsEveryKernelExactly) {

@@ -81,9 +81,14 @@ int run_study(int argc, char** argv) {
     app.add_option("--scenarios", scenarios,
                    "comma-separated: uniform, gradient, gaussian, boundary, weighted, photon_map, photon_pass, "
                    "kernels, beam, stratified (point sets: independent, stratified, jittered, sobol, lattice; "
-                   "docs/stratified_sampling.md), photon_beams (docs/photon_beams.md) (default: all but beam, whose "
-                   "trials cost O(n^2), stratified and photon_beams)");
+                   "docs/stratified_sampling.md), photon_beams (docs/photon_beams.md), walks (random walks, "
+                   "docs/walk_correlation.md) (default: all but beam, whose trials cost O(n^2), stratified, "
+                   "photon_beams and walks)");
     app.add_option("--photon-map-size", opt.photon_map_size, "photons per map (photon_map) / photons emitted per map (photon_pass)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    app.add_option("--walk-density", opt.walk_density, "walks scenario: photons per mean free path cubed (the truth)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_option("--walks-per-trial", opt.walks_per_trial, "walks scenario: random walks per trial (at least 16 x the largest k)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     app.add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, vpm::kMaxThreads))->capture_default_str();
     app.add_flag("--no-plots", no_plots, "do not run tools/plot_study.py");

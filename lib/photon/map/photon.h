@@ -10,10 +10,11 @@
 //   uint16_t power[3]  IEEE binary16 per channel of power / 2^e               ( 6 bytes)
 //   uint16_t reserved  low 12 bits: the exponent e (signed) of the photon's     ( 2 bytes)
 //                      largest channel; high 4 bits: its walk group (below)
-// plus 4 bytes per photon in the kd-tree's permutation array (uint32 index) = 28 bytes per photon,
+// plus 4 bytes per photon for its walk (uint32, photon_map.h: the records sit in the kd-tree's leaf
+// order, so the tree needs no permutation array and that slot holds the walk) = 28 bytes per photon,
 // see bytes_per_photon(). The kd-tree nodes add ~3 bytes per photon on top (32-byte nodes, one
-// per ~11 photons at leaf size 32): measured 30.8 bytes per photon in total for 1e5 and 1e6
-// uniform photons, 31.1 for 1e7 (PhotonMap::memory_bytes()).
+// per ~11 photons at leaf size 32): 30.8-31.1 bytes per photon in total (PhotonMap::memory_bytes(),
+// tests/photon/map/photon_codec_test.cpp holds it at <= 32).
 //
 // Error bounds (tested in tests/photon/test_photon_codec.cpp):
 //   position  : |error| per axis <= 2^-24 * max(|p - centre|) over the axes (float rounding of the
@@ -29,9 +30,13 @@
 //               largest channel of any photon) flushed photons 2^24 times dimmer than the brightest
 //               to zero or to coarse subnormals (a point light's photons next to a sky
 //               light's in one map came out 2x too bright).
-// Walk groups: the photons of one emitted path share a group, photon index mod
-// kWalkGroups, so the leave-group-out estimator (photon/estimate/group_estimate.h) can tell which stored
-// photons may be correlated. A double's binary exponent (-1074 .. 1023) fits the 12 bits left.
+// Walks: every stored photon knows its walk (the emitted path that stored it; PhotonInput::walk,
+// PhotonMap::walk), so the walk-neighbour estimate (photon/estimate/walk_estimate.h) can count
+// independent walks instead of correlated photons. Walk groups: the photons of one emitted path
+// share a group, its path index mod kWalkGroups (= walk mod kWalkGroups for the tracer's photons),
+// kept in `reserved` so that the leave-group-out estimator (photon/estimate/group_estimate.h) and
+// split_by_walk_group read it without a division. A double's binary exponent (-1074 .. 1023) fits
+// the 12 bits left.
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstddef>
@@ -51,6 +56,10 @@ struct PhotonInput {
     Vec3 direction = Vec3::UnitZ();   // incoming travel direction, unit length
     Rgb power = Rgb::Zero();          // watts
     uint8_t group = 0;                // walk group, < kWalkGroups
+    // The walk (emitted path) that stored this photon: photons with equal labels belong to one
+    // walk, any other label is another, independent walk. The tracer uses the path index in its
+    // pass. The map keeps a dense id per distinct label (PhotonMap::walk).
+    uint64_t walk = 0;
 };
 
 struct Photon {
@@ -61,7 +70,7 @@ struct Photon {
 };
 static_assert(sizeof(Photon) == 24, "Photon record must stay 24 bytes");
 
-// Bytes per stored photon: the record plus its uint32 entry in the kd-tree permutation array.
+// Bytes per stored photon: the record plus its uint32 walk id.
 // (kd-tree nodes are extra: measured by PhotonMap::memory_bytes(), ~2-3 bytes per photon.)
 constexpr size_t bytes_per_photon() { return sizeof(Photon) + sizeof(uint32_t); }
 

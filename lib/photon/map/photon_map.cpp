@@ -8,6 +8,8 @@
 #include <nanoflann.hpp>
 #include <numeric>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -15,6 +17,7 @@
 #include <tbb/parallel_sort.h>
 
 #include "core/error.h"
+#include "photon/map/walk_set.h"
 
 namespace vpm {
 
@@ -110,6 +113,52 @@ private:
     bool heap_;
 };
 
+// The k nearest distinct walks (PhotonMap::knn_walks): every photon met with d2 <= the current
+// bound is kept as a candidate; `top` holds the k walks with the smallest nearest-photon distance
+// so far, sorted by it. The bound is the k-th walk's nearest distance once k walks are known
+// (radius2 before): a photon beyond it is farther than the nearest photon of k other walks.
+class WalkResultSet {
+public:
+    using Entry = std::pair<float, uint32_t>;   // (d2, stored index) for candidates, (d2, walk) for top
+    WalkResultSet(const uint32_t* walks, size_t k, float radius2, std::vector<Entry>& candidates, std::vector<Entry>& top)
+        : walks_(walks), k_(k), radius2_(radius2), candidates_(candidates), top_(top) {
+        candidates_.clear();
+        top_.clear();
+    }
+    float worstDist() const { return top_.size() < k_ ? radius2_ : top_[k_ - 1].first; }
+    void addPoint(float dist, uint32_t index) {
+        const uint32_t walk = walks_[index];
+        size_t p = 0;
+        while (p < top_.size() && top_[p].second != walk) ++p;
+        if (p < top_.size()) {   // a known walk: it may come nearer
+            if (dist < top_[p].first) {
+                for (; p > 0 && top_[p - 1].first > dist; --p) top_[p] = top_[p - 1];
+                top_[p] = Entry{dist, walk};
+            }
+        } else {   // a new walk: insert it, keep the nearest k
+            if (top_.size() < k_) top_.push_back(Entry{dist, walk});
+            else top_.back() = Entry{dist, walk};
+            for (p = top_.size() - 1; p > 0 && top_[p - 1].first > dist; --p) std::swap(top_[p], top_[p - 1]);
+        }
+        candidates_.push_back(Entry{dist, index});
+        if (candidates_.size() >= compact_at_) {   // drop what the bound has passed
+            const float bound = worstDist();
+            candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(),
+                                             [bound](const Entry& c) { return c.first > bound; }),
+                              candidates_.end());
+            compact_at_ = std::max(compact_at_, 2 * candidates_.size());
+        }
+    }
+
+private:
+    const uint32_t* walks_;
+    size_t k_;
+    float radius2_;
+    std::vector<Entry>& candidates_;
+    std::vector<Entry>& top_;
+    size_t compact_at_ = 64;
+};
+
 }  // namespace
 
 // nanoflann 1.4's buildIndex is serial. This builds the same tree (nanoflann's own middleSplit_,
@@ -181,12 +230,107 @@ struct PhotonMap::Index {
         return node;
     }
 
+    // Once the records are in leaf order (leaf range [left, right) = records left..right-1) the
+    // permutation array is redundant: freed.
+    void release_order(const Photon* data) {
+        std::vector<uint32_t>().swap(tree.vAcc);
+        adaptor.data = data;
+    }
+
     size_t bytes() const {
         size_t b = tree.vAcc.size() * sizeof(uint32_t);
         for (const auto& p : pools) b += p.usedMemory + p.wastedMemory;
         return b;
     }
 };
+
+namespace {
+
+// Dense walk ids, in input order, for the labels PhotonInput::walk: ids follow the labels' order.
+// The tracer's labels never decrease along its output (one walk's photons are consecutive), which
+// takes one linear pass; any other order sorts the distinct labels. Returns the number of walks.
+size_t dense_walk_ids(const std::vector<PhotonInput>& in, std::vector<uint32_t>& ids) {
+    ids.resize(in.size());
+    if (in.empty()) return 0;
+    bool sorted = true;
+    for (size_t i = 1; i < in.size() && sorted; ++i) sorted = in[i - 1].walk <= in[i].walk;
+    if (sorted) {
+        uint32_t id = 0;
+        ids[0] = 0;
+        for (size_t i = 1; i < in.size(); ++i) ids[i] = in[i].walk == in[i - 1].walk ? id : ++id;
+        return size_t(id) + 1;
+    }
+    std::vector<uint64_t> labels(in.size());
+    for (size_t i = 0; i < in.size(); ++i) labels[i] = in[i].walk;
+    tbb::parallel_sort(labels.begin(), labels.end());
+    labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, in.size(), 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i)
+            ids[i] = uint32_t(std::lower_bound(labels.begin(), labels.end(), in[i].walk) - labels.begin());
+    });
+    return labels.size();
+}
+
+// nanoflann's searchLevel over leaf ranges that are record ranges (no permutation array), with
+// nanoflann's float metric (L2_Simple_Adaptor) and its pruning (eps = 0). `inclusive`: offer
+// points at exactly the current bound too (the walk search keeps ties with the k-th walk's photon).
+template <class ResultSet, class NodePtr>
+void search_level(ResultSet& rs, const Photon* data, const float* q, NodePtr node, float mindist, float* dists,
+                  bool inclusive) {
+    if (!node->child1 && !node->child2) {
+        const float worst = rs.worstDist();
+        for (size_t i = node->node_type.lr.left; i < node->node_type.lr.right; ++i) {
+            const float* p = data[i].p;
+            float d = 0.0f;
+            for (int a = 0; a < 3; ++a) {
+                const float diff = q[a] - p[a];
+                d += diff * diff;
+            }
+            if (d < worst || (inclusive && d == worst)) rs.addPoint(d, uint32_t(i));
+        }
+        return;
+    }
+    const int axis = int(node->node_type.sub.divfeat);
+    const float v = q[axis];
+    const float diff1 = v - node->node_type.sub.divlow, diff2 = v - node->node_type.sub.divhigh;
+    NodePtr best, other;
+    float cut;
+    if (diff1 + diff2 < 0) {
+        best = node->child1;
+        other = node->child2;
+        cut = (v - node->node_type.sub.divhigh) * (v - node->node_type.sub.divhigh);
+    } else {
+        best = node->child2;
+        other = node->child1;
+        cut = (v - node->node_type.sub.divlow) * (v - node->node_type.sub.divlow);
+    }
+    search_level(rs, data, q, best, mindist, dists, inclusive);
+    const float saved = dists[axis];
+    mindist = mindist + cut - saved;
+    dists[axis] = cut;
+    if (mindist <= rs.worstDist()) search_level(rs, data, q, other, mindist, dists, inclusive);
+    dists[axis] = saved;
+}
+
+}  // namespace
+
+template <class ResultSet>
+void PhotonMap::search(ResultSet& rs, const float q[3]) const {
+    const Tree& tree = index_->tree;
+    float dists[3] = {0.0f, 0.0f, 0.0f};
+    float mindist = 0.0f;
+    for (int a = 0; a < 3; ++a) {   // nanoflann's computeInitialDistances
+        if (q[a] < tree.root_bbox[size_t(a)].low) {
+            dists[a] = (q[a] - tree.root_bbox[size_t(a)].low) * (q[a] - tree.root_bbox[size_t(a)].low);
+            mindist += dists[a];
+        }
+        if (q[a] > tree.root_bbox[size_t(a)].high) {
+            dists[a] = (q[a] - tree.root_bbox[size_t(a)].high) * (q[a] - tree.root_bbox[size_t(a)].high);
+            mindist += dists[a];
+        }
+    }
+    search_level(rs, photons_.data(), q, tree.root_node, mindist, dists, std::is_same<ResultSet, WalkResultSet>::value);
+}
 
 PhotonMap::PhotonMap() = default;
 PhotonMap::~PhotonMap() = default;
@@ -225,20 +369,40 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
     });
     tbb::parallel_sort(keys.begin(), keys.end());
 
-    photons_.resize(in.size());
+    std::vector<uint32_t> morton_walks;   // walk id per Morton-ordered record
+    {
+        std::vector<uint32_t> ids;
+        walk_count_ = dense_walk_ids(in, ids);
+        morton_walks.resize(in.size());
+        photons_.resize(in.size());
+        tbb::parallel_for(all, [&](const tbb::blocked_range<size_t>& range) {
+            for (size_t j = range.begin(); j < range.end(); ++j) {
+                const PhotonInput& p = in[keys[j].second];
+                Photon& r = photons_[j];
+                const Vec3 rel = p.position - centre_;
+                for (int a = 0; a < 3; ++a) r.p[a] = static_cast<float>(rel[a]);
+                encode_direction(p.direction, r.dir);
+                const int16_t e = power_exponent(p.power);   // per photon: any dynamic range in one map
+                encode_power(p.power, std::ldexp(1.0, -e), r.power);
+                r.reserved = exponent_bits(e, p.group);
+                morton_walks[j] = ids[keys[j].second];
+            }
+        });
+    }
+    std::vector<std::pair<uint64_t, uint32_t>>().swap(keys);
+    index_ = std::make_unique<Index>(photons_.data(), photons_.size(), leaf_size);
+    // The records into the tree's leaf order; the permutation array goes, the walk ids take its place.
+    const std::vector<uint32_t>& order = index_->tree.vAcc;
+    std::vector<Photon> leaf_order(photons_.size());
+    walks_.resize(photons_.size());
     tbb::parallel_for(all, [&](const tbb::blocked_range<size_t>& range) {
         for (size_t j = range.begin(); j < range.end(); ++j) {
-            const PhotonInput& p = in[keys[j].second];
-            Photon& r = photons_[j];
-            const Vec3 rel = p.position - centre_;
-            for (int a = 0; a < 3; ++a) r.p[a] = static_cast<float>(rel[a]);
-            encode_direction(p.direction, r.dir);
-            const int16_t e = power_exponent(p.power);   // per photon: any dynamic range in one map
-            encode_power(p.power, std::ldexp(1.0, -e), r.power);
-            r.reserved = exponent_bits(e, p.group);
+            leaf_order[j] = photons_[order[j]];
+            walks_[j] = morton_walks[order[j]];
         }
     });
-    index_ = std::make_unique<Index>(photons_.data(), photons_.size(), leaf_size);
+    photons_.swap(leaf_order);
+    index_->release_order(photons_.data());
 }
 
 size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourList& out) const {
@@ -261,7 +425,7 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
     const float bound = limited ? static_cast<float>((max_radius + slack) * (max_radius + slack) * (1.0 + 1e-6))
                                 : std::numeric_limits<float>::max();
     KnnRadiusResultSet rs(out.scratch_index.data(), out.scratch_d2.data(), k, bound);
-    index_->tree.findNeighbors(rs, q, nanoflann::SearchParams());
+    search(rs, q);
     const size_t found = rs.size();
     if (out.items.capacity() < k) out.items.reserve(k);
     for (size_t i = 0; i < found; ++i) {
@@ -276,12 +440,54 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
         n.power = decode_power(p.power, exponent_scale(p.reserved));
         n.direction = decode_direction(p.dir);
         n.group = walk_group(p.reserved);
+        n.walk = walks_[idx];
         out.items.push_back(n);
     }
     std::sort(out.items.begin(), out.items.end(), [](const Neighbour& a, const Neighbour& b) {
         return a.d2 < b.d2 || (a.d2 == b.d2 && a.index < b.index);
     });
     return out.items.size();
+}
+
+size_t PhotonMap::knn_walks(const Vec3& query, size_t k, double max_radius, NeighbourList& out, size_t& walks) const {
+    out.items.clear();
+    walks = 0;
+    if (k == 0 || photons_.empty() || !(max_radius >= 0.0)) return 0;
+    const Vec3 rel = query - centre_;
+    const float q[3] = {static_cast<float>(rel[0]), static_cast<float>(rel[1]), static_cast<float>(rel[2])};
+    const bool limited = std::isfinite(max_radius);
+    const double max_r2 = max_radius * max_radius;
+    // The float bound and its margin as in knn.
+    const double coord = rel.cwiseAbs().maxCoeff() + 0.5 * (bounds_.hi - bounds_.lo).cwiseAbs().maxCoeff();
+    const double slack = 8.0 * 0x1p-24 * coord;
+    const float bound = limited ? static_cast<float>((max_radius + slack) * (max_radius + slack) * (1.0 + 1e-6))
+                                : std::numeric_limits<float>::max();
+    WalkResultSet rs(walks_.data(), k, bound, out.scratch_candidates, out.scratch_walks);
+    search(rs, q);
+    const float last = rs.worstDist();
+    for (const auto& c : out.scratch_candidates) {
+        if (c.first > last) continue;
+        const uint32_t idx = c.second;
+        const Photon& p = photons_[idx];
+        const double d2 = (rel - Vec3(p.p[0], p.p[1], p.p[2])).squaredNorm();
+        if (limited && d2 > max_r2) continue;
+        Neighbour n;
+        n.index = idx;
+        n.d2 = d2;
+        n.power = decode_power(p.power, exponent_scale(p.reserved));
+        n.direction = decode_direction(p.dir);
+        n.group = walk_group(p.reserved);
+        n.walk = walks_[idx];
+        out.items.push_back(n);
+    }
+    std::sort(out.items.begin(), out.items.end(), [](const Neighbour& a, const Neighbour& b) {
+        return a.d2 < b.d2 || (a.d2 == b.d2 && a.index < b.index);
+    });
+    // In double precision: the list ends at the first photon of the k-th distinct walk.
+    const size_t end = walk_neighbourhood_size(out.items.size(), k, [&](size_t i) { return out.items[i].walk; },
+                                               out.scratch_set, walks);
+    out.items.resize(end);
+    return end;
 }
 
 size_t PhotonMap::gather_all(const Vec3& query, NeighbourList& out) const {
@@ -298,6 +504,7 @@ size_t PhotonMap::gather_all(const Vec3& query, NeighbourList& out) const {
         n.power = decode_power(p.power, exponent_scale(p.reserved));
         n.direction = decode_direction(p.dir);
         n.group = walk_group(p.reserved);
+        n.walk = walks_[i];
         if (i == 0 || n.d2 >= out.items[far].d2) far = i;   // ties: the highest index is "farthest"
         out.items.push_back(n);
     }
@@ -316,11 +523,8 @@ size_t PhotonMap::index_bytes() const {
     return index_->bytes();
 }
 
-const std::vector<uint32_t>& PhotonMap::tree_order() const {
-    static const std::vector<uint32_t> none;
-    return index_ ? index_->tree.vAcc : none;
+size_t PhotonMap::memory_bytes() const {
+    return photons_.size() * sizeof(Photon) + walks_.size() * sizeof(uint32_t) + index_bytes();
 }
-
-size_t PhotonMap::memory_bytes() const { return photons_.size() * sizeof(Photon) + index_bytes(); }
 
 }  // namespace vpm

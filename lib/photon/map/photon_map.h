@@ -1,12 +1,18 @@
 #pragma once
-// The photon map: compact photon records (photon.h) in Morton order plus a nanoflann kd-tree.
+// The photon map: compact photon records (photon.h) plus a kd-tree (nanoflann's node layout and
+// split rule), and the walk of every photon.
 //
+// Stored order: the records are Morton-sorted, the kd-tree is built over them, and then they are
+// moved into the tree's leaf order, so that every leaf is one contiguous run of records. The tree
+// therefore needs no permutation array (nanoflann's vAcc): the search here reads leaf ranges
+// directly, and the 4 bytes per photon that array took hold the photon's walk id instead.
 // nanoflann is an implementation detail (pimpl): only photon_map.cpp includes it.
 // Queries are const and thread-safe; each thread passes its own NeighbourList, whose buffers are
 // reused so that the hot loop allocates nothing once they have grown to k entries.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/math.h"
@@ -20,6 +26,7 @@ struct Neighbour {
     Rgb power = Rgb::Zero();
     Vec3 direction = Vec3::UnitZ();   // incoming travel direction
     uint8_t group = 0;                // walk group (photon.h)
+    uint32_t walk = 0;                // walk id (PhotonMap::walk)
 };
 
 // Result of a kNN query, sorted by (d2, index). Keep one per thread and reuse it.
@@ -28,6 +35,9 @@ struct NeighbourList {
     // scratch for the tree search (float distances, uint32 indices)
     std::vector<uint32_t> scratch_index;
     std::vector<float> scratch_d2;
+    // scratch for knn_walks: (float d2, index) candidates, (float d2, walk) nearest walks, a walk set
+    std::vector<std::pair<float, uint32_t>> scratch_candidates, scratch_walks;
+    std::vector<uint32_t> scratch_set;
 
     size_t size() const { return items.size(); }
     bool empty() const { return items.empty(); }
@@ -62,10 +72,22 @@ public:
     Vec3 direction(size_t i) const { return decode_direction(photons_[i].dir); }
     Rgb power(size_t i) const { return decode_power(photons_[i].power, exponent_scale(photons_[i].reserved)); }
     const Photon& record(size_t i) const { return photons_[i]; }
+    // The walk of stored photon i: a dense id in [0, walk_count()), one per distinct
+    // PhotonInput::walk label (ids follow the labels' order: a smaller label has a smaller id).
+    uint32_t walk(size_t i) const { return walks_[i]; }
+    size_t walk_count() const { return walk_count_; }
 
     // The min(k, available) nearest photons with distance <= max_radius (pass kInfinity for no
     // limit), sorted by distance (ties by stored index). Returns out.size().
     size_t knn(const Vec3& query, size_t k, double max_radius, NeighbourList& out) const;
+
+    // Walk neighbours (photon/estimate/walk_estimate.h): R = the distance at which the k-th distinct
+    // walk is first met (its nearest photon). Returns every photon within R (d <= R), sorted by
+    // (distance, stored index), so that the k-th walk's nearest photon is the last entry and the
+    // photons before it (strictly inside R, up to exact ties) belong to the k - 1 nearer walks.
+    // With fewer than k walks within max_radius: every photon within max_radius (sorted), and
+    // `walks` < k. Sets walks = the number of distinct walks in the list. Returns out.size().
+    size_t knn_walks(const Vec3& query, size_t k, double max_radius, NeighbourList& out, size_t& walks) const;
 
     // Every photon, in one linear pass without the kd-tree, for a query whose neighbourhood is the
     // whole map (k >= size(), no max_radius: estimator rule (b)). Not sorted: the farthest photon
@@ -83,16 +105,18 @@ public:
     // Sum of decoded power of all photons (for energy checks).
     Rgb total_power() const;
 
-    // Measured bytes: records + kd-tree (permutation array, nodes and pool slack).
+    // Measured bytes: records + walk ids + kd-tree (nodes and pool slack).
     size_t memory_bytes() const;
-    // The kd-tree part of memory_bytes().
+    // The kd-tree part of memory_bytes() (its nodes).
     size_t index_bytes() const;
-    // The kd-tree's permutation of stored indices (leaves in order): the build's result, for tests.
-    const std::vector<uint32_t>& tree_order() const;
 
 private:
     struct Index;
+    template <class ResultSet>
+    void search(ResultSet& result, const float q[3]) const;
     std::vector<Photon> photons_;
+    std::vector<uint32_t> walks_;
+    size_t walk_count_ = 0;
     Bounds3 bounds_;
     Vec3 centre_ = Vec3::Zero();
     double power_scale_ = 1.0;

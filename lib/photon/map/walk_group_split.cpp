@@ -15,6 +15,7 @@ std::vector<PhotonMap> split_by_walk_group(const PhotonMap& map, int parts) {
         p.position = map.position(i);
         p.direction = map.direction(i);
         p.power = map.power(i) * double(parts);
+        p.walk = map.walk(i);   // whole walks go to one part: its walk neighbourhoods stay walks
         const uint8_t g = walk_group(map.record(i).reserved);
         // Within its part a photon's group becomes g / parts, so that every part still holds both
         // parities (photons.clustering = "leave_group_out" splits by parity: with g kept, a part of

@@ -18,9 +18,10 @@
 
 namespace vpm {
 
-// Peak bytes per stored photon: the tracer's PhotonInput record, plus the kd-tree build (compact
-// record, Morton key and index, permutation entry, nodes) while the records still exist.
-constexpr double kPeakBytesPerStoredPhoton = double(sizeof(PhotonInput)) + double(sizeof(Photon)) + 16.0 + 4.0 + 4.0;
+// Peak bytes per stored photon: the tracer's PhotonInput record, plus the map build's peak while
+// the records still exist (photon_map.cpp: the compact record twice while it moves into leaf order,
+// its walk id in Morton and in leaf order, the tree's permutation entry, ~4 bytes of nodes).
+constexpr double kPeakBytesPerStoredPhoton = double(sizeof(PhotonInput)) + 2.0 * double(sizeof(Photon)) + 4.0 + 4.0 + 4.0 + 4.0;
 
 // Projected stored photons at the end of the pass, from the totals so far.
 double projected_stored_photons(const PhotonTraceProgress& p);

@@ -113,7 +113,8 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
         const double window = kForcedWindow * power.maxCoeff();   // forced steps: the weight window's floor
         bool scattered = false;
         int bounces = 0;
-        const uint8_t group = uint8_t(i % kWalkGroups);   // every photon of this walk (photon.h)
+        // Every photon of this walk: its label is the path index i, its group i mod kWalkGroups (photon.h).
+        const uint8_t group = uint8_t(i % kWalkGroups);
         for (;;) {
             if (bounces >= s.max_bounces) {
                 out.energy.truncated += power;
@@ -158,9 +159,9 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 const Vec3 x = ray.at(event.t);
                 ++out.collisions;
                 if (s.store_volume && (s.store_direct || scattered)) {
-                    if (q >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power, group});
+                    if (q >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power, group, i});
                     else if (rng.uniform() < q)
-                        out.photons.push_back(PhotonInput{x, ray.dir, power / q, group});
+                        out.photons.push_back(PhotonInput{x, ray.dir, power / q, group, i});
                 }
                 alive = roulette(power, event.medium->albedo(), rng);
                 if (alive) {
@@ -174,7 +175,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                     alive = photon_specular_step(hit, ray, power, rng);
                 } else {
                     if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
-                        out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power, group});
+                        out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power, group, i});
                     alive = roulette(power, hit.reflectance, rng);
                     if (alive) ray = diffuse_bounce(hit, rng);
                 }

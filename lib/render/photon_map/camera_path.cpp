@@ -153,8 +153,12 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
         if (maps_.surface && maps_.surface->size() >= maps_.k) {
             if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
-            const Estimate<Rgb> e = estimate_surface_irradiance(*maps_.surface, hit.position, hit.normal, *maps_.surface_estimator,
-                                                                maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats);
+            const Estimate<Rgb> e =
+                settings_.neighbourhood == Neighbourhood::walks
+                    ? estimate_surface_irradiance_walks(*maps_.surface, hit.position, hit.normal, *maps_.surface_estimator,
+                                                        maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats)
+                    : estimate_surface_irradiance(*maps_.surface, hit.position, hit.normal, *maps_.surface_estimator,
+                                                  maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats);
             radiance += throughput * hit.reflectance * (e.value / kPi);
             ++c.map_used;
             break;

@@ -373,7 +373,8 @@ PassMaps PhotonMapIntegrator::pass_maps(GatherMode gather, const PhotonMap& volu
                                         double decision_ratio) const {
     const DecisionMap decision{decision_map_, &decision_cells_, decision_ratio};
     return PassMaps{VolumeEstimator{volume, decision, k_, volume_estimator_, max_radius_, settings_.max_radius_mfp,
-                                    settings_.extinction, settings_.leaves_group_out(), threads_->ball},
+                                    settings_.extinction, settings_.leaves_group_out(), threads_->ball,
+                                    settings_.neighbourhood},
                     surface, &surface_estimator_, k_, max_radius_, gather,
                     gather_entry(gather).build ? segment_gather_.get() : nullptr};
 }

@@ -45,6 +45,24 @@ void read_store_probability(Params& p, PhotonMapSettings& s) {
     s.store_probability = p.real(key, s.store_probability, range);
 }
 
+// photons.neighbours = "walks" is honoured or refused: the walk forms of classic and corrected
+// (photon/estimate/walk_estimate.h), in the kNN photon estimates (not the beam gathers), and not on
+// top of leave_group_out, which treats the same correlation another way.
+void check_walk_neighbours(Params& p, const PhotonMapSettings& s) {
+    if (s.neighbourhood != Neighbourhood::walks) return;
+    const std::string name = s.estimator.name();
+    if (name != "classic" && name != "corrected")
+        p.fail("neighbours", "\"walks\" applies to photons.estimator = \"classic\" or \"corrected\" (got \"" + name +
+                                 "\"); set photons.neighbours = \"photons\" or change the estimator");
+    if (s.clustering == Clustering::leave_group_out)
+        p.fail("neighbours", "\"walks\" and photons.clustering = \"leave_group_out\" both correct for the photons of "
+                             "one walk; set one of them (photons.clustering = \"ignore\" or photons.neighbours = \"photons\")");
+    if (s.gather == GatherMode::point_beam || s.gather == GatherMode::photon_beams)
+        p.fail("neighbours", std::string("\"walks\" applies to the kNN photon estimates (photons.gather = \"auto\", "
+                                         "\"collision\", \"march\", \"threshold\", \"pilot\"), not photons.gather = \"") +
+                                 gather_entry(s.gather).name + "\"");
+}
+
 // photons.clustering = "leave_group_out" is honoured or refused: it applies to the corrected
 // estimator with the constant kernel and ball or linear extinction, and splits k into two halves of
 // k / 2 photons (photon/estimate/group_estimate.h), so k is even.
@@ -155,6 +173,9 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.clustering = p.choice("clustering", s.clustering,
                             {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
     check_leave_group_out(p, s);
+    s.neighbourhood = p.choice("neighbours", s.neighbourhood,
+                               {{"photons", Neighbourhood::photons}, {"walks", Neighbourhood::walks}});
+    check_walk_neighbours(p, s);
     read_store_probability(p, s);
     s.sampler = p.choice("sampler", s.sampler, sampler_choices());
     if (s.sampler == SamplerKind::sobol && s.count >= (int64_t(1) << 32))

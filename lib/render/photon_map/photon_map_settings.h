@@ -8,6 +8,7 @@
 #include "core/math.h"
 #include "core/sampler.h"
 #include "photon/estimate/estimators.h"
+#include "photon/estimate/walk_estimate.h"
 #include "render/photon_map/gathers/gather_registry.h"
 #include "transport/march_count.h"
 #include "transport/walk_settings.h"
@@ -52,6 +53,10 @@ struct PhotonMapSettings {
     SamplerKind sampler = SamplerKind::independent;   // photons.sampler
     bool store_auto = false;   // store_probability = "auto": from the pass's walk statistics (photon/trace/store_thinning.h)
     Clustering clustering = Clustering::ignore;
+    // photons.neighbours: the kNN estimates count photons or, "walks", independent walks
+    // (photon/estimate/walk_estimate.h): the volume estimate of the collision, march and threshold
+    // gathers and the surface estimate.
+    Neighbourhood neighbourhood = Neighbourhood::photons;
     double march_max_optical_depth = 2.0;
     KSchedule schedule = KSchedule::fixed;
     // render.integrator = "auto": the plan may render the run with the path tracer instead of the

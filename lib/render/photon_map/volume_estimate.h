@@ -6,7 +6,8 @@
 //      decided on the run's decision map when there is one (then the estimate's ball is unbounded),
 //      else on the estimate's own list;
 //   3. the kNN estimate S of sigma_t times the phase-weighted incident radiance (photon/estimate/
-//      estimators.h: the estimator, its kernel and rules);
+//      estimators.h: the estimator, its kernel and rules), over the k nearest photons or, with
+//      photons.neighbours = "walks", the k nearest walks (photon/estimate/walk_estimate.h);
 //   4. the extinction normalisation (photons.extinction): S over sigma_t at x ("point"), over the
 //      mean sigma_t of the ball ("ball"), or photon weights exact for a radiance linear across the
 //      ball ("linear"); with photons.clustering = "leave_group_out" each half of the walk groups
@@ -67,6 +68,7 @@ struct VolumeEstimator {
     ExtinctionNormalisation extinction;
     bool leave_group_out;           // PhotonMapSettings::leaves_group_out()
     const BallExtinction& ball;
+    Neighbourhood neighbourhood = Neighbourhood::photons;   // photons.neighbours
 
     // Whether the map is too small for any estimate: every query continues the path.
     bool starved() const { return map.size() < k; }

@@ -48,6 +48,8 @@ public:
     virtual bool occluded(const Ray& ray, double tmax) const = 0;
     virtual Bounds3 bounds() const = 0;
     virtual size_t triangle_count() const = 0;
+    // Whether any shape is a mirror or glass (a specular material).
+    virtual bool has_specular() const = 0;
     virtual std::string describe() const = 0;
 };
 
