@@ -3,7 +3,7 @@
 In configs/uniform_furnace.toml the radiance is 0.5 everywhere, so the image mean over 0.5 is
 1 + the estimator's relative bias. Both estimators also share an offset that shrinks with k: the
 photons of one random walk are correlated, not Poisson (the study's photon_pass scenario).
-Run from the repository root: PYTHONPATH=build/python python3 examples/bias_vs_k.py
+Run from the repository root: build/vpm-python examples/bias_vs_k.py
 """
 import vpm
 

@@ -2,7 +2,7 @@
 
 A path-traced reference first, then equal-time runs (render.time_limit: passes until the budget)
 of the photon map and the path tracer, each compared with it by relative RMSE (sweeps' metric).
-Run from the repository root: PYTHONPATH=build/python python3 examples/error_vs_time.py [reference spp]
+Run from the repository root: build/vpm-python examples/error_vs_time.py [reference spp]
 """
 import sys
 

@@ -2,7 +2,7 @@
 
 configs/homogeneous.toml's sphere (radius 1) made dense (sigma_t_scale 1000: a mean free path of
 1 mm): the photons sit in a skin under the lit side, so kNN balls deep inside are many mean free
-paths wide (docs/dense_media.md). Run from the repository root: PYTHONPATH=build/python python3 examples/knn_radii.py
+paths wide (docs/dense_media.md). Run from the repository root: build/vpm-python examples/knn_radii.py
 """
 import numpy as np
 

@@ -67,9 +67,10 @@ def main():
     cb = fig.colorbar(im, ax=ax, fraction=0.05, pad=0.02)
     cb.set_label("log10 time to equal error / path tracer", fontsize=7)
     fig.tight_layout()
-    out = os.path.join(os.path.dirname(os.path.abspath(path)), "matrix.png")
-    fig.savefig(out, dpi=130)
-    print("plot_matrix.py: wrote " + out)
+    out = os.path.join(os.path.dirname(os.path.abspath(path)), "matrix")
+    for ext in ("png", "pdf", "svg"):   # PNG for a look, PDF and SVG (vector) for a paper
+        fig.savefig(f"{out}.{ext}", dpi=130 if ext == "png" else None)
+    print("plot_matrix.py: wrote " + out + ".png, .pdf, .svg")
 
 
 if __name__ == "__main__":

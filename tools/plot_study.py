@@ -3,7 +3,7 @@
 figure) and relative MSE vs k for the three scales. The numbers all come from study.csv (C++).
 
 usage: /usr/bin/python3 tools/plot_study.py OUT/study.csv OUT_DIR
-writes OUT_DIR/study_error_<scenario>.png and OUT_DIR/study_mse_<scenario>.png; the kernels
+writes OUT_DIR/study_error_<scenario> and OUT_DIR/study_mse_<scenario>, each .png, .pdf and .svg; the kernels
 scenario (estimators labelled "classic/<kernel>") gets one colour per kernel, the k-th photon
 kept (classic: open markers, dashed theory) or discarded (corrected: filled, solid theory). The beam
 scenario's rows ("sample_point/<kernel>") are plotted like the others, 2D = the beam, 3D = the point.
@@ -77,11 +77,18 @@ def plot_kernels(sub, out):
             ax.grid(True, which="both", alpha=0.3)
             legend(ax, fontsize=6, ncol=2)
         fig.tight_layout()
-        path = os.path.join(out, f"study_{kind}_kernels.png")
-        tmp = path + f".tmp-{os.getpid()}.png"
-        fig.savefig(tmp, dpi=110)
+        save(fig, os.path.join(out, f"study_{kind}_kernels"))
+
+
+def save(fig, stem):
+    """STEM.png for a look, STEM.pdf and STEM.svg (vector) for a paper; each written to a temporary
+    and renamed, so a reader never sees half a file."""
+    for ext in ("png", "pdf", "svg"):
+        path = f"{stem}.{ext}"
+        tmp = f"{path}.tmp-{os.getpid()}.{ext}"
+        fig.savefig(tmp, dpi=110 if ext == "png" else None)
         os.replace(tmp, path)
-        plt.close(fig)
+    plt.close(fig)
 
 
 def main():
@@ -143,11 +150,7 @@ def main():
                 ax.grid(True, which="both", alpha=0.3)
                 legend(ax, fontsize=7)
             fig.tight_layout()
-            path = os.path.join(out, f"study_{kind}_{sc}.png")
-            tmp = path + f".tmp-{os.getpid()}.png"
-            fig.savefig(tmp, dpi=110)
-            os.replace(tmp, path)
-            plt.close(fig)
+            save(fig, os.path.join(out, f"study_{kind}_{sc}"))
     return 0
 
 

@@ -2,11 +2,15 @@
 """Plots for `vpm sweep`; every number comes from OUT/points.csv (written by the C++ tool).
 
 usage: /usr/bin/python3 tools/plot_sweep.py OUT_DIR
-writes OUT_DIR/error_vs_time.png  relative RMSE against mean run time, log-log: every configuration
-                                   of each estimator and of the path tracer, and each method's lower
-                                   envelope (the least error it reaches within a time)
-       OUT_DIR/error_vs_k.png     relative RMSE against k, one line per estimator and photon count
-       OUT_DIR/bias_vs_k.png      relative bias (+- standard error) against k with the k/(k-1)
+writes, each as .png, .pdf and .svg (vector, for a paper):
+       OUT_DIR/error_vs_time      the sweep's metric (points.csv: error, relMSE by default, the
+                                   reference's noise floor subtracted) against mean run time, log-log:
+                                   every configuration of each estimator and of the path tracer with
+                                   its standard error over the repeats as an error bar, each method's
+                                   lower envelope (the least error it reaches within a time), and the
+                                   reference's noise floor (what a perfect image would score)
+       OUT_DIR/error_vs_k         the metric against k, one line per estimator and photon count
+       OUT_DIR/bias_vs_k          relative bias (+- standard error) against k with the k/(k-1)
                                    prediction: 1/(k-1) if all radiance came from photons, and
                                    f/(k-1) with the photon share f fitted to the classic points
 One panel per scene (combination of the non-photon axes other than time budgets, e.g. media.0.g), at most 9.
@@ -25,7 +29,8 @@ from matplotlib.ticker import NullFormatter, ScalarFormatter  # noqa: E402
 
 COLOURS = {"classic": "tab:red", "corrected": "tab:blue", "mse_optimal": "tab:green", "path": "black"}
 FIXED = ["point", "method", "spp", "repeats", "trace_s", "build_s", "render_s", "total_s", "run_s", "photons_stored",
-         "integrator_used", "gather_used", "map_estimates", "off_plan_repeats", "rel_rmse", "rel_mse", "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels"]
+         "integrator_used", "gather_used", "map_estimates", "off_plan_repeats", "rel_rmse", "rel_mse", "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels",
+         "metric", "error", "error_se", "error_raw", "noise_floor"]
 MAX_PANELS = 9
 
 
@@ -101,6 +106,23 @@ def legend(ax, fontsize):
         ax.legend(fontsize=fontsize)
 
 
+def save(fig, out, stem):
+    """PNG for a look, PDF and SVG (vector) for a paper, side by side."""
+    for ext in ("png", "pdf", "svg"):
+        fig.savefig(os.path.join(out, f"{stem}.{ext}"), dpi=120 if ext == "png" else None)
+    plt.close(fig)
+
+
+def metric_of(rows):
+    """The metric points.csv reports (older folders: relative RMSE from rel_rmse)."""
+    names = {r.get("metric") for r in rows if r.get("metric")}
+    return names.pop() if len(names) == 1 else None
+
+
+def error_of(r, metric):
+    return num(r["error"]) if metric else num(r["rel_rmse"])
+
+
 def envelope(points):
     pts = sorted(points)
     out, best = [], math.inf
@@ -111,37 +133,46 @@ def envelope(points):
     return out
 
 
-def error_vs_time(groups, titles, out):
+def error_vs_time(groups, titles, out, metric):
     fig, axs = figure(len(groups))
     for ax, g, title in zip(axs, groups, titles):
         methods = []
         for r in g:
             if r["method"] not in methods:
                 methods.append(r["method"])
+        hidden = 0
         for m in methods:
-            pts = [(num(r.get("run_s") or r["total_s"]), num(r["rel_rmse"]), off_plan(r)) for r in g if r["method"] == m]
-            pts = [p for p in pts if p[0] > 0 and p[1] > 0 and math.isfinite(p[0]) and math.isfinite(p[1])]
-            if not pts:
+            pts = [(num(r.get("run_s") or r["total_s"]), error_of(r, metric), num(r.get("error_se", "nan")) if metric else
+                    float("nan"), off_plan(r)) for r in g if r["method"] == m]
+            ok = [p for p in pts if p[0] > 0 and p[1] > 0 and math.isfinite(p[0]) and math.isfinite(p[1])]
+            hidden += len(pts) - len(ok)   # at or below zero after the floor: nothing to draw on a log axis
+            if not ok:
                 continue
             c = colour(m)
             for bad, marker in ((False, "o"), (True, "x")):
-                sel = [p for p in pts if p[2] == bad]
+                sel = [p for p in ok if p[3] == bad]
                 if sel:
-                    ax.scatter([p[0] for p in sel], [p[1] for p in sel], s=12 if not bad else 30, alpha=0.45 if not bad else 0.9,
-                               color=c, marker=marker)
-            env = envelope([(t, e) for t, e, _ in pts])
-            ax.plot([p[0] for p in env], [p[1] for p in env], "-o", ms=3, color=c, label=what_ran(g, m) + " (envelope)")
+                    # Error bars: the standard error over the repeats, clipped above zero for the log axis.
+                    yerr = [[min(p[2], 0.999 * p[1]) if math.isfinite(p[2]) else 0 for p in sel],
+                            [p[2] if math.isfinite(p[2]) else 0 for p in sel]]
+                    ax.errorbar([p[0] for p in sel], [p[1] for p in sel], yerr=yerr, fmt=marker, ms=3 if not bad else 5,
+                                alpha=0.5 if not bad else 0.9, color=c, capsize=2, elinewidth=0.8)
+            env = envelope([(t, e) for t, e, _, _ in ok])
+            ax.plot([p[0] for p in env], [p[1] for p in env], "-", color=c, label=what_ran(g, m) + " (envelope)")
+        floors = sorted({num(r.get("noise_floor", "nan")) for r in g} - {float("nan")})
+        floors = [f for f in floors if math.isfinite(f) and f > 0]
+        if floors:
+            ax.axhline(floors[0], color="grey", ls="--", lw=1, label="reference noise floor (subtracted; errors near it are unresolved)")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("mean run time (run_s: every phase), s")
-        ax.set_ylabel("relative RMSE")
-        ax.set_title(title, fontsize=9)
+        ax.set_ylabel((metric + ", reference noise subtracted") if metric else "relative RMSE")
+        ax.set_title(title + (f"\n({hidden} point(s) at or below zero after the floor not drawn)" if hidden else ""), fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
         legend(ax, 8)
-    fig.suptitle("Error against run time")
+    fig.suptitle("Error against run time (bars: standard error over repeats)")
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "error_vs_time.png"), dpi=120)
-    plt.close(fig)
+    save(fig, out, "error_vs_time")
 
 
 def by_line(g, axes):
@@ -193,19 +224,25 @@ def k_axis(ax, ylabel, title, ks):
     legend(ax, 7)
 
 
-def error_vs_k(groups, titles, axes, out):
+def error_vs_k(groups, titles, axes, out, metric):
     fig, axs = figure(len(groups))
     for ax, g, title in zip(axs, groups, titles):
         lines = by_line(g, axes)
         for key, rr in lines.items():
-            ax.plot([num(r["k"]) for r in rr], [num(r["rel_rmse"]) for r in rr], marker="o", ms=3,
-                    ls=style(key, lines), color=colour(key[0]), label=line_label(key, rr))
+            rr = [r for r in rr if error_of(r, metric) > 0]
+            if not rr:
+                continue
+            se = [num(r.get("error_se", "nan")) if metric else float("nan") for r in rr]
+            ax.errorbar([num(r["k"]) for r in rr], [error_of(r, metric) for r in rr],
+                        yerr=[[min(s, 0.999 * error_of(r, metric)) if math.isfinite(s) else 0 for s, r in zip(se, rr)],
+                              [s if math.isfinite(s) else 0 for s in se]],
+                        marker="o", ms=3, capsize=2, ls=style(key, lines), color=colour(key[0]), label=line_label(key, rr))
         ax.set_yscale("log")
-        k_axis(ax, "relative RMSE", title, sorted({num(r["k"]) for rr in lines.values() for r in rr}))
-    fig.suptitle("Error against k")
+        k_axis(ax, (metric + ", reference noise subtracted") if metric else "relative RMSE", title,
+               sorted({num(r["k"]) for rr in lines.values() for r in rr}))
+    fig.suptitle("Error against k (error bars: standard error over the repeats)")
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "error_vs_k.png"), dpi=120)
-    plt.close(fig)
+    save(fig, out, "error_vs_k")
 
 
 def bias_vs_k(groups, titles, axes, out):
@@ -231,8 +268,7 @@ def bias_vs_k(groups, titles, axes, out):
         k_axis(ax, "relative bias (mean over repeats)", title, sorted({num(r["k"]) for rr in lines.values() for r in rr}))
     fig.suptitle("Bias against k (error bars: standard error over repeats)")
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "bias_vs_k.png"), dpi=120)
-    plt.close(fig)
+    save(fig, out, "bias_vs_k")
 
 
 def main():
@@ -257,8 +293,9 @@ def main():
     groups, titles, n = panels(rows, axes, scene_name(out))
     if n > MAX_PANELS:
         print(f"plot_sweep: {n} scenes, plotting the first {MAX_PANELS}", file=sys.stderr)
-    error_vs_time(groups, titles, out)
-    error_vs_k(groups, titles, axes, out)
+    metric = metric_of(rows)
+    error_vs_time(groups, titles, out, metric)
+    error_vs_k(groups, titles, axes, out, metric)
     bias_vs_k(groups, titles, axes, out)
     return 0
 

@@ -1,7 +1,10 @@
 #include "analysis/error_metrics.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "core/error.h"
@@ -156,6 +159,126 @@ ImageError compare_images(const Image& a, const Image& r) {
     e.relative_rmse = e.reference_mean > 0 ? e.rmse / e.reference_mean : 0.0;
     e.relative_bias = e.reference_mean > 0 ? e.mean / e.reference_mean - 1.0 : 0.0;
     return e;
+}
+
+ErrorMetric parse_error_metric(const std::string& name) {
+    std::string n;
+    for (char c : name)
+        if (c != '_' && c != '-') n += char(std::tolower(static_cast<unsigned char>(c)));
+    if (n == "relmse") return ErrorMetric::rel_mse;
+    if (n == "relrmse") return ErrorMetric::rel_rmse;
+    if (n == "smape") return ErrorMetric::smape;
+    throw Error("metric '" + name + "' is not known (allowed: relmse, relrmse, smape)");
+}
+
+std::string metric_name(ErrorMetric metric) {
+    switch (metric) {
+        case ErrorMetric::rel_mse: return "relMSE";
+        case ErrorMetric::rel_rmse: return "relRMSE";
+        case ErrorMetric::smape: return "SMAPE";
+    }
+    throw Error("metric_name: unknown metric");
+}
+
+std::string metric_formula(ErrorMetric metric, double epsilon) {
+    std::ostringstream eps;
+    eps << epsilon;
+    switch (metric) {
+        case ErrorMetric::rel_mse: return "relMSE = mean (I - R)^2 / (R^2 + " + eps.str() + ") over luminance";
+        case ErrorMetric::rel_rmse: return "relRMSE = sqrt(mean (I - R)^2) / mean R over luminance";
+        case ErrorMetric::smape: return "SMAPE = mean |I - R| / (|I| + |R| + " + eps.str() + ") over luminance";
+    }
+    throw Error("metric_formula: unknown metric");
+}
+
+bool metric_has_floor(ErrorMetric metric) { return metric != ErrorMetric::smape; }
+
+bool MetricValue::floor_known() const { return std::isfinite(floor); }
+
+MetricValue measure_error(const Image& image, const Image& reference, const MetricOptions& o, const Image* variance) {
+    check_size(image, reference);
+    if (variance) check_size(*variance, reference);
+    if (o.mask && (o.mask->width() != reference.width || o.mask->height() != reference.height))
+        throw Error("the mask is " + std::to_string(o.mask->width()) + "x" + std::to_string(o.mask->height()) +
+                    " but the reference is " + std::to_string(reference.width) + "x" + std::to_string(reference.height));
+    if (!(o.epsilon > 0) || !std::isfinite(o.epsilon))
+        throw Error("metric epsilon " + std::to_string(o.epsilon) + ": must be a finite number > 0");
+    const size_t n = size_t(reference.width) * size_t(reference.height);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    MetricValue m;
+    m.metric = o.metric;
+    m.epsilon = o.epsilon;
+    // Sums over the compared pixels: the error term, the floor term, and the reference's luminance.
+    double err = 0, noise = 0, ref_sum = 0;
+    for (size_t p = 0; p < n; ++p) {
+        if (o.mask && !o.mask->compared(p)) {
+            ++m.masked_out;
+            continue;
+        }
+        if (!finite_pixel(reference, p))
+            throw Error("the reference image has a non-finite pixel (" + std::to_string(p % size_t(reference.width)) + ", " +
+                        std::to_string(p / size_t(reference.width)) + ")");
+        if (!finite_pixel(image, p)) {
+            ++m.nonfinite_pixels;
+            continue;
+        }
+        const double r = lum(reference, p), i = lum(image, p), d = i - r;
+        const double v = variance ? double(variance->rgb[3 * p]) : 0.0;
+        ++m.pixels;
+        ref_sum += r;
+        switch (o.metric) {
+            case ErrorMetric::rel_mse:
+                err += d * d / (r * r + o.epsilon);
+                noise += v / (r * r + o.epsilon);
+                break;
+            case ErrorMetric::rel_rmse:
+                err += d * d;
+                noise += v;
+                break;
+            case ErrorMetric::smape:
+                err += std::abs(d) / (std::abs(i) + std::abs(r) + o.epsilon);
+                break;
+        }
+    }
+    if (m.pixels == 0) throw Error("no pixel to compare (" + std::to_string(m.masked_out) + " masked out, " +
+                                   std::to_string(m.nonfinite_pixels) + " non-finite)");
+    const double P = double(m.pixels);
+    switch (o.metric) {
+        case ErrorMetric::rel_mse:
+            m.raw = err / P;
+            m.floor = variance ? noise / P : nan;
+            m.value = variance ? m.raw - m.floor : m.raw;
+            break;
+        case ErrorMetric::rel_rmse: {
+            const double L = ref_sum / P;
+            if (!(L > 0)) throw Error("the reference's mean luminance over the compared pixels is " + std::to_string(L) +
+                                      "; relRMSE needs a positive mean");
+            m.raw = std::sqrt(err / P) / L;
+            m.floor = variance ? std::sqrt(noise / P) / L : nan;
+            const double d = m.raw * m.raw - (variance ? m.floor * m.floor : 0.0);
+            m.value = d < 0 ? -std::sqrt(-d) : std::sqrt(d);
+            break;
+        }
+        case ErrorMetric::smape:
+            m.raw = m.value = err / P;
+            m.floor = nan;
+            break;
+    }
+    return m;
+}
+
+std::string describe(const MetricValue& v) {
+    std::ostringstream s;
+    s.precision(4);
+    s << metric_name(v.metric) << " " << v.value;
+    if (v.floor_known())
+        s << " (raw " << v.raw << " - reference noise floor " << v.floor << ")";
+    else if (metric_has_floor(v.metric))
+        s << " (reference noise unknown: not subtracted)";
+    else
+        s << " (no noise floor: not a squared error)";
+    if (v.nonfinite_pixels) s << ", " << v.nonfinite_pixels << " NON-FINITE pixels left out";
+    return s.str();
 }
 
 }  // namespace vpm

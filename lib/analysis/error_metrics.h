@@ -1,6 +1,26 @@
 #pragma once
-// Error metrics of rendered images against a reference, used by `vpm sweep`.
-// Every definition the sweep reports lives here; docs/experiments.md, "Parameter sweeps", documents them.
+// Error metrics of rendered images against a reference: every number `vpm compare`, sweeps,
+// `vpm render --reference`, `vpm bench` and vpm.compare report is computed here; docs/metrics.md
+// documents them for users.
+//
+// The named metrics (measure_error; ErrorMetric), on luminance Y, over the compared pixels
+// (a PixelMask may leave some out):
+//   relMSE  = mean_p (Y_I - Y_R)^2 / (Y_R^2 + eps)       eps = 0.01 by default: the per-pixel
+//             relative MSE rendering papers report; no pixel dominates it (a glint whose error is
+//             10x its value weighs 100, not 100 x its brightness^2). The default.
+//   relRMSE = sqrt(mean_p (Y_I - Y_R)^2) / L              L = mean_p Y_R over the compared pixels:
+//             linear, normalised by the image's mean brightness; a few bright pixels decide it.
+//   SMAPE   = mean_p |Y_I - Y_R| / (|Y_I| + |Y_R| + eps) symmetric absolute percentage error, in [0, 1).
+// With the reference's per-pixel variance v_p (the variance of Y_R as an estimate; reference_noise.h),
+// each squared metric has a noise floor, the score a perfect image would get against this noisy
+// reference, which is subtracted:
+//   relMSE : floor = mean_p v_p / (Y_R^2 + eps)           value = raw - floor
+//   relRMSE: floor = sqrt(mean_p v_p) / L                 value = sign(d) sqrt(|d|), d = raw^2 - floor^2
+// (a negative value: the image's error is below what the reference can resolve). SMAPE is not a
+// sum of squares, so no floor is subtracted from it (floor NaN).
+//
+// The older sweep columns below (RunError, RepeatError: relative to the mean luminance L) stay as
+// they are; the sweep reports them beside the named metric.
 //
 // Pixels are compared by luminance Y = 0.2126 R + 0.7152 G + 0.0722 B. "Relative" means divided
 // by the reference's MEAN luminance over the image, L = mean_p Y(ref_p) (squared for squared
@@ -28,8 +48,10 @@
 // sums (a pixel is left out of the repeat metrics if it is non-finite in any repeat); the count
 // must be 0 and the sweep reports it, never hides it.
 #include <cstddef>
+#include <string>
 #include <vector>
 
+#include "analysis/pixel_mask.h"
 #include "render/run/image.h"
 
 namespace vpm {
@@ -76,5 +98,47 @@ struct ImageError {
 
 // Throws vpm::Error when the sizes differ.
 ImageError compare_images(const Image& image, const Image& reference);
+
+enum class ErrorMetric { rel_mse, rel_rmse, smape };
+
+constexpr double kDefaultMetricEpsilon = 0.01;
+
+// "relmse", "relrmse" or "smape" (case-insensitive; "rel_mse", "rel_rmse" too); throws vpm::Error
+// naming the allowed values otherwise.
+ErrorMetric parse_error_metric(const std::string& name);
+// "relMSE", "relRMSE", "SMAPE": how reports name it.
+std::string metric_name(ErrorMetric metric);
+// The formula in one line, e.g. "relMSE = mean (I - R)^2 / (R^2 + 0.01) over luminance".
+std::string metric_formula(ErrorMetric metric, double epsilon);
+// true for the metrics whose reference noise is subtracted (relMSE, relRMSE).
+bool metric_has_floor(ErrorMetric metric);
+
+struct MetricOptions {
+    ErrorMetric metric = ErrorMetric::rel_mse;
+    double epsilon = kDefaultMetricEpsilon;   // relMSE's and SMAPE's denominator guard (> 0)
+    const PixelMask* mask = nullptr;          // null: every pixel
+};
+
+struct MetricValue {
+    ErrorMetric metric = ErrorMetric::rel_mse;
+    double epsilon = kDefaultMetricEpsilon;
+    double value = 0;    // the metric, the reference's noise floor subtracted when it is known
+    double raw = 0;      // the metric against the reference as it is
+    double floor = 0;    // what a perfect image would score against this reference; NaN: unknown
+    size_t pixels = 0;             // compared pixels
+    size_t masked_out = 0;         // left out by the mask
+    size_t nonfinite_pixels = 0;   // non-finite in the image (left out and counted: must be 0)
+    bool floor_known() const;
+};
+
+// The image's error against the reference by options.metric. reference_variance: per-pixel variance of
+// the reference's luminance (reference_noise.h; any channel, they are equal), or null when unknown
+// (floor NaN, value = raw). Throws vpm::Error when sizes differ, the reference has a non-finite
+// compared pixel, no pixel is compared, or (relRMSE) the compared reference mean is not positive.
+MetricValue measure_error(const Image& image, const Image& reference, const MetricOptions& options,
+                          const Image* reference_variance = nullptr);
+
+// One line for a report: "relMSE 0.0123 (raw 0.0150 - reference noise floor 0.0027; 4096 pixels)".
+std::string describe(const MetricValue& value);
 
 }  // namespace vpm

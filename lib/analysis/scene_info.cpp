@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/density_extent.h"
 #include "config/params.h"
 #include "core/error.h"
 #include "io/vdb_io.h"
@@ -186,7 +187,7 @@ nlohmann::json vdb_info(const std::string& path) {
     j["kind"] = "vdb";
     j["source"] = path;
     j["grids"] = nlohmann::json::array();
-    Bounds3 all;
+    Bounds3 all, all_mass;
     for (const VdbGridInfo& g : list_vdb_grids(path)) {
         nlohmann::json e = {{"name", g.name}, {"type", g.type}};
         if (g.type == "float" || g.type == "double") {
@@ -195,11 +196,21 @@ nlohmann::json vdb_info(const std::string& path) {
             const GridMedium unit(grid, 1.0, Rgb::Ones(), 0.0);
             e["tau_across_at_scale_1"] = vec(tau_across(unit));
             if (!unit.bounds().empty()) all.extend(unit.bounds());
+            const DensityExtent x = density_extent(grid);
+            e["nonzero_voxels"] = x.nonzero_voxels;
+            e["density_bounds"] = box(x.nonzero);
+            e["mass_bounds"] = box(x.mass);
+            e["mass_inside"] = x.mass_inside;
+            if (!x.mass.empty()) all_mass.extend(x.mass);
         }
         j["grids"].push_back(e);
     }
-    if (!all.empty()) {
-        // A camera on +z of the centre whose vertical field of view (40 degrees) holds the bounding sphere.
+    if (!all_mass.empty() || !all.empty()) {
+        // A camera on +z of the centre of where the density is (the grids' mass boxes; their boxes
+        // when all are 0) whose vertical field of view (40 degrees) holds that box's bounding sphere.
+        const Bounds3 framed = all_mass.empty() ? all : all_mass;
+        j["suggested_camera_frames"] = all_mass.empty() ? "the grids' boxes (no density)" : "the density (mass bounds)";
+        all = framed;
         const Vec3 c = 0.5 * (all.lo + all.hi);
         const double r = 0.5 * (all.hi - all.lo).norm(), fov = 40.0;
         const double d = r / std::sin(0.5 * fov * kPi / 180.0);
@@ -222,6 +233,10 @@ std::string info_text(const nlohmann::json& j) {
             grid_text(out, g, "  ");
             out << "  optical thickness across the centre (x, y, z) at sigma_t_scale = 1: "
                 << triple(g["tau_across_at_scale_1"]) << "\n";
+            if (g.contains("density_bounds"))
+                out << "  where the density is: " << g["nonzero_voxels"].get<int64_t>() << " voxels > 0 in "
+                    << box_text(g["density_bounds"]) << "\n  " << percent(g["mass_inside"].get<double>())
+                    << " of the density in " << box_text(g["mass_bounds"]) << "\n";
         }
         if (j.contains("suggested_camera")) {
             const auto& c = j["suggested_camera"];
@@ -229,7 +244,8 @@ std::string info_text(const nlohmann::json& j) {
                 std::string t = triple(v);
                 return "[" + t.substr(1, t.size() - 2) + "]";
             };
-            out << "suggested camera (the grids' bounding sphere in view):\n  [camera]\n  position = "
+            out << "suggested camera (" << j.value("suggested_camera_frames", std::string("the grids' boxes"))
+                << " in view):\n  [camera]\n  position = "
                 << list(c["position"]) << "\n  look_at = " << list(c["look_at"]) << "\n  fov = " << fmt(c["fov"].get<double>())
                 << "\n";
         }

@@ -25,8 +25,10 @@ constexpr int kSeenSide = 64;
 nlohmann::json scene_info(const RunConfig& config);
 
 // Every float/double grid of a VDB file: index box, voxel size, world bounds, active voxels,
-// density range, optical thickness across at sigma_t_scale = 1; and a suggested camera (on +z of
-// the grid's centre, fov 40 degrees, the bounding sphere filling the view). Throws FileError.
+// density range, optical thickness across at sigma_t_scale = 1, where the density is
+// (density_extent.h: density_bounds, the voxels > 0; mass_bounds, the box holding nearly all of it,
+// and mass_inside, its share); and a suggested camera (on +z of the mass bounds' centre, fov 40
+// degrees, their bounding sphere filling the view). Throws FileError.
 nlohmann::json vdb_info(const std::string& path);
 
 // The JSON of scene_info or vdb_info as indented text for a terminal.

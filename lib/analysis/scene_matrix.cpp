@@ -7,11 +7,13 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "analysis/error_metrics.h"
+#include "analysis/reference_noise.h"
 #include "analysis/row_hash.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -246,6 +248,7 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
     Matrix m{o, {}};
     struct Ref {
         Image image;
+        std::optional<Image> variance;   // per-pixel, from the halves (none for a cache entry without REF.variance.exr)
         double noise, seconds;
         std::string name;
         bool reused;
@@ -297,6 +300,7 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
                 std::ifstream in(meta);
                 const nlohmann::json j = nlohmann::json::parse(in);
                 ref.image = read_exr(exr);
+                if (fs::exists(variance_path_for(exr))) ref.variance = read_exr(variance_path_for(exr));
                 ref.noise = j.at("noise_rel_variance").get<double>();
                 ref.seconds = j.at("seconds").get<double>();
                 ++report.references_reused;
@@ -312,6 +316,8 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
                 ref.image = mean;
                 ref.noise = mean_sq_diff_half(a.image, b.image, reference_scale(mean));
                 ref.seconds = wa + wb;
+                ref.variance = reference_from_halves(a.image, b.image, "halves").variance;
+                write_exr(variance_path_for(exr), *ref.variance);   // before the EXR, which marks the cache entry
                 const fs::path tmp = exr.string() + ".tmp";
                 write_exr(tmp, mean);
                 fs::rename(tmp, exr);
@@ -341,6 +347,8 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
             r.passes = int(res.stats.pass_summary.count);
             r.rel_rmse = e.rel_rmse;
             r.mse = e.rel_rmse * e.rel_rmse - ref.noise;
+            MetricOptions relmse;   // the per-pixel relative MSE, its floor from the halves' variance image
+            r.relmse = measure_error(res.image, ref.image, relmse, ref.variance ? &*ref.variance : nullptr).value;
             r.nonfinite_pixels = e.nonfinite_pixels;
             if (res.stats.gather_pilot) r.chosen = res.stats.gather_pilot->chosen;
             if (const auto& a = res.stats.auto_gather)   // the defaults: the plan's gather and pass size
@@ -373,7 +381,7 @@ std::string MatrixReport::to_csv() const {
     for (const auto& m : matrix_methods()) {
         std::string k = m.label;
         std::replace(k.begin(), k.end(), ' ', '_');
-        s << "," << k << "_seconds," << k << "_passes," << k << "_rel_rmse," << k << "_mse," << k << "_C";
+        s << "," << k << "_seconds," << k << "_passes," << k << "_rel_rmse," << k << "_mse," << k << "_C," << k << "_relmse";
     }
     for (size_t i = 1; i < matrix_methods().size(); ++i) {
         std::string k = matrix_methods()[i].label;
@@ -385,7 +393,8 @@ std::string MatrixReport::to_csv() const {
         const auto& c = r.cell;
         s << '"' << c.group << "\"," << c.id() << "," << c.shape << "," << c.tau << "," << c.albedo << "," << c.g << ","
           << c.light << "," << c.scale << "," << r.sigma_t_scale << "," << r.reference << "," << r.reference_noise;
-        for (const auto& m : r.methods) s << "," << m.seconds << "," << m.passes << "," << m.rel_rmse << "," << m.mse << "," << m.cost();
+        for (const auto& m : r.methods)
+            s << "," << m.seconds << "," << m.passes << "," << m.rel_rmse << "," << m.mse << "," << m.cost() << "," << m.relmse;
         for (size_t i = 1; i < r.methods.size(); ++i) s << "," << r.ratio(i);
         s << "," << r.best_forced_ratio() << "," << r.methods.at(4).chosen << "," << r.methods.at(3).march_weight_max << ","
           << r.methods.at(3).march_weight_mean << "," << r.beam_over_best_point() << "," << r.methods.at(5).beam_crossed_per_query << ","

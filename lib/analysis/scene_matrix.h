@@ -14,6 +14,8 @@
 //   C    = mse * seconds (error^2 x time: the time to a given error is proportional to it)
 //   ratio photon map / path tracer = C_pm / C_path: the photon map's time to equal error over
 //          the path tracer's (< 1: the photon map wins)
+//   relmse (matrix.csv) = the per-pixel relative MSE (error_metrics.h, eps 0.01), the reference's
+//          per-pixel noise (from the halves, kept as REF.variance.exr) subtracted
 // Optical thickness: the optical depth along the z axis through the centre of the medium's
 // bounds (box, sphere: the diameter). A scaled cell multiplies every length by `scale` and
 // divides sigma_t by it (point and spot intensities by scale^2), which leaves the image as it
@@ -79,6 +81,7 @@ struct MatrixMethodResult {
     int passes = 0;
     double rel_rmse = 0;    // against the reference, reference noise included
     double mse = 0;         // rel_rmse^2 minus the reference's noise
+    double relmse = 0;      // per-pixel relative MSE (error_metrics.h), the reference's noise floor subtracted (raw when the cached reference has no variance image)
     double cost() const { return mse * seconds; }   // C
     uint64_t nonfinite_pixels = 0;
     std::string chosen;     // "pilot": the gather its pilot chose (last pass); "auto": the plan's gather, photons x spp per pass

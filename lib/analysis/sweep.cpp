@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/error_metrics.h"
+#include "analysis/reference_noise.h"
 #include "analysis/reference_samples.h"
 #include "analysis/row_hash.h"
 #include "analysis/sweep_csv.h"
@@ -33,6 +34,10 @@ namespace fs = std::filesystem;
 namespace vpm {
 
 namespace {
+
+// A run without a time limit counts at an equal-time budget when its mean time is within this
+// fraction over it: a 16.0003-s run is a 16-s run.
+constexpr double kEqualTimeTolerance = 0.05;
 
 std::string num(double v) {
     if (std::isnan(v)) return "nan";
@@ -160,8 +165,11 @@ void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::
             ro.progress = opt.progress;
             ro.stream_offset = kReferenceStream;
             ro.cancelled = opt.cancelled;
+            ro.pass_variance = true;
             RunResult res = vpm::run(config, ro);
             if (opt.cancelled && opt.cancelled()) return;
+            // The variance first: the reference's EXR is what says the cache holds it.
+            if (res.variance.width > 0) write_exr(variance_path_for(path), res.variance);
             write_run_outputs(path, res, rs.exposure);
             log("sweep: reference " + r->scene + " in " + fixed(res.stats.render.seconds, 1) + " s");
         }
@@ -218,6 +226,8 @@ void write_sweep_sidecar(const SweepSpec& spec, const SweepOptions& opt, const S
     rec.set("set", spec.set);
     rec.set("repeats", spec.repeats);
     rec.set("time_budgets", nlohmann::json(spec.time_budgets));
+    rec.set("metric", spec.metric);
+    rec.set("metric_epsilon", spec.metric_epsilon);
     rec.set("reference.spp", spec.reference_spp);
     rec.set("reference.file", spec.reference_file.string());
     rec.set("reference.path_spp", nlohmann::json(spec.path_spp));
@@ -348,7 +358,10 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
     write_sweep_sidecar(spec, opt, outcome, run_seconds);
     std::set<std::string> planned;
     for (const auto& r : plan.runs) planned.insert(r.hash);
-    write_sweep_report(opt.out, spec.time_budgets, spec.file, planned);
+    MetricOptions metric;
+    metric.metric = parse_error_metric(spec.metric);
+    metric.epsilon = spec.metric_epsilon;
+    write_sweep_report(opt.out, spec.time_budgets, spec.file, planned, metric);
     return outcome;
 }
 
@@ -373,6 +386,10 @@ struct PointStats {
     size_t off_plan = 0;
     size_t over_reference = 0;   // repeats that took more camera samples than their reference
     RepeatError err;
+    // The report's named metric (error_metrics.h) over the repeats: the mean of the per-repeat values
+    // (noise floor subtracted when the reference has a variance image), its standard error (NaN for
+    // one repeat), the mean raw value and the floor (NaN: unknown).
+    double error = 0, error_se = 0, error_raw = 0, noise_floor = 0;
 };
 
 // Every row of the folder's runs*.csv once, and the columns the report reads.
@@ -445,17 +462,21 @@ std::vector<PointStats*> group_points(const RunTable& t, std::map<std::string, P
 
 // Mean timings and the error over repeats of every point against its reference; returns the
 // number of non-finite pixels seen.
-size_t measure_points(const fs::path& out, const RunTable& t, const std::vector<PointStats*>& points) {
+size_t measure_points(const fs::path& out, const RunTable& t, const std::vector<PointStats*>& points,
+                      const MetricOptions& metric) {
     auto in_out = [&](const std::string& col) { return fs::path(col).is_absolute() ? fs::path(col) : out / col; };
+    std::map<std::string, NoisyReference> noisy_refs;
     std::map<std::string, Image> refs;
     std::map<std::string, std::optional<uint64_t>> ref_samples;
     size_t nonfinite_total = 0;
     for (PointStats* p : points) {
         const fs::path ref_path = in_out(p->rows[0]->f[t.ref]);
         if (!refs.count(ref_path.string())) {
-            refs[ref_path.string()] = read_exr(ref_path);
+            noisy_refs[ref_path.string()] = load_reference(ref_path);   // with REF.variance.exr when there is one
+            refs[ref_path.string()] = noisy_refs[ref_path.string()].image;
             ref_samples[ref_path.string()] = recorded_samples(ref_path);
         }
+        const NoisyReference& noisy = noisy_refs.at(ref_path.string());
         const std::optional<uint64_t> reference_samples = ref_samples.at(ref_path.string());
         std::vector<Image> images;
         images.reserve(p->rows.size());
@@ -490,16 +511,31 @@ size_t measure_points(const fs::path& out, const RunTable& t, const std::vector<
         for (const auto& im : images) ptrs.push_back(&im);
         p->err = repeat_error(ptrs, refs.at(ref_path.string()));
         nonfinite_total += p->err.nonfinite_pixels;
+        std::vector<double> values;
+        p->error_raw = 0;
+        for (const Image& im : images) {
+            const MetricValue m = measure_error(im, noisy.image, metric, noisy.variance ? &*noisy.variance : nullptr);
+            values.push_back(m.value);
+            p->error_raw += m.raw / n;
+            p->noise_floor = m.floor;
+        }
+        p->error = 0;
+        for (double v : values) p->error += v / n;
+        double var = 0;
+        for (double v : values) var += values.size() > 1 ? (v - p->error) * (v - p->error) / (n - 1) : 0.0;
+        p->error_se = values.size() > 1 ? std::sqrt(var / n) : std::nan("");
     }
     return nonfinite_total;
 }
 
-void write_points_csv(const fs::path& out, const std::vector<std::string>& axes, const std::vector<PointStats*>& points) {
+void write_points_csv(const fs::path& out, const std::vector<std::string>& axes, const std::vector<PointStats*>& points,
+                      const MetricOptions& metric) {
     std::vector<std::string> ph = {"point", "method", "spp"};
     ph.insert(ph.end(), axes.begin(), axes.end());
     for (const char* c : {"repeats", "trace_s", "build_s", "render_s", "total_s", "run_s", "photons_stored", "integrator_used",
                           "gather_used", "map_estimates", "off_plan_repeats", "rel_rmse", "rel_mse",
-                          "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels"})
+                          "rel_bias", "rel_bias_se", "rel_bias2", "rel_variance", "rel_std", "nonfinite_pixels", "metric",
+                          "error", "error_se", "error_raw", "noise_floor"})
         ph.push_back(c);
     std::string pcsv = csv_line(ph);
     for (const PointStats* p : points) {
@@ -509,7 +545,8 @@ void write_points_csv(const fs::path& out, const std::vector<std::string>& axes,
         for (const std::string& v :
              {std::to_string(e.repeats), num(p->trace), num(p->build), num(p->render), num(p->total), num(p->wall), num(p->stored),
               p->integrators, p->gathers, num(p->map_estimates), std::to_string(p->off_plan), num(e.rel_rmse), num(e.rel_mse), num(e.rel_bias), num(e.rel_bias_se), num(e.rel_bias2), num(e.rel_variance),
-              num(e.rel_std), std::to_string(e.nonfinite_pixels)})
+              num(e.rel_std), std::to_string(e.nonfinite_pixels), metric_name(metric.metric), num(p->error), num(p->error_se),
+              num(p->error_raw), num(p->noise_floor)})
             f.push_back(v);
         pcsv += csv_line(f);
     }
@@ -518,55 +555,86 @@ void write_points_csv(const fs::path& out, const std::vector<std::string>& axes,
 
 // summary.md's table of every configuration; `shown`: the axes given their own column.
 std::string configurations_md(const std::vector<std::string>& axes, const std::vector<size_t>& shown,
-                              const std::vector<PointStats*>& points) {
+                              const std::vector<PointStats*>& points, const MetricOptions& metric) {
     // Spread needs two repeats: with one, say so ("–") instead of printing nan.
     auto or_dash = [](double v, int digits = 3) { return std::isfinite(v) ? sig(v, digits) : std::string("–"); };
     std::ostringstream md;
     md << "## Configurations\n\n| method |";
     for (size_t a : shown) md << " " << axes[a] << " |";
-    md << " spp | ran (gather) | R | time s | rel RMSE | rel bias ± SE | rel std | rel bias² | rel var | NaN/Inf |\n|---|";
+    md << " spp | ran (gather) | R | time s | " << metric_name(metric.metric)
+       << " ± SE | noise floor | rel RMSE | rel bias ± SE | rel std | rel bias² | rel var | NaN/Inf |\n|---|";
     for (size_t i = 0; i < shown.size(); ++i) md << "---:|";
-    md << "---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    md << "---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const PointStats* p : points) {
         const RepeatError& e = p->err;
         md << "| " << p->method << " |";
         for (size_t a : shown) md << " " << (p->values[a].empty() ? "–" : p->values[a]) << " |";
         std::string ran = p->integrators + (p->gathers == "none" || p->gathers == "?" ? "" : " (" + p->gathers + ")");
         if (p->off_plan) ran = "**" + ran + "**";   // a photon-map point that did not estimate from a map
-        md << " " << p->spp << " | " << ran << " | " << e.repeats << " | " << sig(p->wall) << " | " << sig(e.rel_rmse) << " | "
+        md << " " << p->spp << " | " << ran << " | " << e.repeats << " | " << sig(p->wall) << " | " << sig(p->error) << " ± "
+           << or_dash(p->error_se, 2) << " | " << or_dash(p->noise_floor) << " | " << sig(e.rel_rmse) << " | "
            << sig(e.rel_bias) << " ± " << or_dash(e.rel_bias_se, 2) << " | " << or_dash(e.rel_std) << " | " << sig(e.rel_bias2)
            << " | " << or_dash(e.rel_variance) << " | " << e.nonfinite_pixels << " |\n";
     }
     return md.str();
 }
 
-// summary.md's equal-time tables: per scene and budget, each method's lowest error within it.
+// The axis that sets render.time_limit ("time_limit" or its dotted key), or -1.
+int time_limit_axis(const std::vector<std::string>& axes) {
+    for (size_t a = 0; a < axes.size(); ++a)
+        if (axes[a] == "time_limit" || axes[a] == "render.time_limit") return int(a);
+    return -1;
+}
+
+// summary.md's equal-time tables: per scene, budget and method, the lowest error of the report's
+// metric. A run with a time limit counts at the budget equal to its limit only (each budget row
+// shows the runs made for it: no run fills two rows, and an overrun is printed, not hidden); a run
+// without one counts at every budget its mean time fits within, to kEqualTimeTolerance.
 std::string equal_time_md(const std::vector<std::string>& axes, const std::vector<size_t>& shown,
-                          const std::vector<PointStats*>& points, std::vector<double> budgets) {
+                          const std::vector<PointStats*>& points, std::vector<double> budgets, const MetricOptions& metric) {
+    const int tl = time_limit_axis(axes);
+    auto limit_of = [&](const PointStats* p) {
+        return tl >= 0 && !p->values[size_t(tl)].empty() ? to_double(p->values[size_t(tl)]) : std::nan("");
+    };
+    if (budgets.empty() && tl >= 0) {
+        for (const PointStats* p : points)
+            if (const double l = limit_of(p); std::isfinite(l) && std::find(budgets.begin(), budgets.end(), l) == budgets.end())
+                budgets.push_back(l);
+        std::sort(budgets.begin(), budgets.end());
+    }
     if (budgets.empty() && !points.empty()) {
         double lo = kInfinity, hi = 0;
         for (const PointStats* p : points) lo = std::min(lo, p->wall), hi = std::max(hi, p->wall);
         if (lo > 0 && hi > 0)
             for (double f : {1.0 / 3.0, 2.0 / 3.0, 1.0}) budgets.push_back(lo * std::pow(hi / lo, f));
     }
+    auto same_budget = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)); };
+    auto counts_at = [&](const PointStats* p, double b) {
+        const double l = limit_of(p);
+        return std::isfinite(l) ? same_budget(l, b) : p->wall <= b * (1.0 + kEqualTimeTolerance);
+    };
     std::vector<std::string> methods, scenes;
     for (const PointStats* p : points) {
         if (std::find(methods.begin(), methods.end(), p->method) == methods.end()) methods.push_back(p->method);
         if (std::find(scenes.begin(), scenes.end(), p->scene) == scenes.end()) scenes.push_back(p->scene);
     }
     std::ostringstream md;
-    md << "\n## Equal time\n\nLowest relative RMSE each method reaches within the time budget (mean run time), "
-       << "and the configuration that reaches it; one table per scene (each scene has its own reference).\n";
+    md << "\n## Equal time\n\nLowest " << metric_name(metric.metric) << " (" << metric_formula(metric.metric, metric.epsilon)
+       << ", the reference's noise floor subtracted where known; ± its standard error over the repeats) each method reaches at "
+       << "the budget, its mean run time and the configuration that reaches it; one table per scene (each scene has its own "
+       << "reference). A run with render.time_limit counts at the budget equal to its limit; a run without one at every budget "
+       << "its mean time fits within (+" << sig(100 * kEqualTimeTolerance, 2) << "%).\n";
     auto photon_axis = [](const std::string& a) {
         return a == "k" || a == "estimator" || a == "kernel" || a.rfind("photons.", 0) == 0;
     };
+    size_t empty_cells = 0;
     for (const auto& sc : scenes) {
         std::vector<const PointStats*> sp;
         for (const PointStats* p : points)
             if (p->scene == sc) sp.push_back(p);
         std::string scene_cfg;
         for (size_t a = 0; a < axes.size(); ++a)
-            if (!photon_axis(axes[a]) && !sp[0]->values[a].empty())
+            if (!photon_axis(axes[a]) && int(a) != tl && !sp[0]->values[a].empty())
                 scene_cfg += (scene_cfg.empty() ? "" : ", ") + axes[a] + "=" + sp[0]->values[a];
         md << "\n";
         if (scenes.size() > 1) md << "### " << (scene_cfg.empty() ? sc : scene_cfg) << "\n\n";
@@ -580,44 +648,53 @@ std::string equal_time_md(const std::vector<std::string>& axes, const std::vecto
             for (const auto& m : methods) {
                 const PointStats* best = nullptr;
                 for (const PointStats* p : sp)
-                    if (p->method == m && p->wall <= b && std::isfinite(p->err.rel_rmse) &&
-                        (!best || p->err.rel_rmse < best->err.rel_rmse))
+                    if (p->method == m && counts_at(p, b) && std::isfinite(p->error) && (!best || p->error < best->error))
                         best = p;
                 if (!best) {
+                    ++empty_cells;
                     md << " – |";
                     continue;
                 }
-                md << " " << sig(best->err.rel_rmse) << " (";
+                md << " " << sig(best->error) << (std::isfinite(best->error_se) ? " ± " + sig(best->error_se, 2) : std::string())
+                   << " at " << sig(best->wall) << " s";
+                if (best->wall > b * (1.0 + kEqualTimeTolerance)) md << " **(" << sig(best->wall / b, 2) << "x the budget)**";
                 std::string cfg;
                 for (size_t a : shown)
-                    if (!best->values[a].empty() && photon_axis(axes[a]))
+                    if (int(a) != tl && !best->values[a].empty() && photon_axis(axes[a]))
                         cfg += (cfg.empty() ? "" : ", ") + axes[a] + "=" + best->values[a];
-                if (m == "path") cfg += (cfg.empty() ? "" : ", ") + std::string("spp=") + best->spp;
-                md << cfg << ")" << (best->off_plan ? " **ran " + best->integrators + "**" : "") << " |";
+                if (m == "path" && tl < 0) cfg += (cfg.empty() ? "" : ", ") + std::string("spp=") + best->spp;
+                if (!cfg.empty()) md << " (" << cfg << ")";
+                md << (best->off_plan ? " **ran " + best->integrators + "**" : "") << " |";
             }
             md << "\n";
         }
     }
+    if (empty_cells)
+        md << "\n–: no run of that method fits within the budget (its runs are all slower), or none has a finite error.\n";
     return md.str();
 }
 
 }  // namespace
 
 std::string write_sweep_report(const fs::path& out, const std::vector<double>& budgets, const std::string& title,
-                               const std::set<std::string>& only) {
+                               const std::set<std::string>& only, const MetricOptions& metric) {
     const RunTable table = read_run_table(out, only);
     std::map<std::string, PointStats> by_point;
     const std::vector<PointStats*> points = group_points(table, by_point);
-    const size_t nonfinite_total = measure_points(out, table, points);
-    write_points_csv(out, table.axes, points);
+    const size_t nonfinite_total = measure_points(out, table, points, metric);
+    write_points_csv(out, table.axes, points, metric);
 
     std::vector<size_t> shown;   // axes with their own column (estimator and kernel are in the method label)
     for (size_t a = 0; a < table.axes.size(); ++a)
         if (table.axes[a] != "estimator" && table.axes[a] != "kernel") shown.push_back(a);
     std::ostringstream md;
     md << "# Sweep: " << title << "\n\n"
-       << table.rows.size() << " runs in " << points.size() << " configurations; errors relative to the reference's mean "
-       << "luminance (see docs/experiments.md, Parameter sweeps). Times are means over the repeats of each run's wall time (run_s: every phase, the plan's pilot included; seconds).\n\n";
+       << table.rows.size() << " runs in " << points.size() << " configurations. Error: **" << metric_name(metric.metric)
+       << "** = " << metric_formula(metric.metric, metric.epsilon).substr(metric_name(metric.metric).size() + 3) << ", "
+       << (metric_has_floor(metric.metric) ? "the reference's noise floor (its variance image, when it has one) subtracted"
+                                           : "no noise floor subtracted (not a squared error)")
+       << "; rel RMSE, bias and variance are relative to the reference's mean luminance, noise included "
+       << "(docs/metrics.md; docs/experiments.md, Parameter sweeps). Times are means over the repeats of each run's wall time (run_s: every phase, the plan's pilot included; seconds).\n\n";
     if (nonfinite_total)
         md << "**WARNING: " << nonfinite_total << " non-finite (NaN/Inf) pixels across the runs; they are left out of the "
            << "metrics. See the nonfinite_pixels column.**\n\n";
@@ -641,7 +718,7 @@ std::string write_sweep_report(const fs::path& out, const std::vector<double>& b
     if (one_repeat)
         md << "Configurations with one repeat (R = 1) leave the standard error, rel std and rel var empty (–): they "
            << "need two or more independent repeats (repeats = 2 or more in the sweep file).\n\n";
-    md << configurations_md(table.axes, shown, points) << equal_time_md(table.axes, shown, points, budgets);
+    md << configurations_md(table.axes, shown, points, metric) << equal_time_md(table.axes, shown, points, budgets, metric);
     // The plots are listed only once they exist: plot_sweep adds the line (not under --no-plots).
     write_text_atomic(out / "summary.md", md.str());
     return md.str();
@@ -698,6 +775,7 @@ size_t merge_sweeps(const std::vector<fs::path>& dirs, const fs::path& out,
             std::to_string(duplicates) + " duplicates dropped -> " + (out / "runs.csv").string());
     std::vector<double> budgets;
     std::string title = "merged";
+    MetricOptions metric;
     if (fs::exists(out / "sweep.json")) {
         std::ifstream in(out / "sweep.json");
         const auto j = nlohmann::json::parse(in, nullptr, false);
@@ -705,9 +783,11 @@ size_t merge_sweeps(const std::vector<fs::path>& dirs, const fs::path& out,
             if (j.contains("time_budgets") && j["time_budgets"].is_array())
                 for (const auto& b : j["time_budgets"]) budgets.push_back(b.get<double>());
             if (j.contains("sweep_file") && j["sweep_file"].is_string()) title = j["sweep_file"].get<std::string>();
+            if (j.contains("metric") && j["metric"].is_string()) metric.metric = parse_error_metric(j["metric"].get<std::string>());
+            if (j.contains("metric_epsilon") && j["metric_epsilon"].is_number()) metric.epsilon = j["metric_epsilon"].get<double>();
         }
     }
-    write_sweep_report(out, budgets, title);
+    write_sweep_report(out, budgets, title, {}, metric);
     return rows;
 }
 
@@ -727,11 +807,12 @@ bool plot_sweep(const fs::path& out, const fs::path& script, const std::function
         if (log) log("sweep: plotting failed (exit " + std::to_string(rc) + "; is python3-matplotlib installed?); the tables are written");
         return false;
     }
-    if (log) log("sweep: plots in " + out.string() + " (error_vs_time.png, error_vs_k.png, bias_vs_k.png)");
+    if (log) log("sweep: plots in " + out.string() + " (error_vs_time, error_vs_k, bias_vs_k: .png, .pdf, .svg)");
     std::ifstream in(out / "summary.md");
     std::stringstream md;
     md << in.rdbuf();
-    md << "\nPlots (tools/plot_sweep.py): error_vs_time.png, error_vs_k.png, bias_vs_k.png.\n";
+    md << "\nPlots (tools/plot_sweep.py), each as .png, .pdf and .svg: error_vs_time (error bars: standard error over "
+          "the repeats; the dashed line: the reference's noise floor), error_vs_k, bias_vs_k.\n";
     write_text_atomic(out / "summary.md", md.str());
     return true;
 }

@@ -9,7 +9,7 @@
 //   points.csv                         one row per configuration: metrics over its repeats
 //   summary.md                         points table and equal-time table
 //   sweep.json                         sidecar: environment, sweep file, plan, counts, timings
-//   error_vs_time.png, error_vs_k.png, bias_vs_k.png   (tools/plot_sweep.py, when available)
+//   error_vs_time, error_vs_k, bias_vs_k .png/.pdf/.svg   (tools/plot_sweep.py, when available)
 // The report (points.csv, summary.md, plots) is always recomputed from every runs*.csv row in
 // the folder and the images, so it is the same whether the runs came in one go, resumed, or from
 // shards merged with merge_sweeps.
@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/error_metrics.h"
 #include "analysis/sweep_plan.h"
 
 namespace vpm {
@@ -53,11 +54,14 @@ std::vector<std::string> sweep_csv_header(const std::vector<SweepAxis>& axes);
 std::filesystem::path shard_csv_name(int shard, int shards);
 
 // Recomputes points.csv and summary.md from the folder's rows; returns the summary Markdown.
-// budgets: equal-time budgets in seconds (empty: three log-spaced from the measured times).
+// budgets: equal-time budgets in seconds (empty: the time_limit axis's values, else three
+// log-spaced from the measured times).
 // only: when not empty, rows whose hash is not in it are left out (rows of an edited sweep file
 // that are no longer in the plan stay in runs.csv but not in the report).
+// metric: the report's error (summary.md, points.csv's error columns, the equal-time table).
 std::string write_sweep_report(const std::filesystem::path& out, const std::vector<double>& budgets,
-                               const std::string& title, const std::set<std::string>& only = {});
+                               const std::string& title, const std::set<std::string>& only = {},
+                               const MetricOptions& metric = {});
 
 // Merges the runs*.csv of `dirs` into out/runs.csv (duplicates by hash dropped; image and reference
 // paths rewritten relative to `out`), copies sweep.json from the first folder that has one, and

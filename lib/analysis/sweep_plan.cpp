@@ -88,6 +88,8 @@ SweepSpec parse_sweep(const std::string& text, const std::string& name, const fs
     s.set = root.strings("set", {});
     s.repeats = int(root.integer("repeats", s.repeats, Range::closed(1, 100000)));
     s.time_budgets = root.reals("time_budgets", {}, Range::positive());
+    s.metric = root.choice("metric", s.metric, {"relmse", "relrmse", "smape"});
+    s.metric_epsilon = root.real("metric_epsilon", s.metric_epsilon, Range::positive());
 
     if (!root.has("reference"))
         root.fail("reference", "required table: [reference] spp = N (render it) or file = \"ref.exr\"");
@@ -288,7 +290,14 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
                         o.rfind("render.passes=", 0) != 0 && o.rfind("render.first_pass=", 0) != 0)
                         ro.push_back(o);
                 ro.push_back("render.integrator=\"path\"");
-                ro.push_back("render.spp=" + std::to_string(std::max(spec.reference_spp, 1)));
+                const int ref_spp = std::max(spec.reference_spp, 1);
+                ro.push_back("render.spp=" + std::to_string(ref_spp));
+                // Independent passes give the reference's variance image (its noise floor in the report).
+                for (int passes : {16, 8, 4, 2})
+                    if (ref_spp % passes == 0) {
+                        ro.push_back("render.passes=" + std::to_string(passes));
+                        break;
+                    }
                 ro.push_back("render.max_depth=-1");
                 plan.references[run.scene] = ro;
             }

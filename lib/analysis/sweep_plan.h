@@ -5,9 +5,13 @@
 //   scene = "../default_photon_map.toml"   # base scene config (required)
 //   set = ["render.width=96"]              # fixed overrides for every run, as `vpm render --set`
 //   repeats = 3                            # independent photon maps + camera streams per point
-//   time_budgets = [2.0, 8.0]              # seconds, for the equal-time table (optional)
+//   time_budgets = [2.0, 8.0]              # seconds, for the equal-time table (optional; default:
+//                                          # the time_limit axis's values, else 3 from the data)
+//   metric = "relmse"                      # the report's error: relmse (default), relrmse or smape
+//   metric_epsilon = 0.01                  # eps of relmse and smape (analysis/error_metrics.h)
 //   [reference]
-//   spp = 1024                             # render it with the path tracer (cached), or
+//   spp = 1024                             # render it with the path tracer (cached, in up to
+//                                          # 16 passes for its variance image), or
 //   file = "ref.exr"                       # use this EXR (only when no axis changes the scene:
 //                                          # photons.* and time_limit axes do not)
 //   path_spp = [4, 16, 64]                 # the path tracer's own error-vs-time curve (optional)
@@ -50,6 +54,8 @@ struct SweepSpec {
     std::vector<std::string> set;
     int repeats = 1;
     std::vector<double> time_budgets;
+    std::string metric = "relmse";          // parse_error_metric's names
+    double metric_epsilon = 0.01;
     std::filesystem::path reference_file;   // empty: render a reference
     int reference_spp = 0;
     std::vector<int> path_spp;

@@ -3,6 +3,7 @@
 // results into arrays and adds the samples check.
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,8 @@
 #include <pybind11/stl.h>
 
 #include "analysis/error_metrics.h"
+#include "analysis/pixel_mask.h"
+#include "analysis/reference_noise.h"
 #include "analysis/reference_samples.h"
 #include "render/run/run_outputs.h"
 #include "bindings.h"
@@ -59,11 +62,41 @@ Image to_image(const py::handle& h, const std::string& name, bool finite_only = 
 
 double nan_if(bool unknown, double v) { return unknown ? std::numeric_limits<double>::quiet_NaN() : v; }
 
-// Per image: the channel-wise and luminance errors; over all of them as repeats (two or more):
-// the repeat metrics.
-py::dict compare(const std::vector<py::object>& images, const py::object& reference) {
+py::array_t<float> to_array(const Image& im) {
+    py::array_t<float> out({size_t(im.height), size_t(im.width), size_t(3)});
+    std::copy(im.rgb.begin(), im.rgb.end(), out.mutable_data());
+    return out;
+}
+
+PixelRect to_rect(const std::vector<int>& v, const std::string& what) {
+    if (v.size() != 4) throw Error(what + ": expected (x0, y0, x1, y1), got " + std::to_string(v.size()) + " numbers");
+    std::string text;
+    for (size_t i = 0; i < 4; ++i) text += (i ? "," : "") + std::to_string(v[i]);
+    return parse_pixel_rect(text, what);
+}
+
+// Per image: the named metric (noise floor subtracted when `variance` is given), the channel-wise
+// and luminance errors; over all of them as repeats (two or more): the repeat metrics.
+py::dict compare(const std::vector<py::object>& images, const py::object& reference, const std::string& metric_name_text,
+                 double epsilon, const std::optional<std::vector<int>>& crop, const std::vector<std::vector<int>>& excludes,
+                 const std::optional<py::object>& mask_image, const std::optional<py::object>& variance_image) {
     if (images.empty()) throw Error("compare: no images");
     const Image ref = to_image(reference, "reference");
+    MetricOptions metric;
+    metric.metric = parse_error_metric(metric_name_text);
+    metric.epsilon = epsilon;
+    PixelMask mask(ref.width, ref.height);
+    if (crop) mask.crop(to_rect(*crop, "crop"));
+    for (const auto& e : excludes) mask.exclude(to_rect(e, "exclude"));
+    if (mask_image) mask.intersect(to_image(*mask_image, "mask"), "mask");
+    metric.mask = &mask;
+    std::optional<Image> variance;
+    if (variance_image) {
+        variance = to_image(*variance_image, "reference_variance");
+        if (variance->width != ref.width || variance->height != ref.height)
+            throw Error("reference_variance: " + std::to_string(variance->width) + "x" + std::to_string(variance->height) +
+                        ", but the reference is " + std::to_string(ref.width) + "x" + std::to_string(ref.height));
+    }
     std::vector<Image> ims;
     for (size_t i = 0; i < images.size(); ++i) {
         ims.push_back(to_image(images[i], "image " + std::to_string(i)));
@@ -74,10 +107,16 @@ py::dict compare(const std::vector<py::object>& images, const py::object& refere
     }
     py::list per_image;
     std::vector<const Image*> ptrs;
+    std::vector<double> errors;
     for (const Image& im : ims) {
+        const MetricValue m = measure_error(im, ref, metric, variance ? &*variance : nullptr);
+        errors.push_back(m.value);
         const RunError y = run_error(im, ref);
         const ImageError e = compare_images(im, ref);
         py::dict d;
+        d["error"] = m.value;
+        d["error_raw"] = m.raw;
+        d["noise_floor"] = m.floor;
         d["rel_rmse"] = y.rel_rmse;
         d["rel_bias"] = y.rel_mean_error;
         d["nonfinite_pixels"] = y.nonfinite_pixels;
@@ -91,6 +130,17 @@ py::dict compare(const std::vector<py::object>& images, const py::object& refere
     }
     const RepeatError r = repeat_error(ptrs, ref);
     py::dict out;
+    // The named metric: its mean over the images and that mean's standard error (NaN for one image).
+    double mean = 0, var = 0;
+    for (double e : errors) mean += e / double(errors.size());
+    for (double e : errors) var += errors.size() > 1 ? (e - mean) * (e - mean) / double(errors.size() - 1) : 0.0;
+    out["metric"] = metric_name(metric.metric);
+    out["metric_formula"] = metric_formula(metric.metric, metric.epsilon);
+    out["mask"] = mask.describe();
+    out["pixels"] = mask.compared_count();
+    out["error"] = mean;
+    out["error_se"] = nan_if(errors.size() < 2, std::sqrt(var / double(errors.size())));
+    out["noise_floor"] = variance ? measure_error(ims[0], ref, metric, &*variance).floor : std::numeric_limits<double>::quiet_NaN();
     out["images"] = per_image;
     out["reference_luminance"] = reference_scale(ref);
     out["repeats"] = r.repeats;
@@ -117,7 +167,15 @@ py::array luminance_of(const py::object& image) {
 }  // namespace
 
 void bind_compare(py::module_& m) {
-    m.def("_compare", &compare, py::arg("images"), py::arg("reference"));
+    m.def("_compare", &compare, py::arg("images"), py::arg("reference"), py::arg("metric"), py::arg("epsilon"),
+          py::arg("crop"), py::arg("exclude"), py::arg("mask"), py::arg("reference_variance"));
+    m.def(
+        "_reference_from_halves",
+        [](const py::object& a, const py::object& b) {
+            const NoisyReference r = reference_from_halves(to_image(a, "half A"), to_image(b, "half B"), "halves");
+            return py::make_tuple(to_array(r.image), to_array(*r.variance));
+        },
+        py::arg("a"), py::arg("b"));
     m.def("_more_samples_warning", &more_samples_warning, py::arg("run"), py::arg("run_samples"), py::arg("reference"),
           py::arg("reference_samples"));
     m.def("luminance", &luminance_of, py::arg("image"),

@@ -11,7 +11,7 @@ messages, the same runs, the same files.
     result.save("out/furnace.exr")   # EXR + PNG preview + JSON sidecar, as `vpm render -o`
     result.seconds, result.integrator_used, result.gather_used, result.map_estimates   # what ran
 
-    vpm.compare(result, "ref.exr")   # rel_rmse, rel_bias (+- rel_bias_se over repeats), as sweeps report them
+    vpm.compare(result, "ref.exr")   # relMSE with the reference's noise subtracted, rel_rmse, rel_bias, as sweeps report them
 
     photons = vpm.trace_photons(config)          # the photon pass alone
     photons.positions, photons.powers, photons.directions   # (n, 3) NumPy arrays
@@ -325,27 +325,56 @@ def _image_and_samples(x, name):
     return x, None, name
 
 
-def compare(image, reference):
-    """Error of IMAGE against REFERENCE with the metrics `vpm sweep` reports (lib/analysis/error_metrics.h).
+def compare(image, reference, metric="relmse", epsilon=0.01, crop=None, exclude=(), mask=None, reference_variance=None):
+    """Error of IMAGE against REFERENCE by a named metric, with the reference's noise subtracted, and the
+    metrics `vpm sweep` reports (lib/analysis/error_metrics.h, docs/metrics.md): what `vpm compare` says.
 
     image: one image, or a list of images taken as independent repeats of one configuration; each an
     (height, width, 3) array, an EXR path (its sidecar gives its samples) or a vpm.RenderResult.
-    reference: the same kinds. Pixels are compared by luminance, relative to the reference's mean
-    luminance. Returns a dict:
-      rel_rmse, rel_bias          relative RMSE and signed relative bias (over the repeats: sqrt(rel_mse)
-                                  and the mean of the per-image biases)
+    reference: the same kinds, or a tuple (A, B) of two halves rendered on independent streams (the
+    reference is their mean, its noise comes from their difference).
+    metric: "relmse" (mean (I-R)^2 / (R^2 + epsilon), the default), "relrmse" (sqrt(mean (I-R)^2) / mean R)
+    or "smape" (mean |I-R| / (|I| + |R| + epsilon)); all on luminance.
+    crop: (x0, y0, x1, y1) pixels compared (half-open, row 0 at the top); exclude: such rectangles left
+    out (a glint); mask: an array of the image's shape, compared where non-zero.
+    reference_variance: the reference's per-pixel luminance variance (an array or an EXR path); by default
+    REFERENCE.variance.exr when the reference is a path with one beside it (`vpm render --variance`).
+    Returns a dict:
+      metric, metric_formula, mask, pixels
+      error, error_se             the metric (noise floor subtracted when known): mean over the images
+                                  and its standard error (NaN for one image)
+      noise_floor                 what a perfect image would score against this reference (NaN: unknown)
+      rel_rmse, rel_bias          the sweep's relative RMSE and signed relative bias over all pixels
+                                  (over the repeats: sqrt(rel_mse) and the mean of the per-image biases)
       rel_bias_se, rel_std, rel_variance   over two or more images (NaN for one)
       rel_mse, rel_bias2          rel_mse = rel_bias2 + rel_variance
       repeats, reference_luminance, nonfinite_pixels
-      images                      per image: rel_rmse, rel_bias, rgb_rmse, rgb_relative_rmse, rgb_relative_bias, mean
+      images                      per image: error, error_raw, noise_floor, rel_rmse, rel_bias, rgb_rmse,
+                                  rgb_relative_rmse, rgb_relative_bias, mean
       samples, reference_samples  camera samples where known (None otherwise)
       warnings                    e.g. an image with more samples than its reference (also issued as a
                                   Python warning): its error is then mostly the reference's noise
     """
     many = isinstance(image, (list, tuple))
     items = [_image_and_samples(x, "image %d" % i) for i, x in enumerate(image if many else [image])]
-    ref, ref_samples, ref_name = _image_and_samples(reference, "the reference")
-    out = _vpm._compare([i[0] for i in items], ref)
+    if isinstance(reference, tuple):
+        if len(reference) != 2:
+            raise Error("compare: reference: a tuple holds two halves (A, B), got %d items" % len(reference))
+        if reference_variance is not None:
+            raise Error("compare: give reference halves or reference_variance, not both (the halves carry their noise)")
+        a, b = (_image_and_samples(x, "reference half %d" % i)[0] for i, x in enumerate(reference))
+        ref, reference_variance = _vpm._reference_from_halves(a, b)
+        ref_samples, ref_name = None, "the reference halves"
+    else:
+        ref, ref_samples, ref_name = _image_and_samples(reference, "the reference")
+        if reference_variance is None and isinstance(reference, (str, os.PathLike)):
+            beside = os.path.splitext(os.fspath(reference))[0] + ".variance.exr"
+            if os.path.exists(beside):
+                reference_variance = beside
+    if isinstance(reference_variance, (str, os.PathLike)):
+        reference_variance = read_exr(os.fspath(reference_variance))
+    out = _vpm._compare([i[0] for i in items], ref, metric, float(epsilon), None if crop is None else list(crop),
+                        [list(e) for e in exclude], mask if mask is None else _mask_array(mask), reference_variance)
     out["samples"] = [i[1] for i in items] if many else items[0][1]
     out["reference_samples"] = ref_samples
     out["warnings"] = []
@@ -357,6 +386,15 @@ def compare(image, reference):
                     out["warnings"].append(text)
                     warnings.warn(text, stacklevel=2)
     return out
+
+
+def _mask_array(mask):
+    """A mask as an (height, width, 3) float array: a path is read as an EXR, a 2-D array repeated per channel."""
+    if isinstance(mask, (str, os.PathLike)):
+        return read_exr(os.fspath(mask))
+    import numpy as np
+    m = np.asarray(mask, dtype=np.float32)
+    return np.repeat(m[:, :, None], 3, axis=2) if m.ndim == 2 else m
 
 
 def info(target, overrides=None):

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -393,6 +394,88 @@ time_limit = [0.02, 0.04]
     EXPECT_NE(summary.find("WARNING: 2 runs took more camera samples than their reference"), std::string::npos) << summary;
     const CsvTable t = read_csv(out / "runs.csv");
     for (const auto& r : t.rows) EXPECT_GE(std::stoull(r[size_t(t.column("samples"))]), 256u);
+}
+
+}  // namespace
+}  // namespace vpm
+
+namespace vpm {
+namespace {
+
+// The equal-time section of a summary.
+std::string equal_time_section(const std::string& summary) {
+    const size_t at = summary.find("## Equal time");
+    return at == std::string::npos ? std::string() : summary.substr(at);
+}
+
+// A time_limit axis: each budget row holds the runs made for that limit (no empty cell, no run in two
+// rows, no "()" label); the report names its metric and the reference's noise floor, which comes from
+// the variance image the sweep keeps beside the reference it renders in passes.
+TEST_F(SweepTest, EqualTimeRowsHoldEachBudgetsOwnRunsAndTheReportNamesItsMetric) {
+    const SweepPlan plan = plan_sweep(spec(R"(scene = "scene.toml"
+repeats = 2
+[reference]
+spp = 8
+path_spp = [1]
+[axes]
+time_limit = [0.02, 0.04]
+)"));
+    const fs::path out = dir_ / "out";
+    run(plan, out);
+    ASSERT_EQ(plan.references.size(), 1u);
+    EXPECT_TRUE(fs::exists(out / "references" / (plan.references.begin()->first + ".variance.exr")));
+    const std::string summary = write_sweep_report(out, {}, "test");
+    EXPECT_NE(summary.find("Error: **relMSE**"), std::string::npos) << summary;
+    EXPECT_EQ(summary.find("()"), std::string::npos) << summary;
+    const std::string table = equal_time_section(summary);
+    ASSERT_FALSE(table.empty()) << summary;
+    EXPECT_EQ(table.find("–"), std::string::npos) << table;
+    for (const char* budget : {"| 0.02 |", "| 0.04 |"}) {
+        const size_t row = table.find(budget);
+        ASSERT_NE(row, std::string::npos) << table;
+        const std::string line = table.substr(row, table.find('\n', row) - row);
+        size_t cells = 0;
+        for (size_t p = line.find(" at "); p != std::string::npos; p = line.find(" at ", p + 1)) ++cells;
+        EXPECT_EQ(cells, 2u) << line;   // the photon map and the path tracer
+    }
+    const CsvTable points = read_csv(out / "points.csv");
+    const int metric = points.column("metric"), floor = points.column("noise_floor"), se = points.column("error_se");
+    ASSERT_GE(metric, 0);
+    for (const auto& r : points.rows) {
+        EXPECT_EQ(r[size_t(metric)], "relMSE");
+        EXPECT_GT(std::stod(r[size_t(floor)]), 0.0) << "the reference's variance image gives a floor";
+        EXPECT_TRUE(std::isfinite(std::stod(r[size_t(se)]))) << "two repeats give a standard error";
+    }
+}
+
+// Without a time limit, a run counts at a budget its time fits within to 5%: a 16.0003-s run is a
+// 16-s run; one that does not fit leaves its cell empty, and the table says what "–" means.
+TEST_F(SweepTest, EqualTimeBudgetsMatchRunTimesWithinATolerance) {
+    const SweepPlan plan = plan_sweep(spec(R"(scene = "scene.toml"
+[reference]
+spp = 8
+path_spp = [1]
+[axes]
+k = [4]
+)"));
+    const fs::path out = dir_ / "out";
+    run(plan, out);
+    CsvTable t = read_csv(out / "runs.csv");
+    for (auto& r : t.rows) r[size_t(t.column("run_s"))] = "16.0003";
+    std::string text = csv_line(t.header);
+    for (const auto& r : t.rows) text += csv_line(r);
+    std::ofstream(out / "runs.csv") << text;
+    std::string table = equal_time_section(write_sweep_report(out, {16.0}, "test"));
+    EXPECT_EQ(table.find("–"), std::string::npos) << table;
+    EXPECT_EQ(table.find("()"), std::string::npos) << table;
+    EXPECT_NE(table.find("(spp=1)"), std::string::npos) << table;
+    table = equal_time_section(write_sweep_report(out, {15.0}, "test"));
+    EXPECT_NE(table.find("| 15 | – | – |"), std::string::npos) << table;
+    EXPECT_NE(table.find("–: no run of that method fits within the budget"), std::string::npos) << table;
+    // Another metric, as the sweep file's `metric` sets it.
+    MetricOptions smape;
+    smape.metric = ErrorMetric::smape;
+    EXPECT_NE(write_sweep_report(out, {16.0}, "test", {}, smape).find("Error: **SMAPE**"), std::string::npos);
 }
 
 }  // namespace

@@ -68,3 +68,30 @@ def test_info_of_a_config_and_a_vdb():
     assert grid["kind"] == "vdb" and grid["grids"][0]["active_voxels"] > 0
     with pytest.raises(vpm.Error):
         vpm.info(os.path.join(SOURCE_DIR, "media", "plume.vdb"), overrides={"photons.k": 4})
+
+
+def test_named_metric_mask_and_reference_noise(tmp_path):
+    ref, img = flat(0.5), flat(0.55)
+    ref[0, 0] = 100.0   # a glint the image gets half right
+    img[0, 0] = 50.0
+    out = vpm.compare(img, ref)
+    assert out["metric"] == "relMSE" and "(R^2 + 0.01)" in out["metric_formula"]
+    per_pixel = 0.05 ** 2 / (0.25 + 0.01)
+    assert out["error"] == pytest.approx((47 * per_pixel + 2500 / 10000.01) / 48, rel=1e-5)
+    assert math.isnan(out["noise_floor"]) and math.isnan(out["error_se"])
+    masked = vpm.compare(img, ref, metric="relrmse", exclude=[(0, 0, 1, 1)])
+    assert masked["error"] == pytest.approx(0.1, rel=1e-5) and masked["pixels"] == 47
+    mask = np.ones((6, 8), dtype=np.float32)
+    mask[0, 0] = 0
+    assert vpm.compare(img, ref, metric="smape", mask=mask)["error"] == pytest.approx(0.05 / 1.06, rel=1e-5)
+    # The noise floor: from a variance array, from REF.variance.exr beside a reference file, from halves.
+    var = np.full((6, 8, 3), 0.0013, dtype=np.float32)
+    with_var = vpm.compare(img, ref, crop=(1, 0, 8, 6), reference_variance=var)
+    assert with_var["noise_floor"] == pytest.approx(0.0013 / 0.26, rel=1e-5)
+    assert with_var["error"] == pytest.approx(per_pixel - 0.0013 / 0.26, rel=1e-4)
+    halves = vpm.compare(img, (flat(0.4), flat(0.6)), crop=(1, 0, 8, 6))
+    assert halves["noise_floor"] == pytest.approx(0.01 / 0.26, rel=1e-5)
+    with pytest.raises(vpm.Error, match="allowed: relmse, relrmse, smape"):
+        vpm.compare(img, ref, metric="psnr")
+    with pytest.raises(vpm.Error, match="crop"):
+        vpm.compare(img, ref, crop=(3, 3, 1, 1))

@@ -8,9 +8,9 @@
 //   3. the path tracer with as many samples per pixel as fit in that same wall time (seconds per
 //      sample measured by a short calibration render, then a render at the matched spp, redone
 //      once with a corrected spp when its time is off by more than 15%);
-// and prints the relative RMSE of (2) and (3) against (1) and their ratio.
-//
-// Relative RMSE = sqrt( sum over pixels and channels (x - ref)^2 / sum ref^2 ).
+// and prints the error of (2) and (3) against (1) by a named metric (--metric, relMSE by default:
+// lib/analysis/error_metrics.h), the reference's noise floor subtracted (the reference renders in
+// independent passes and keeps its variance image beside it), and their ratio.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -26,6 +26,8 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "analysis/error_metrics.h"
+#include "analysis/reference_noise.h"
 #include "analysis/scene_matrix.h"
 #include "analysis/reference_samples.h"
 #include "arguments.h"
@@ -42,21 +44,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-double relative_rmse(const vpm::Image& x, const vpm::Image& ref) {
-    if (x.width != ref.width || x.height != ref.height)
-        throw vpm::Error("equal-time: image sizes differ (" + std::to_string(x.width) + "x" + std::to_string(x.height) +
-                         " vs reference " + std::to_string(ref.width) + "x" + std::to_string(ref.height) + ")");
-    double num = 0.0, den = 0.0;
-    for (size_t i = 0; i < ref.rgb.size(); ++i) {
-        const double d = double(x.rgb[i]) - double(ref.rgb[i]);
-        num += d * d;
-        den += double(ref.rgb[i]) * double(ref.rgb[i]);
-    }
-    return den > 0 ? std::sqrt(num / den) : 0.0;
-}
-
 struct Timed {
     vpm::Image image;
+    vpm::Image variance;   // with pass variance and two or more passes
     double seconds = 0.0;   // wall time of the run (all phases)
     int spp = 0;
 };
@@ -65,16 +55,18 @@ struct Timed {
 // first samples of the equal-time path-traced image, and their errors would be correlated.
 constexpr uint64_t kReferenceStream = 7919;
 
-Timed run(const std::string& config, std::vector<std::string> sets, uint64_t stream_offset = 0) {
+Timed run(const std::string& config, std::vector<std::string> sets, uint64_t stream_offset = 0, bool pass_variance = false) {
     const vpm::RunConfig run_config = vpm::RunConfig::load(config, sets);
     vpm::RunOptions o;
     o.progress = false;
     o.stream_offset = stream_offset;
+    o.pass_variance = pass_variance;
     const vpm::Timer t;
     vpm::RunResult r = vpm::run(run_config, o);
     Timed out;
     out.seconds = t.seconds();
     out.image = std::move(r.image);
+    out.variance = std::move(r.variance);
     out.spp = run_config.render.spp;
     return out;
 }
@@ -88,7 +80,13 @@ int run_equal_time(int argc, char** argv) {
     int64_t photons = 1000000;
     std::string size = "128x128", out_dir = "out/equal_time";
     bool fresh = false;
+    std::string metric_text = "relmse";
+    double epsilon = vpm::kDefaultMetricEpsilon;
     app.add_option("configs", configs, "Scene configs (TOML)")->required();
+    app.add_option("--metric", metric_text, "The error: relmse, relrmse or smape (docs/metrics.md)")->capture_default_str();
+    app.add_option("--epsilon", epsilon, "eps of relmse and smape")
+        ->capture_default_str()
+        ->check(vpm::cli::finite_in(1e-12, 1e12, "a number > 0"));
     app.add_option("--reference-spp", reference_spp, "Samples per pixel of the path-traced reference")
         ->capture_default_str()->check(CLI::Range(1, 1 << 20));
     app.add_option("--pm-spp", pm_spp, "Samples per pixel of the photon-map render")->capture_default_str()->check(CLI::Range(1, 1 << 20));
@@ -98,6 +96,14 @@ int run_equal_time(int argc, char** argv) {
     app.add_option("--out", out_dir, "Folder for the cached references and the results")->capture_default_str();
     app.add_flag("--fresh", fresh, "Re-render the references even when cached");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
+    vpm::MetricOptions metric;
+    try {
+        metric.metric = vpm::parse_error_metric(metric_text);
+    } catch (const vpm::Error& e) {
+        throw vpm::cli::UsageError(std::string("--metric: ") + e.what());
+    }
+    metric.epsilon = epsilon;
+    const std::string mname = vpm::metric_name(metric.metric);
 
     int w = 0, h = 0;
     char x = 0;
@@ -111,30 +117,43 @@ int run_equal_time(int argc, char** argv) {
     const std::vector<std::string> common = {"render.width=" + std::to_string(w), "render.height=" + std::to_string(h)};
 
     nlohmann::json results = nlohmann::json::array();
-    std::printf("| scene | reference | photon map: time, rel. RMSE | path tracer: spp, time, rel. RMSE | RMSE ratio PT/PM |\n");
+    std::printf("%s, the reference's noise floor subtracted where known\n\n", vpm::metric_formula(metric.metric, metric.epsilon).c_str());
+    std::printf("| scene | reference (noise floor) | photon map: time, %s | path tracer: spp, time, %s | %s ratio PT/PM |\n",
+                mname.c_str(), mname.c_str(), mname.c_str());
     std::printf("|---|---|---|---|---|\n");
     for (const auto& config : configs) {
         const std::string stem = fs::path(config).stem().string();
         const fs::path ref_path =
             fs::path(out_dir) / (stem + "_reference_" + std::to_string(w) + "x" + std::to_string(h) + "_" +
                                  std::to_string(reference_spp) + "spp.exr");
-        vpm::Image ref;
         double ref_seconds = 0.0;
-        if (!fresh && fs::exists(ref_path)) {
-            ref = vpm::read_exr(ref_path);
-            std::cerr << stem << ": reference from " << ref_path << "\n";
-        } else {
+        if (fresh || !fs::exists(ref_path)) {
             std::cerr << stem << ": rendering the reference (" << reference_spp << " spp) ...\n";
             auto sets = common;
             sets.push_back("render.integrator=\"path\"");
             sets.push_back("render.spp=" + std::to_string(reference_spp));
-            Timed r = run(config, sets, kReferenceStream);
+            // In independent passes, for its variance image (the noise floor).
+            for (int passes : {16, 8, 4, 2})
+                if (reference_spp % passes == 0) {
+                    sets.push_back("render.passes=" + std::to_string(passes));
+                    break;
+                }
+            Timed r = run(config, sets, kReferenceStream, true);
             ref_seconds = r.seconds;
             fs::create_directories(ref_path.parent_path());
+            const fs::path variance_path = vpm::variance_path_for(ref_path);
+            if (r.variance.width > 0) vpm::write_exr(variance_path, r.variance);
+            else fs::remove(variance_path);
             vpm::write_exr(ref_path, r.image);
-            ref = std::move(r.image);
             std::cerr << stem << ": reference in " << ref_seconds << " s -> " << ref_path << "\n";
+        } else {
+            std::cerr << stem << ": reference from " << ref_path << "\n";
         }
+        const vpm::NoisyReference noisy = vpm::load_reference(ref_path);
+        const vpm::Image& ref = noisy.image;
+        auto error_of = [&](const vpm::Image& im) {
+            return vpm::measure_error(im, ref, metric, noisy.variance ? &*noisy.variance : nullptr);
+        };
 
         auto pm_sets = common;
         for (const char* s : {"render.integrator=\"photon_map\"", "photons.estimator=\"corrected\"", "photons.k=32",
@@ -143,9 +162,9 @@ int run_equal_time(int argc, char** argv) {
         pm_sets.push_back("photons.count=" + std::to_string(photons));
         pm_sets.push_back("render.spp=" + std::to_string(pm_spp));
         const Timed pm = run(config, pm_sets);
-        const double pm_err = relative_rmse(pm.image, ref);
-        std::cerr << stem << ": photon map (" << pm.spp << " spp) in " << pm.seconds << " s, rel. RMSE " << pm_err
-                  << "\n";
+        const vpm::MetricValue pm_m = error_of(pm.image);
+        const double pm_err = pm_m.value;
+        std::cerr << stem << ": photon map (" << pm.spp << " spp) in " << pm.seconds << " s, " << vpm::describe(pm_m) << "\n";
 
         // Path tracer: seconds per spp from a calibration render, then the matched spp.
         auto pt_sets = common;
@@ -166,8 +185,9 @@ int run_equal_time(int argc, char** argv) {
             spp = std::max(1, int(std::lround(spp * pm.seconds / pt.seconds)));
             pt = pt_run(spp);
         }
-        const double pt_err = relative_rmse(pt.image, ref);
-        std::cerr << stem << ": path tracer " << spp << " spp in " << pt.seconds << " s, rel. RMSE " << pt_err << "\n";
+        const vpm::MetricValue pt_m = error_of(pt.image);
+        const double pt_err = pt_m.value;
+        std::cerr << stem << ": path tracer " << spp << " spp in " << pt.seconds << " s, " << vpm::describe(pt_m) << "\n";
         const uint64_t pixels = uint64_t(w) * uint64_t(h);
         for (const auto& [what, n] : {std::pair<std::string, int>{"the photon map", pm.spp}, {"the path tracer", spp}})
             if (const std::string warn = vpm::more_samples_warning(stem + ": " + what + " (" + std::to_string(n) + " spp)",
@@ -176,16 +196,20 @@ int run_equal_time(int argc, char** argv) {
                 !warn.empty())
                 std::cerr << warn << "\n";
 
-        std::printf("| %s | %d spp | %.2f s, %.4f | %d spp, %.2f s, %.4f | %.2f |\n", stem.c_str(), reference_spp,
-                    pm.seconds, pm_err, spp, pt.seconds, pt_err, pm_err > 0 ? pt_err / pm_err : 0.0);
+        const std::string floor_text = pm_m.floor_known() ? std::to_string(pm_m.floor) : std::string("unknown");
+        std::printf("| %s | %d spp (%s) | %.2f s, %.4g | %d spp, %.2f s, %.4g | %.3g |\n", stem.c_str(), reference_spp,
+                    floor_text.c_str(), pm.seconds, pm_err, spp, pt.seconds, pt_err, pt_err / pm_err);
         std::fflush(stdout);
         results.push_back({{"config", config},
                            {"size", {w, h}},
                            {"threads", n_threads},
-                           {"reference", {{"file", ref_path.string()}, {"spp", reference_spp}}},
-                           {"photon_map", {{"photons", photons}, {"spp", pm.spp}, {"seconds", pm.seconds}, {"rel_rmse", pm_err}}},
-                           {"path", {{"spp", spp}, {"seconds", pt.seconds}, {"rel_rmse", pt_err}}},
-                           {"rmse_ratio_path_over_photon_map", pm_err > 0 ? pt_err / pm_err : 0.0}});
+                           {"metric", mname},
+                           {"metric_formula", vpm::metric_formula(metric.metric, metric.epsilon)},
+                           {"reference", {{"file", ref_path.string()}, {"spp", reference_spp}, {"noise_source", noisy.noise_source}}},
+                           {"photon_map", {{"photons", photons}, {"spp", pm.spp}, {"seconds", pm.seconds}, {"error", pm_err},
+                                           {"error_raw", pm_m.raw}}},
+                           {"path", {{"spp", spp}, {"seconds", pt.seconds}, {"error", pt_err}, {"error_raw", pt_m.raw}}},
+                           {"error_ratio_path_over_photon_map", pt_err / pm_err}});
     }
     const fs::path json_path = fs::path(out_dir) / "equal_time.json";
     fs::create_directories(json_path.parent_path());
@@ -200,7 +224,7 @@ int run_matrix(int argc, char** argv) {
     CLI::App app("The scene matrix: homogeneous box and sphere, the Gaussian blob and the plume across optical\n"
                  "thickness, albedo, g, lights and scale; per cell the path tracer, the photon map's defaults and\n"
                  "each gather forced, at equal time, against cached path-traced references. Writes OUT/MATRIX.md,\n"
-                 "OUT/matrix.csv and OUT/matrix.png (tools/plot_matrix.py, when matplotlib is there).",
+                 "OUT/matrix.csv and OUT/matrix.png/.pdf/.svg (tools/plot_matrix.py, when matplotlib is there).",
                  "vpm bench matrix");
     std::string out = "out/matrix", only, media = vpm::cli::data_file("media").string();
     vpm::MatrixOptions o;

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +16,8 @@
 #include "core/thread_limit.h"
 #include "core/progress.h"
 #include "analysis/error_metrics.h"
+#include "analysis/reference_noise.h"
+#include "config/unset_key.h"
 #include "core/error.h"
 #include "core/registry.h"
 #include "photon/estimate/estimators.h"
@@ -56,6 +59,37 @@ std::string registered_names() {
            "  photons.sampler    " + registry_list(vpm::sampler_names()) + "\n";
 }
 
+// Under render.time_limit, the automatic choices that keys the user set switch off
+// (docs/integrator_choice.md, "What the plan chooses when a key is unset"), one line each, said
+// before the work; "" when none.
+std::string pinned_choices(const vpm::ConfigDocument& doc, const vpm::RenderSettings& render, const std::string& integrator) {
+    if (!(render.time_limit > 0)) return "";
+    auto set_at = [&](const std::string& table, const std::string& key) -> const toml::node* {
+        const toml::table* t = doc.root.get_as<toml::table>(table);
+        return t ? t->get(key) : nullptr;
+    };
+    std::ostringstream out;
+    auto pin = [&](const std::string& table, const std::string& key, const std::string& switched_off) {
+        const toml::node* v = set_at(table, key);
+        if (!v || v->value<std::string>() == std::optional<std::string>("auto")) return;   // "auto" is the choice itself
+        std::ostringstream value;
+        v->visit([&](const auto& n) { value << n; });
+        const std::string path = table + "." + key;
+        out << "pin: " << path << " = " << value.str() << " ("
+            << (doc.overridden.count(path) ? std::string("--set") : doc.file) << ") " << switched_off
+            << "; --unset " << path << " lets it choose\n";
+    };
+    if (integrator == "photon_map" || integrator == "auto") {
+        pin("photons", "count", "switches off the time limit's sizing of photons per pass");
+        pin("render", "spp", "switches off the time limit's sizing of samples per pass");
+        pin("render", "passes", "switches off the time limit's sizing of samples per pass");
+        pin("photons", "gather", "switches off the pilot's choice of the gather");
+    } else if (integrator == "path") {
+        pin("render", "passes", "switches off the time limit's passes of one sample per pixel");
+    }
+    return out.str();
+}
+
 int run_render(int argc, char** argv) {
     CLI::App app("Render a scene config to an OpenEXR image, a PNG preview and a JSON sidecar.", "vpm render");
     app.footer(registered_names());
@@ -67,6 +101,11 @@ int run_render(int argc, char** argv) {
     CLI::Option* output_option = app.add_option("-o,--output", output, "Output EXR, name ending in .exr; OUT.png and OUT.json go beside it (default: render.output from the config, else out/render.exr)");
     app.add_option("--set", sets, "Override a config key by dotted path, e.g. media.0.sigma_t_scale=10 (repeatable)")
         ->allow_extra_args(false);   // one value per --set, so `--set k=v CONFIG` leaves CONFIG alone
+    std::vector<std::string> unsets;
+    app.add_option("--unset", unsets,
+                   "Remove a key the config file sets, so its default or the automatic choice it pins applies again, "
+                   "e.g. --unset photons.count under render.time_limit (repeatable; after every --set)")
+        ->allow_extra_args(false);
     app.add_option("--threads", threads, "Worker threads (0: all cores; default: render.threads)")->check(CLI::Range(0, vpm::kMaxThreads));
     app.add_flag("-q,--quiet", quiet, "No progress bar or log on stderr");
     std::string reference;
@@ -74,10 +113,31 @@ int run_render(int argc, char** argv) {
                    "Reference EXR: after every pass, write the error of the mean so far against it to OUT.passes.csv "
                    "(pass, spp, elapsed seconds, relative RMSE, relative mean error)")
         ->check(CLI::ExistingFile);
+    std::string metric_text = "relmse";
+    double epsilon = vpm::kDefaultMetricEpsilon;
+    app.add_option("--metric", metric_text,
+                   "With --reference: the named error in OUT.passes.csv beside the relative RMSE: relmse, relrmse or smape "
+                   "(docs/metrics.md); REFERENCE.variance.exr beside the reference, when present, gives its noise floor, "
+                   "which is subtracted")
+        ->capture_default_str();
+    app.add_option("--epsilon", epsilon, "With --metric relmse or smape: the denominator's eps")
+        ->capture_default_str()
+        ->check(vpm::cli::finite_in(1e-12, 1e12, "a number > 0"));
+    bool variance = false;
+    app.add_flag("--variance", variance,
+                 "Also write OUT.variance.exr: each pixel's luminance variance as an estimate, from the spread of the "
+                 "independent passes (needs two or more passes); vpm compare subtracts it as the reference's noise");
     if (!vpm::cli::parse_arguments(app, argc, argv)) return 0;
     if (output_option->count() > 0 && output.empty())
         throw vpm::cli::UsageError("-o: the output name is empty; give a file name ending in .exr (its .png and .json "
                                    "are written beside it), or leave -o out for render.output");
+    vpm::MetricOptions metric;
+    try {
+        metric.metric = vpm::parse_error_metric(metric_text);
+    } catch (const vpm::Error& e) {
+        throw vpm::cli::UsageError(std::string("--metric: ") + e.what());
+    }
+    metric.epsilon = epsilon;
 
     // Command-line settings go through the same validation as the file and end up in the
     // resolved config, so the sidecar says exactly what ran.
@@ -88,16 +148,24 @@ int run_render(int argc, char** argv) {
     sets.insert(sets.begin(), cli_sets.begin(), cli_sets.end());
 
     const vpm::Timer load_timer;
-    const vpm::RunConfig run_config = vpm::RunConfig::load(config, sets);
+    const std::shared_ptr<vpm::ConfigDocument> doc = vpm::load_config(config, sets);
+    for (const std::string& key : unsets) vpm::unset_key(*doc, key);
+    const vpm::RunConfig run_config = vpm::RunConfig::build(doc);
     const vpm::RenderSettings& render = run_config.render;
     const double load_seconds = load_timer.seconds();
+    if (variance && render.passes < 2 && render.time_limit <= 0)
+        throw vpm::Error("--variance: needs two or more passes (the spread of independent passes), but render.passes = " +
+                         std::to_string(render.passes) + " and no render.time_limit; set render.passes = 2 or more");
+    const std::filesystem::path variance_path = vpm::variance_path_for(render.output);
     // Before the work: a run that cannot write its outputs fails now, not after the render.
     std::filesystem::path passes_path = render.output;
     passes_path.replace_extension(".passes.csv");
     // A run of more than one pass streams one row per pass to OUT.passes.csv (bounded memory).
     const bool passes_table = !reference.empty() || render.passes > 1 || render.time_limit > 0;
-    if (passes_table) vpm::check_run_outputs(render.output, {passes_path});
-    else vpm::check_run_outputs(render.output);
+    std::vector<std::filesystem::path> extra_outputs;
+    if (passes_table) extra_outputs.push_back(passes_path);
+    if (variance) extra_outputs.push_back(variance_path);
+    vpm::check_run_outputs(render.output, extra_outputs);
     const int n_threads = render.threads > 0 ? render.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n_threads));
 
@@ -105,10 +173,12 @@ int run_render(int argc, char** argv) {
     if (log) {
         *log << "load: " << config << " in " << load_seconds << " s, " << n_threads << " threads\n";
         for (const auto& line : run_config.scene->build_log) *log << "  " << line << "\n";
+        if (const std::string pins = pinned_choices(*doc, render, run_config.integrator->name); !pins.empty()) *log << pins;
     }
     vpm::RunOptions options;
     options.progress = !quiet;
     options.log = log;
+    options.pass_variance = variance;
     // One row per group of passes rendered together (one pass for the photon map: run.h), written to the table's staged
     // temporary as the run goes (a time-limited run may make millions of passes: nothing per pass
     // stays in memory) and committed with the other files.
@@ -123,11 +193,18 @@ int run_render(int argc, char** argv) {
         passes_csv.open(staged.back().temp());
         if (!passes_csv) staged.back().abort("cannot create the temporary " + staged.back().temp().string());
         passes_csv.precision(9);
-        passes_csv << "pass,spp,elapsed_s,seconds,passes,image_mean" << (reference.empty() ? "" : ",rel_rmse,rel_mean_error") << '\n';
+        const std::string m = vpm::metric_name(metric.metric);
+        passes_csv << "pass,spp,elapsed_s,seconds,passes,image_mean"
+                   << (reference.empty() ? "" : ",rel_rmse,rel_mean_error," + m + "," + m + "_noise_floor") << '\n';
     }
     vpm::RunError last_error;
+    vpm::MetricValue last_metric;
+    std::string noise_source;
     if (!reference.empty()) {
-        const vpm::Image ref = vpm::read_exr(reference);
+        const vpm::NoisyReference noisy = vpm::load_reference(reference);
+        const vpm::Image& ref = noisy.image;
+        noise_source = noisy.noise_source;
+        const std::optional<vpm::Image> ref_variance = noisy.variance;
         if (ref.width != render.width || ref.height != render.height)
             throw vpm::Error(reference + ": reference is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
                              ", the render " + std::to_string(render.width) + "x" + std::to_string(render.height));
@@ -137,11 +214,19 @@ int run_render(int argc, char** argv) {
         } catch (const vpm::Error& e) {
             throw vpm::Error(reference + ": --reference: " + e.what());
         }
-        options.on_pass = [&, ref](const vpm::Image& mean, const vpm::PassGroupStats& p) {
+        options.on_pass = [&, ref, ref_variance](const vpm::Image& mean, const vpm::PassGroupStats& p) {
             last_error = vpm::run_error(mean, ref);
+            last_metric = vpm::measure_error(mean, ref, metric, ref_variance ? &*ref_variance : nullptr);
             pass_row(p);
-            passes_csv << ',' << last_error.rel_rmse << ',' << last_error.rel_mean_error << '\n';
+            passes_csv << ',' << last_error.rel_rmse << ',' << last_error.rel_mean_error << ',' << last_metric.value << ','
+                       << last_metric.floor << '\n';
         };
+        if (log)
+            *log << "error against " << reference << ": " << vpm::metric_formula(metric.metric, metric.epsilon) << "; "
+                 << (noisy.variance ? "reference noise from " + noise_source + ", subtracted"
+                                    : "reference noise unknown (no " + vpm::variance_path_for(reference).string() +
+                                          "): not subtracted")
+                 << "\n";
     } else if (passes_table) {
         options.on_pass_group = [&](const vpm::PassGroupStats& p) {
             pass_row(p);
@@ -153,6 +238,22 @@ int run_render(int argc, char** argv) {
         result.record.set("reference.file", reference);
         result.record.set("reference.rel_rmse", last_error.rel_rmse);
         result.record.set("reference.rel_mean_error", last_error.rel_mean_error);
+        result.record.set("reference.metric", vpm::metric_name(metric.metric));
+        result.record.set("reference.metric_formula", vpm::metric_formula(metric.metric, metric.epsilon));
+        result.record.set("reference.error", last_metric.value);
+        result.record.set("reference.error_raw", last_metric.raw);
+        if (last_metric.floor_known()) result.record.set("reference.noise_floor", last_metric.floor);
+        result.record.set("reference.noise_source", noise_source);
+    }
+    // The variance image is one of the run's files, committed with the others; a run that made one
+    // pass has none.
+    const bool variance_written = variance && result.variance.width > 0;
+    if (variance_written) {
+        staged.push_back(vpm::stage_exr(variance_path, result.variance));
+        result.record.set("variance_file", variance_path.string());
+    } else if (variance) {
+        std::cerr << "vpm render: warning: --variance: one pass ran (render.time_limit = " << render.time_limit
+                  << " s), so there is no spread to measure; " << variance_path.string() << " is not written\n";
     }
     result.record.phase("load", load_seconds);
     result.record.set("threads", n_threads);
@@ -161,12 +262,18 @@ int run_render(int argc, char** argv) {
     // The passes table is one of the run's files: committed together with the image and sidecar.
     if (passes_table) {
         passes_csv.close();
-        if (!passes_csv) staged.back().abort("writing the passes table failed (disk full?)");
+        if (!passes_csv) staged.front().abort("writing the passes table failed (disk full?)");
     }
     vpm::write_run_outputs(render.output, result, render.exposure, {}, std::move(staged));
+    // A variance image from an earlier render to the same OUT would pass for this run's noise.
+    if (!variance_written && std::filesystem::exists(variance_path)) {
+        std::error_code ec;
+        std::filesystem::remove(variance_path, ec);
+        if (log) *log << "removed " << variance_path.string() << ": it belonged to an earlier render to " << render.output << "\n";
+    }
     if (!reference.empty() && log)
-        *log << "error against " << reference << ": rel RMSE " << last_error.rel_rmse << " after "
-             << result.stats.pass_count() << " pass(es)\n";
+        *log << "error against " << reference << ": " << vpm::describe(last_metric) << ", rel RMSE " << last_error.rel_rmse
+             << " after " << result.stats.pass_count() << " pass(es)\n";
     if (passes_table && log) *log << "per pass: " << passes_path.string() << "\n";
     if (log) *log << "wrote " << render.output << " (+ .png, .json)\n";
     if (const size_t bad = vpm::count_nonfinite_pixels(result.image))

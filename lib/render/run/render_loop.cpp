@@ -29,9 +29,11 @@ Image render_image(const Camera& camera, const Integrator& integrator, const Ren
 }
 
 void render_passes(const Camera& camera, const Integrator& integrator, const RenderOptions& o, int passes,
-                   uint64_t pass_stride, std::vector<double>& sum, std::vector<double>& pass_means, RenderStats& stats) {
+                   uint64_t pass_stride, std::vector<double>& sum, std::vector<double>& pass_means, RenderStats& stats,
+                   std::vector<double>* luminance_sq) {
     const size_t pixels = size_t(o.width) * size_t(o.height), rows = size_t(o.height);
     if (sum.size() != 3 * pixels) throw Error("render_passes: the sum must hold 3 doubles per pixel");
+    if (luminance_sq && luminance_sq->size() != pixels) throw Error("render_passes: luminance_sq must hold 1 double per pixel");
     std::vector<double> row_sums(size_t(passes) * rows, 0.0);   // [pass][row]
     std::atomic<uint64_t> nonfinite{0}, negative{0};
     Progress progress("render", uint64_t(o.height), o.progress);
@@ -83,10 +85,15 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
                         }
                     }
                     const Rgb v = s / double(o.spp);
+                    double stored[3];
                     for (int c = 0; c < 3; ++c) {
-                        const double stored = double(float(v[c]));   // as Image::set stores it
-                        acc[c] += stored;
-                        row[size_t(g)] += stored;
+                        stored[c] = double(float(v[c]));   // as Image::set stores it
+                        acc[c] += stored[c];
+                        row[size_t(g)] += stored[c];
+                    }
+                    if (luminance_sq) {   // Rec. 709 luminance, as analysis/error_metrics.h compares
+                        const double y = 0.2126 * stored[0] + 0.7152 * stored[1] + 0.0722 * stored[2];
+                        (*luminance_sq)[pixel] += y * y;
                     }
                 }
             }

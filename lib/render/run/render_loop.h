@@ -52,7 +52,10 @@ Image render_image(const Camera& camera, const Integrator& integrator, const Ren
 // mean over pixels and channels (summed by rows, in row order: independent of the thread count).
 // For integrators without per-pass state (Integrator::stateless_passes); it saves the per-pass
 // cost of a go over the image where a pass holds few samples (render.time_limit on a small image).
+// luminance_sq (one double per pixel, may be null): each pass's squared pixel luminance is added to
+// it, for the variance of the mean across passes (RunOptions::pass_variance).
 void render_passes(const Camera& camera, const Integrator& integrator, const RenderOptions& options, int passes,
-                   uint64_t pass_stride, std::vector<double>& sum, std::vector<double>& pass_means, RenderStats& stats);
+                   uint64_t pass_stride, std::vector<double>& sum, std::vector<double>& pass_means, RenderStats& stats,
+                   std::vector<double>* luminance_sq = nullptr);
 
 }  // namespace vpm

@@ -38,6 +38,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     // Pass values summed per pixel (3 doubles per pixel: RenderSettings::read checks they fit).
     std::vector<double> sum(size_t(rs.width) * size_t(rs.height) * 3, 0.0);
     std::vector<double> means;
+    std::vector<double> luminance_sq(options.pass_variance ? size_t(rs.width) * size_t(rs.height) : 0, 0.0);
     result.stats.first_pass = rs.first_pass;
     int spp = rs.spp_per_pass();   // the integrator may size it (samples_per_pass) once prepared
     // Passes of an integrator without per-pass state go in groups of at least kMinGroupSamples
@@ -106,7 +107,8 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
             ro.log = options.log;
         }
         RenderStats group_render;
-        render_passes(config.scene->camera, *integrator, ro, int(n), kPassStreamStride, sum, means, group_render);
+        render_passes(config.scene->camera, *integrator, ro, int(n), kPassStreamStride, sum, means, group_render,
+                      options.pass_variance ? &luminance_sq : nullptr);
         result.stats.phase("render", group_render.seconds);
         render.samples += group_render.samples;
         render.nonfinite_samples += group_render.nonfinite_samples;
@@ -145,6 +147,17 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
             for (size_t i = 0; i < sum.size(); ++i) mean.rgb[i] = float(sum[i] / double(done));   // exact for one pass
             if (options.on_pass) options.on_pass(mean, this_group);
             if (!more) result.image = std::move(mean);
+        }
+        if (!more && options.pass_variance && done > 1) {
+            // From the pass sums in double: Y is linear, so the mean of the passes' luminances is the
+            // luminance of the summed pixel.
+            result.variance = Image(rs.width, rs.height);
+            const double N = double(done);
+            for (size_t p = 0; p < luminance_sq.size(); ++p) {
+                const double y = (0.2126 * sum[3 * p] + 0.7152 * sum[3 * p + 1] + 0.0722 * sum[3 * p + 2]) / N;
+                const double v = std::max(0.0, (luminance_sq[p] - N * y * y) / (N * (N - 1.0)));   // rounding only
+                for (int c = 0; c < 3; ++c) result.variance.rgb[3 * p + size_t(c)] = float(v);
+            }
         }
         // A line when the count passes 1, 2, 4, 8, ...: a time-limited run may make millions.
         auto bits = [](int64_t v) { return v > 0 ? 64 - __builtin_clzll(uint64_t(v)) : 0; };   // floor(log2 v) + 1

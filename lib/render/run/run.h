@@ -36,6 +36,10 @@ struct RunOptions {
     std::function<void(const Image& mean_so_far, const PassGroupStats& group)> on_pass;
     // Called after every group with its statistics only (cheap: no mean image); may be empty.
     std::function<void(const PassGroupStats& group)> on_pass_group;
+    // Keep each pixel's squared luminance per pass, so that RunResult::variance holds the variance of
+    // the final image's luminance (the spread of the independent passes: each pass has its own
+    // streams and, for the photon map, its own photon map). Needs two or more passes.
+    bool pass_variance = false;
     // Polled after every group of passes; true ends the run there (the Python module's Ctrl-C: the
     // caller discards that result). May be empty.
     std::function<bool()> cancelled;
@@ -45,6 +49,10 @@ struct RunResult {
     Image image;
     RunStats stats;
     RunRecord record;   // the stats, written once, with the config and environment
+    // With RunOptions::pass_variance and two or more passes: per pixel, the variance of the image's
+    // luminance as an estimate, sum_j (Y_j - Y)^2 / (N (N - 1)) over the N passes' luminances Y_j
+    // (grey: the same in all three channels). Empty otherwise.
+    Image variance;
 };
 
 RunResult run(const RunConfig& config, const RunOptions& options);
