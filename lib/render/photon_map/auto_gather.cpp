@@ -154,10 +154,14 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             return query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps +
                    w.density_lookup * c.density_lookups + w.cell * c.cells;
         };
+        // The pilot measures its own maps and halves whole: the run's maps per glass region are not theirs.
+        const RegionPhotonMaps* run_regions[2] = {volume_regions_, surface_regions_};
+        use_regions(nullptr, nullptr);
         with_fresh_counters([&] {
             measured = measure_gathers(scene_.camera, *map, candidates, hooks,
                                        mix64(context.seed ^ 0x6d61706e6f697365ULL), context.run_stream_offset, budget, in.pixels);
         });
+        use_regions(run_regions[0], run_regions[1]);
         map_ = run_map;
         surface_map_ = run_surface;
         set_map_emitted(run_emitted);

@@ -27,6 +27,7 @@
 #include "photon/estimate/group_estimate.h"
 #include "photon/estimate/linear_estimate.h"
 #include "config/params.h"
+#include "scene/dielectric_regions.h"
 #include "transport/direct_light.h"
 #include "transport/equiangular.h"
 #include "transport/march_points.h"
@@ -78,6 +79,7 @@ struct PhotonMapIntegrator::ThreadState {
         uint64_t decisions = 0;   // queries of the bound's decision map
         std::vector<Rgb> linear_weights;   // photons.extinction = "linear"
         OpticalDepthProfile profile;       // transport/seen_through.h (no path is traced while it is in use)
+        RegionMask region = 0;             // the region of the camera path being traced (trace())
     };
     mutable tbb::enumerable_thread_specific<Local> local;
 };
@@ -233,6 +235,8 @@ void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, 
     ledger_.pass_maps += uint64_t(count);
     ledger_.passes_traced += 1;
     surface_map_ = surface ? &owned_.surface : nullptr;
+    use_regions(owned_.volume_regions.empty() ? nullptr : &owned_.volume_regions,
+                owned_.surface_regions.empty() ? nullptr : &owned_.surface_regions);
     set_map_emitted(double(count));
 }
 
@@ -449,8 +453,36 @@ Rgb PhotonMapIntegrator::single_scattering(const Vec3& x, const Vec3& dir, doubl
     return l;
 }
 
+void PhotonMapIntegrator::use_regions(const RegionPhotonMaps* volume, const RegionPhotonMaps* surface) {
+    volume_regions_ = volume;
+    surface_regions_ = surface;
+}
+
+const PhotonMap& PhotonMapIntegrator::volume_map_here() const {
+    return volume_regions_ ? volume_regions_->at(threads_->local.local().region) : *map_;
+}
+
+const PhotonMap* PhotonMapIntegrator::surface_map_here() const {
+    if (!surface_map_) return nullptr;
+    return surface_regions_ ? &surface_regions_->at(threads_->local.local().region) : surface_map_;
+}
+
+double PhotonMapIntegrator::region_share(const Vec3& x, double radius) const {
+    if (!volume_regions_) return 1.0;
+    return region_ball_fraction(scene_.surfaces.get(), x, radius, threads_->local.local().region);
+}
+
 Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, const EmissionWeighting& first_emission) const {
     const int max_depth = settings_.walk.max_depth;
+    // The path's region (scene/dielectric_regions.h), restored on return: a path continued from a
+    // march point is traced inside the outer path's segment.
+    RegionMask& region = threads_->local.local().region;
+    struct RegionScope {
+        RegionMask& region;
+        const RegionMask outer;
+        ~RegionScope() { region = outer; }
+    } scope{region, region};
+    if (volume_regions_ || surface_regions_) region = region_at(scene_.surfaces.get(), first_ray.origin);
     Ray ray = first_ray;
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
@@ -555,21 +587,24 @@ Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, 
                 if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
                 continue;
             }
-            radiance += weight * normalised(b.estimate, x, -ray.dir, m.g(), b.radius, sigma_t, local.buffers, local.linear_weights);
+            radiance += weight * normalised(b.estimate, x, -ray.dir, m.g(), b.radius, sigma_t, local.buffers, local.linear_weights) /
+                        region_share(x, b.estimate.radius);
             ++local.map_used;
             break;
         }
         if (hit.specular) {   // mirror or glass (transport/specular_step.h): on to the chain's next vertex
             if (!camera_specular_step(hit, ray, throughput, emission, depth + 1, settings_.walk.rr_depth, rng)) break;
+            region = region_after_specular(region, hit, ray.dir);
             continue;
         }
         if ((hit.reflectance == 0.0).all()) break;
         // The surface photon map gives the light the path would gather. A map of fewer than k photons
         // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
-        if (surface_map_ && surface_map_->size() >= k_) {
+        const PhotonMap* surface_map = surface_map_here();
+        if (surface_map && surface_map->size() >= k_) {
             if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
             auto& local = threads_->local.local();
-            const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map_, hit.position, hit.normal,
+            const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map, hit.position, hit.normal,
                                                                 surface_estimator_, k_, max_radius_, local.buffers, &local.surface_stats);
             radiance += throughput * hit.reflectance * (e.value / kPi);
             ++local.map_used;
@@ -593,17 +628,18 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     if (leaves_half_out() && s.kind == EstimateCase::knn) {
         // photon/estimate/group_estimate.h: the list was gathered with gather_count() neighbours; rarely more are needed.
         size_t found = buffers.list.size();
-        bool complete = found < gather_count() || found == map_->size();
+        const PhotonMap& map = volume_map_here();
+        bool complete = found < gather_count() || found == map.size();
         for (;;) {
-            const GroupEstimate e = leave_half_out(buffers, found, complete, k_, max_radius, *map_, x, threads_->ball, linear,
+            const GroupEstimate e = leave_half_out(buffers, found, complete, k_, max_radius, map, x, threads_->ball, linear,
                                                    &threads_->local.local().lookups, volume_estimator_.radius_scale());
             if (e.used) {
                 if (e.linear_fell_back) ++threads_->local.local().linear_fallbacks;
                 return e.value;
             }
             if (e.want == 0) break;   // no finite ball for some half: the plain estimate below
-            found = map_->knn(x, e.want, max_radius, buffers.list);
-            complete = found < e.want || found == map_->size();
+            found = map.knn(x, e.want, max_radius, buffers.list);
+            complete = found < e.want || found == map.size();
             if (buffers.w.size() < found) {
                 buffers.w.resize(found);
                 buffers.d2.resize(found);
@@ -617,7 +653,7 @@ Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const
     if (linear) {
         const BallMoments m = threads_->ball.moments(x, s.radius, &threads_->local.local().lookups);
         if (m.m0 > 0.0)
-            return linear_estimate(s, volume_estimator_, buffers, *map_, x, m, scratch, &threads_->local.local().linear_fallbacks);
+            return linear_estimate(s, volume_estimator_, buffers, volume_map_here(), x, m, scratch, &threads_->local.local().linear_fallbacks);
         return s.value / sigma_t;
     }
     const double ball = threads_->ball.mean(x, s.radius, &threads_->local.local().lookups);
@@ -669,7 +705,7 @@ PhotonMapIntegrator::BoundedEstimate PhotonMapIntegrator::bounded_in_scattering(
         }
         b.radius = max_radius_;
     }
-    b.estimate = estimate_in_scattering(*map_, x, w_o, g, volume_estimator_, k_, b.radius, buffers, stats, gather_count());
+    b.estimate = estimate_in_scattering(volume_map_here(), x, w_o, g, volume_estimator_, k_, b.radius, buffers, stats, gather_count());
     if (b.radius < max_radius_) b.rule = bounded_query(b.estimate, k_);   // the mean-free-path bound is in force
     return b;
 }
@@ -679,7 +715,7 @@ bool PhotonMapIntegrator::volume_map_starved() const {
     // count, or k above the stored count) has no kNN ball anywhere, bound or no bound. Without the
     // bound (max_radius_mfp = 0) estimator rule (b) would use the whole map instead, at the cost of
     // a pass over the map per query (k = 65536 over 55,265 photons ran for minutes).
-    return map_->size() < k_;
+    return volume_map_here().size() < k_;
 }
 
 bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
@@ -785,7 +821,8 @@ Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir,
         return in;
     }
     ++local.map_used;
-    return in + normalised(b.estimate, x, -dir, g, b.radius, sigma_t, local.buffers, local.linear_weights);
+    return in + normalised(b.estimate, x, -dir, g, b.radius, sigma_t, local.buffers, local.linear_weights) /
+                    region_share(x, b.estimate.radius);
 }
 
 void PhotonMapIntegrator::retire_beam() {

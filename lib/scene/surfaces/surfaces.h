@@ -23,6 +23,9 @@ struct SurfaceHit {
     // follow it with transport/specular_step.h. Null for Lambertian and black surfaces.
     const Material* specular = nullptr;
     bool exiting = false;          // the ray leaves the inside of a closed, oriented shape (dielectrics)
+    // The closed dielectric shape hit, its index among the scene's dielectrics (Surfaces::
+    // dielectric_shapes, scene/dielectric_regions.h); -1 for every other material.
+    int dielectric = -1;
     double epsilon = 0.0;          // the surfaces' self-intersection epsilon (relative to their size)
     // Set by Scene::intersect when the hit is an area light (black, so paths end there): the light
     // and the radiance it sends back along the ray.
@@ -30,6 +33,18 @@ struct SurfaceHit {
     Rgb emitted = Rgb::Zero();   // summed over coincident emitters (Scene::intersect)
     bool coincident_emitters = false;   // more than one area light at this point
 };
+
+// A closed dielectric shape, as the regions (scene/dielectric_regions.h) see it: a sphere
+// (exact lens volumes) or a closed mesh (its bounds only; inside is read by ray parity).
+struct DielectricShape {
+    bool sphere = false;
+    Vec3 center = Vec3::Zero();   // sphere
+    double radius = 0.0;          // sphere
+    Bounds3 bounds;
+};
+
+// Regions are masks of 64 bits, one per closed dielectric shape.
+constexpr size_t kMaxDielectricShapes = 64;
 
 class Surfaces {
 public:
@@ -48,6 +63,9 @@ public:
     virtual bool occluded(const Ray& ray, double tmax) const = 0;
     virtual Bounds3 bounds() const = 0;
     virtual size_t triangle_count() const = 0;
+    // The closed dielectric shapes, in the order of SurfaceHit::dielectric (at most
+    // kMaxDielectricShapes: create() refuses more).
+    virtual const std::vector<DielectricShape>& dielectric_shapes() const = 0;
     virtual std::string describe() const = 0;
 };
 
