@@ -75,7 +75,8 @@ double near_interface(const Scene& scene, const Vec3& x) {
 struct Furnace {
     Sample split, mixed;
 };
-Furnace furnace_pair(const std::string& text, int maps, const std::vector<std::string>& extra = {}, bool mixed = false) {
+Furnace furnace_pair(const std::string& text, int maps, const std::vector<std::string>& extra = {}, bool mixed = false,
+                     int spp = 2) {
     std::vector<std::string> o = {"render.integrator=\"photon_map\"", "render.width=16", "render.height=16",
                                   "photons.count=50000", "photons.k=32", "photons.estimator=\"corrected\"",
                                   "photons.gather=\"collision\""};
@@ -97,10 +98,10 @@ Furnace furnace_pair(const std::string& text, int maps, const std::vector<std::s
         const RegionPhotonMaps surface_regions(traced.surface_photons, traced.surface_photon_regions);
         PhotonMapIntegrator split(*config.scene, ps, volume, surface ? &surfaces : nullptr);
         split.use_regions(&volume_regions, surface ? &surface_regions : nullptr);
-        f.split.add(test::image_mean(config, split, 1000 + uint64_t(r), 2));
+        f.split.add(test::image_mean(config, split, 1000 + uint64_t(r), spp));
         if (mixed)
             f.mixed.add(test::image_mean(config, PhotonMapIntegrator(*config.scene, ps, volume, surface ? &surfaces : nullptr),
-                                         1000 + uint64_t(r), 2));
+                                         1000 + uint64_t(r), spp));
     }
     return f;
 }
@@ -131,6 +132,10 @@ struct FurnaceCase {
     const char* name;
     std::string text;
     double exact;
+    // The relative standard error 12 maps reach (the CI check's resolution). Inside the glass few
+    // photon walks enter, each stores many photons (trapped by total internal reflection): one map
+    // scatters by 7% there.
+    double resolution = 0.005;
 };
 
 // The furnaces: non-absorbing fog (radius 1.5) under a sky of 1, with clear glass in it; a white
@@ -139,7 +144,7 @@ struct FurnaceCase {
 std::vector<FurnaceCase> furnace_cases() {
     return {
         {"sphere", std::string(kCamera) + kFog + glass_sphere(0, 0, 0, 1.0), 1.0},
-        {"camera_in_glass", std::string(kCameraInGlass) + kFog + glass_sphere(0, 0, 0, 1.0), 2.25},
+        {"camera_in_glass", std::string(kCameraInGlass) + kFog + glass_sphere(0, 0, 0, 1.0), 2.25, 0.025},
         {"box", std::string(kCamera) + kFog + kGlassBox, 1.0},
         {"nested", std::string(kCamera) + kFog + glass_sphere(0, 0, 0, 1.0) + glass_sphere(0.2, 0, 0, 0.5), 1.0},
         {"touching", std::string(kCamera) + kFog + glass_sphere(-0.6, 0, 0, 0.6) + glass_sphere(0.6, 0, 0, 0.6), 1.0},
@@ -199,9 +204,10 @@ TEST(GlassRegions, BallFractionIsTheLensVolumeAndItsQuadrature) {
     const double r = 0.2;
     const double in = region_ball_fraction(one->surfaces.get(), x, r, 1), out = region_ball_fraction(one->surfaces.get(), x, r, 0);
     EXPECT_NEAR(in + out, 1.0, 1e-12);
-    // A plane through the ball 0.01 off its centre cuts off a cap; the sphere's curvature adds a little.
-    const double h = 0.2 - 0.01, plane_cap = kPi * h * h * (3 * 0.2 - h) / 3.0 / (4.0 / 3.0 * kPi * 0.008);
-    EXPECT_NEAR(out, plane_cap, 0.03);
+    // The lens of two spheres (radii r and R, centres d apart), in its textbook closed form.
+    const double d = 0.99, R = 1.0;
+    const double lens = kPi * (R + r - d) * (R + r - d) * (d * d + 2 * d * r - 3 * r * r + 2 * d * R + 6 * r * R - 3 * R * R) / (12 * d);
+    EXPECT_NEAR(in, lens / (4.0 / 3.0 * kPi * r * r * r), 1e-9);
     EXPECT_EQ(region_ball_fraction(two->surfaces.get(), x, r, 1), in);   // the far sphere does not cross
     const auto box = test::scene_from_config(std::string(kCamera) + kFog + kGlassBox);
     const double box_in = region_ball_fraction(box->surfaces.get(), Vec3(0.59, 0, 0), 0.1, 1);
@@ -210,29 +216,59 @@ TEST(GlassRegions, BallFractionIsTheLensVolumeAndItsQuadrature) {
 }
 
 TEST(GlassRegions, GlassSphereInFogIsAFurnace) {
-    // The renderer's runs. Mixed across the interface (one map for all photons) this read
-    // 1.0146 +- 0.0013 over 32 maps.
-    const Sample s = furnace(std::string(kCamera) + kFog + glass_sphere(0, 0, 0, 1.0), 32);
-    std::printf("glass sphere furnace, 32 runs: %.5f +- %.5f\n", s.mean(), s.se());
+    // 48 maps, each rendered split by region and mixed (one map of all photons, as before regions) on
+    // the same camera samples: split within 3 standard errors of 1 at SE <= 0.15%; mixed reads high.
+    const Furnace f = furnace_pair(std::string(kCamera) + kFog + glass_sphere(0, 0, 0, 1.0), 48, {"render.width=32", "render.height=32"}, true);
+    std::printf("glass sphere furnace, 48 maps: split %.5f +- %.5f, mixed %.5f +- %.5f\n", f.split.mean(), f.split.se(), f.mixed.mean(), f.mixed.se());
+    EXPECT_NEAR(f.split.mean(), 1.0, 3.0 * f.split.se());
+    EXPECT_LT(f.split.se(), 0.0015);
+    EXPECT_GT(f.mixed.mean() - 1.0, 3.0 * f.mixed.se());   // the test sees the mixing it guards against
+}
+
+TEST(GlassRegions, TheRenderersOwnRunsSplitByRegion) {
+    // The photon pass builds the region maps itself (8 runs, SE about 0.4%: a pass that did not split
+    // reads +1.5%, 4 SE).
+    const Sample s = furnace(std::string(kCamera) + kFog + glass_sphere(0, 0, 0, 1.0), 8, {"render.width=32", "render.height=32", "photons.gather=\"collision\""});
+    std::printf("renderer's runs: %.5f +- %.5f\n", s.mean(), s.se());
     EXPECT_NEAR(s.mean(), 1.0, 3.0 * s.se());
-    EXPECT_LT(s.se(), 0.0015);
 }
 
 TEST(GlassRegions, GlassFurnacesReadTheExactAnswer) {
-    // Each case over 12 maps (standard errors about 0.3%): box (the ball's share by quadrature),
-    // nested and touching spheres, the camera inside the glass, and the surface map inside it.
+    // Each case over 12 maps (standard errors 0.3-0.5%, 2% seen from inside the glass): box (the
+    // ball's share by quadrature), nested and touching spheres, the camera inside the glass, and the
+    // surface map inside it.
     for (const FurnaceCase& c : furnace_cases()) {
         if (std::string(c.name) == "sphere") continue;   // above, at full power
         const Furnace f = furnace_pair(c.text, 12);
         std::printf("%-17s %.5f +- %.5f (exact %.2f)\n", c.name, f.split.mean(), f.split.se(), c.exact);
         EXPECT_NEAR(f.split.mean(), c.exact, 3.0 * f.split.se()) << c.name;
-        EXPECT_LT(f.split.se(), 0.005 * c.exact) << c.name;
+        EXPECT_LT(f.split.se(), c.resolution * c.exact) << c.name;
     }
 }
 
 // The measurement behind docs/interface_regions.md (minutes): every case over 64 maps, split and mixed
 // on the same maps and camera samples, for the collision and the march gathers.
 //   build/test_render --gtest_also_run_disabled_tests --gtest_filter='GlassRegions.DISABLED_*'
+TEST(GlassRegions, DISABLED_SphereFurnaceMeasurement) {
+    for (int maps : {256}) {
+        const Furnace f = furnace_pair(std::string(kCamera) + kFog + glass_sphere(0, 0, 0, 1.0), maps, {"render.width=32", "render.height=32"}, true);
+        std::printf("sphere, %d maps, 32x32 x 2 spp: split %.5f +- %.5f, mixed %.5f +- %.5f\n", maps, f.split.mean(), f.split.se(),
+                    f.mixed.mean(), f.mixed.se());
+    }
+}
+
+TEST(GlassRegions, DISABLED_SphereFurnaceByIorAndK) {
+    for (const char* ior : {"1.0001", "1.5"})
+        for (const char* k : {"photons.k=8", "photons.k=32", "photons.k=128"}) {
+            std::string glass = glass_sphere(0, 0, 0, 1.0);
+            glass.replace(glass.find("ior = 1.5"), 9, std::string("ior = ") + ior);
+            const Furnace f = furnace_pair(std::string(kCamera) + kFog + glass, 128, {"render.width=32", "render.height=32", k}, true);
+            std::printf("ior %s, %s, 128 maps: split %.5f +- %.5f, mixed %.5f +- %.5f\n", ior, k, f.split.mean(), f.split.se(),
+                        f.mixed.mean(), f.mixed.se());
+            std::fflush(stdout);
+        }
+}
+
 TEST(GlassRegions, DISABLED_FurnaceMeasurement) {
     for (const char* gather : {"photons.gather=\"collision\"", "photons.gather=\"march\""})
         for (const FurnaceCase& c : furnace_cases()) {
