@@ -1,4 +1,4 @@
-// The renderer's beam gather (render/photon_map/beam_gather.h) in configs/thin_cube.toml (issue 22): the
+// The renderer's beam gather (render/photon_map/gathers/point_beam_gather.h) in configs/thin_cube.toml (issue 22): the
 // build of the per-photon radii and the disc BVH against the stored photon count, and the cost of
 // one camera-segment query (BVH walk, sort by foot point, transmittance per interval, kernel,
 // phase, albedo) against the photon discs it crosses, which beam_k sets (radius ~ k^(1/3)).
@@ -12,7 +12,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/trace/photon_tracer.h"
-#include "render/photon_map/beam_gather.h"
+#include "render/photon_map/gathers/point_beam_gather.h"
 #include "render/run/run_config.h"
 
 using namespace vpm;
@@ -38,9 +38,9 @@ const PhotonMap& map(size_t emitted) {
 
 void BM_BeamBuild(benchmark::State& state) {
     const PhotonMap& m = map(size_t(state.range(0)));
-    BeamGatherStats s;
+    PointBeamGatherStats s;
     for (auto _ : state) {
-        const BeamGather beam(*thin_cube().scene, m, 32, Kernel::constant(), kInfinity, 2.0);
+        const PointBeamGather beam(*thin_cube().scene, m, 32, Kernel::constant(), kInfinity, 2.0);
         s = beam.stats();
     }
     state.counters["stored"] = double(m.size());
@@ -51,14 +51,14 @@ void BM_BeamBuild(benchmark::State& state) {
 
 void BM_BeamQuery(benchmark::State& state) {
     const PhotonMap& m = map(1000000);
-    const BeamGather beam(*thin_cube().scene, m, size_t(state.range(0)), Kernel::constant(), kInfinity, 2.0);
+    const PointBeamGather beam(*thin_cube().scene, m, size_t(state.range(0)), Kernel::constant(), kInfinity, 2.0);
     const Camera& camera = thin_cube().scene->camera;
     Rng rng(5, uint64_t(state.range(0)));
     for (auto _ : state) {
         const Ray ray = camera.generate_ray(rng.uniform() * camera.width(), rng.uniform() * camera.height());
         benchmark::DoNotOptimize(beam.in_scattering(ray, kInfinity, rng));
     }
-    const BeamGatherStats s = beam.stats();
+    const PointBeamGatherStats s = beam.stats();
     state.counters["stored"] = double(m.size());
     state.counters["crossed/query"] = double(s.crossed) / double(std::max<uint64_t>(s.queries, 1));
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Renders every shipped config small with two vpm binaries and compares the EXR files byte for
-# byte: the check that a refactoring (file moves, a registry change) left every image as it was.
+# Renders every shipped config small with two vpm binaries, and every gather, extinction, clustering
+# and schedule on two of them, and compares the EXR files byte for byte: the check that a
+# refactoring (file moves, a registry change) left every image as it was.
 #
 # usage: scripts/images_identical.sh OLD_VPM NEW_VPM [OUT_DIR]      (exit 1 if any image differs)
 set -euo pipefail
@@ -20,6 +21,24 @@ for config in "$root"/configs/*.toml "$root"/configs/stress/*.toml; do
   done
   if cmp -s "$out/old/$name.exr" "$out/new/$name.exr"; then same=$((same + 1)); echo "same  $name"
   else differ=$((differ + 1)); echo "DIFF  $name"; fi
+done
+# Every gather, extinction, clustering and schedule once, on a grid scene and on a glass scene.
+variants=('photons.gather="collision"' 'photons.gather="march"' 'photons.gather="threshold"' 'photons.gather="pilot"'
+          'photons.gather="point_beam"' 'photons.gather="photon_beams"' 'photons.extinction="point"'
+          'photons.extinction="ball"' 'photons.clustering="leave_group_out"' 'photons.schedule="progressive"'
+          'render.integrator="auto"')
+for config in "$root"/configs/thin_cube.toml "$root"/configs/glass_sphere_fog.toml; do
+  for v in "${variants[@]}"; do
+    name="$(basename "$config" .toml)-$(echo "$v" | tr -c 'a-z_\n' '_')"
+    for side in old new; do
+      bin=$old; [ "$side" = new ] && bin=$new
+      if ! (cd "$root" && "$bin" render "$config" "${small[@]}" --set "$v" --set render.passes=2 -o "$out/$side/$name.exr" 2>"$out/$side-$name.log"); then
+        skipped=$((skipped + 1)); echo "skip  $name ($side: $(tail -n1 "$out/$side-$name.log"))"; continue 2
+      fi
+    done
+    if cmp -s "$out/old/$name.exr" "$out/new/$name.exr"; then same=$((same + 1)); echo "same  $name"
+    else differ=$((differ + 1)); echo "DIFF  $name"; fi
+  done
 done
 echo "images_identical: $same identical, $differ different, $skipped not rendered (outputs in $out)"
 [ "$differ" -eq 0 ]

@@ -1,6 +1,6 @@
 #pragma once
 // One trial of the study's "photon_beams" scenario (analysis/study.h): the balloon photon-beams
-// estimate (render/photon_map/photon_beam_gather.h) of a uniform isotropic Poisson field of beams.
+// estimate (render/photon_map/gathers/photon_beams_gather.h) of a uniform isotropic Poisson field of beams.
 // Beams of length 1 with Poisson centres (density rho, so rho beam length per unit volume) and
 // uniform directions fill the cube [-1.5, 1.5]^3; the query is the segment from (0, 0, -1/2) to
 // (0, 0, 1/2). Every beam crossing it (photon_beam_crossing: the feet of the common perpendicular

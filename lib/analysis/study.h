@@ -57,7 +57,7 @@
 //              from the count's Fano factor F(k) = Var N / k in a ball of mean k, measured in the same
 //              trials (theory_source "fano"): classic bias (1 + F) / 2k, corrected -(1 - F) / 2k.
 //              Needs n >= 4 k (radii below half the torus). Not in the default list.
-//   photon_beams the balloon photon-beams estimate (render/photon_map/photon_beam_gather.h) on a
+//   photon_beams the balloon photon-beams estimate (render/photon_map/gathers/photon_beams_gather.h) on a
 //              uniform isotropic Poisson field of beams (analysis/photon_beam_trial.h), classic
 //              and corrected with every kernel of StudyOptions::kernels in 1D normalisation;
 //              rows dim 1, estimator "balloon_<numerator>[/<kernel>]". Exact theory

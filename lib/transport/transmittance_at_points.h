@@ -3,7 +3,7 @@
 // majorant pieces: the optical depth itself where the medium is homogeneous (`exact`), ratio
 // tracking elsewhere, whose running product over the tentative collisions before t is an unbiased
 // estimate of T(0, t) for every t at once. One walk per ray, however many points: the gathers that
-// weigh many points of one camera segment (render/photon_map/photon_beam_gather.h) use it.
+// weigh many points of one camera segment (render/photon_map/gathers/photon_beams_gather.h) use it.
 #include <cstdint>
 #include <vector>
 

@@ -269,6 +269,18 @@ TEST(GlassRegions, DISABLED_SphereFurnaceByIorAndK) {
         }
 }
 
+TEST(GlassRegions, DISABLED_SphereFurnaceAllPhotonsStored) {
+    // photons.direct = "photon_map": every collision stored, so the photon density is constant on
+    // each side of the interface (with "nee" the scattered photons thin out towards the fog's edge).
+    for (const char* k : {"photons.k=32", "photons.k=128"}) {
+        const Furnace f = furnace_pair(std::string(kCamera) + kFog + glass_sphere(0, 0, 0, 1.0), 128,
+                                       {"render.width=32", "render.height=32", k, "photons.direct=\"photon_map\""}, true);
+        std::printf("ior 1.5, direct photon_map, %s, 128 maps: split %.5f +- %.5f, mixed %.5f +- %.5f\n", k, f.split.mean(),
+                    f.split.se(), f.mixed.mean(), f.mixed.se());
+        std::fflush(stdout);
+    }
+}
+
 TEST(GlassRegions, DISABLED_FurnaceMeasurement) {
     for (const char* gather : {"photons.gather=\"collision\"", "photons.gather=\"march\""})
         for (const FurnaceCase& c : furnace_cases()) {

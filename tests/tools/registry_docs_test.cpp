@@ -15,6 +15,7 @@
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/kernels.h"
 #include "render/integrator_registry.h"
+#include "render/photon_map/gathers/gather_registry.h"
 #include "scene/lights/light_registry.h"
 #include "scene/materials/material_registry.h"
 #include "scene/media/medium_registry.h"
@@ -74,6 +75,7 @@ TEST(RegistryDocs, ConfigReferenceListsEveryRegistryExactly) {
     EXPECT_EQ(listed_values(config_reference_row("`[render]`"), "integrator"), as_set(integrator_names()));
     EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "estimator"), as_set(Estimator::names()));
     EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "kernel"), as_set(Kernel::names()));
+    EXPECT_EQ(listed_values(config_reference_row("`[photons]`"), "gather"), as_set(gather_names()));
 }
 
 TEST(RegistryDocs, KernelDocumentListsEveryKernelExactly) {

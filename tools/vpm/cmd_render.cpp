@@ -21,6 +21,7 @@
 #include "photon/estimate/kernels.h"
 #include "render/run/image_io.h"
 #include "render/integrator_registry.h"
+#include "render/photon_map/gathers/gather_registry.h"
 #include "render/run/run.h"
 #include "render/run/run_outputs.h"
 #include "render/run/staged_file.h"
@@ -50,6 +51,7 @@ std::string registered_names() {
            "  shapes.N.material  " + registry_list(vpm::material_names()) + "\n"
            "  photons.estimator  " + registry_list(vpm::Estimator::names()) + "\n"
            "  photons.kernel     " + registry_list(vpm::Kernel::names()) + "\n"
+           "  photons.gather     " + registry_list(vpm::gather_names()) + "\n"
            "  render.sampler     " + registry_list(vpm::sampler_names()) + "\n"
            "  photons.sampler    " + registry_list(vpm::sampler_names()) + "\n";
 }

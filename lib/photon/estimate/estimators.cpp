@@ -72,11 +72,13 @@ EstimatorTheory mse_optimal_theory(size_t k, size_t n, double c_w, const KernelM
 // The registry: one line per estimator.
 const EstimatorEntry kEstimators[] = {
     {"classic", "sum_{i=1..k} w_i / V(r_k), bias +1/(k-1)", 2, estimate_classic<double>, estimate_classic<Rgb>,
-     classic_theory, [](size_t k) { return double(k); }},
+     classic_theory, [](size_t k) { return double(k); }, {true, true, false, nullptr, nullptr}},
     {"corrected", "sum_{i=1..k-1} w_i / V(r_k), unbiased", 2, estimate_corrected<double>, estimate_corrected<Rgb>,
-     corrected_theory, [](size_t k) { return double(k) - 1.0; }},
+     corrected_theory, [](size_t k) { return double(k) - 1.0; },
+     {false, true, true, "it drops the k-th photon",
+      "is unbiased but has infinite variance (relative variance 1/(k-2)); use k >= 3"}},
     {"mse_optimal", "(k-2)/(k-1) sum_{i=1..k-1} w_i / V(r_k), bias -1/(k-1)", 3, estimate_mse_optimal<double>,
-     estimate_mse_optimal<Rgb>, mse_optimal_theory, [](size_t k) { return double(k) - 2.0; }},
+     estimate_mse_optimal<Rgb>, mse_optimal_theory, [](size_t k) { return double(k) - 2.0; }, {}},
 };
 
 }  // namespace
@@ -114,9 +116,8 @@ void Estimator::validate_k(size_t k) const {
 }
 
 std::string Estimator::warning(size_t k) const {
-    if (std::string(name()) == "corrected" && k == 2)
-        return "estimator corrected with k = 2 is unbiased but has infinite variance "
-               "(relative variance 1/(k-2)); use k >= 3";
+    if (traits().min_k_warning && k == min_k())
+        return std::string("estimator ") + name() + " with k = " + std::to_string(k) + " " + traits().min_k_warning;
     return {};
 }
 

@@ -182,6 +182,15 @@ struct EstimatorTheory {
     double error = 0, variance = 0, mse = 0;
 };
 
+// What code that combines an estimator with other rules asks of it, so that no caller compares names.
+struct EstimatorTraits {
+    bool keeps_kth = false;            // the k-th (farthest) neighbour's weight is in the sum (classic)
+    bool photon_beams = false;         // has the 1D beam form of photons.gather = "photon_beams" (the k-th kept or not)
+    bool leave_group_out = false;      // has the leave-group-out form (photon/estimate/group_estimate.h)
+    const char* min_k_reason = nullptr;    // why k >= min_k, for the error (null: no reason beyond the formula)
+    const char* min_k_warning = nullptr;   // said where k == min_k is valid but ill-advised (null: nothing)
+};
+
 // A registry entry: what users choose by name (photons.estimator, sweep axes, study columns).
 struct EstimatorEntry {
     const char* name;
@@ -196,6 +205,7 @@ struct EstimatorEntry {
     // For a constant kernel with unit weights the estimate is count(k) / V(r_k); the study's
     // quadrature theory for non-uniform densities uses it. Null for other kernels.
     double (*unit_weight_count)(size_t k);
+    EstimatorTraits traits;
 };
 
 // A typed handle on one registry entry: cheap to copy and compare, never a dangling string.
@@ -232,6 +242,7 @@ public:
     const EstimatorEntry& entry() const { return *entry_; }
     const char* name() const { return entry_->name; }
     size_t min_k() const { return entry_->min_k; }
+    const EstimatorTraits& traits() const { return entry_->traits; }
     // Throws vpm::Error when k < min_k(), with the allowed range in the message.
     void validate_k(size_t k) const;
     // Non-empty warning for a valid but ill-advised choice (corrected with k = 2: infinite variance).

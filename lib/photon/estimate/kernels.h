@@ -84,7 +84,7 @@ public:
     // omega(u) = K(sqrt u) / n_d: the weight of a neighbour at squared relative distance u, so that
     // S = sum w_i omega(u_i) / V_d(r). dim must be 1, 2 or 3.
     // dim 1: the 1D normalisation of photon beams (n_1 = int_0^1 K(t) dt, so that
-    // int_{-r}^{r} omega(u^2/r^2) du / (2 r) = 1; render/photon_map/photon_beam_gather.h).
+    // int_{-r}^{r} omega(u^2/r^2) du / (2 r) = 1; render/photon_map/gathers/photon_beams_gather.h).
     double weight(double u, int dim) const { return entry_->profile(u, parameter_) * inv_norm_[dim - 1]; }
     // The closed-form n_d of the registry, and the mean of K over the unit ball M_d by quadrature.
     double normalisation(int dim) const;

@@ -1,6 +1,6 @@
 #pragma once
 // A bounding-volume hierarchy over photon beams (photon/map/photon_beam.h) for the photon-beams
-// gather (render/photon_map/photon_beam_gather.h). A camera segment o + t d, t in [0, tmax], and a
+// gather (render/photon_map/gathers/photon_beams_gather.h). A camera segment o + t d, t in [0, tmax], and a
 // beam b + v w, v in [0, length], cross where their lines come closest: at t*, v* with the
 // distance u between the lines there and the angle theta between d and w
 // (photon_beam_crossing). A beam counts for a segment only where t* and v* both lie inside.

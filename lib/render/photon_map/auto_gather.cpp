@@ -80,27 +80,21 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     if (counts && counts->emitted > 0)
         in.photon_cost = (w.collision * double(counts->collisions) + w.path * double(counts->emitted) +
                           w.stored * double(counts->stored)) / double(counts->emitted);
-    // The map's gathers photons.gather leaves open (both for "auto", else the one given); the "auto"
+    // The map's gathers photons.gather leaves open (the registry's measured ones for "auto", else the one given); the "auto"
     // integrator adds the path tracer ("continue": render/plan/no_map_candidate.h). The photon-map
     // integrator always estimates from its map.
     std::vector<PilotCandidate> candidates;
-    std::vector<Gather> gathers;
-    if (settings_.gather != GatherMode::march) {
-        candidates.push_back({"collision", true});
-        gathers.push_back(Gather::collision);
-    }
-    if (settings_.gather != GatherMode::collision) {
-        candidates.push_back({"march", true});
-        gathers.push_back(Gather::march);
+    std::vector<GatherMode> gathers;
+    for (const GatherEntry& e : gather_entries()) {
+        if (!e.plan_measures || (settings_.gather != GatherMode::automatic && settings_.gather != e.mode)) continue;
+        candidates.push_back({e.name, true});
+        gathers.push_back(e.mode);
     }
     if (settings_.chooses_integrator) {
         candidates.push_back({kNoMapCandidate, false});
-        gathers.push_back(Gather::collision);
+        gathers.push_back(GatherMode::collision);
     }
     std::vector<GatherMeasurement> measured;
-    const PhotonMap* run_map = map_;
-    const PhotonMap* run_surface = surface_map_;
-    const double run_emitted = map_emitted_;
     PilotBudget budget;   // render/plan/pilot_budget.h
     if (in.budget > 0.0) {
         budget.per_candidate = in.budget * kPilotBudgetFraction / double(candidates.size());
@@ -108,26 +102,27 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     }
     // Measured also where the pilot's volume map is empty and no surface map was stored: the gathers'
     // queries then find no photons and continue the path, so they are the continuation plus a photon
-    // pass that buys nothing, and the plan drops them (render/plan/no_map_candidate.h). Planned with every
-    // figure 0 instead, a scene whose only medium was empty traced 1e5 photons per pass, 185 passes
-    // in 2 s, for a black image.
+    // pass that buys nothing, and the plan drops them (render/plan/no_map_candidate.h) instead of
+    // planning photon passes for a black image.
     const bool measured_by_pilot = map->size() > 0 || !(pilot_surface && pilot_surface->size() > 0);
     if (measured_by_pilot) {
         MapNoisePilotHooks hooks;
         // Grid tracking counts of the pilot's samples (scene/media/tracking_counter.h): sums, the
         // same whatever the threads' order.
         std::atomic<uint64_t> steps{0}, density_lookups{0}, cells{0};
+        // Each candidate's camera paths over the pilot's maps (or a half of them), counted on counters of their own.
+        CounterSet pilot_counters;
+        std::optional<PassMaps> candidate;
         hooks.use = [&](int c, const PhotonMap* m) {
-            gather_ = gathers[c];
             const bool uses_map = candidates[size_t(c)].uses_map;
-            map_ = uses_map ? m : &empty_map_;
-            surface_map_ = uses_map ? pilot_surface : nullptr;
-            set_map_emitted(m == map ? pilot_emitted : pilot_emitted / 2.0);   // a half map: half the walks
+            const double emitted = m == map ? pilot_emitted : pilot_emitted / 2.0;   // a half map: half the walks
+            candidate.emplace(pass_maps(gathers[c], uses_map ? *m : empty_map_, uses_map ? pilot_surface : nullptr,
+                                        decision_ratio_for(emitted)));
         };
         hooks.trace = [&](const Ray& ray, Rng& rng) {
             // One sample runs on one thread: the thread's counts before and after are the sample's.
             const TrackingCounts before = thread_tracking_counts();
-            const Rgb l = trace(ray, 0, rng);
+            const Rgb l = CameraPath(scene_, settings_, *candidate, both_strategies_).trace(ray, 0, rng, pilot_counters.local());
             const TrackingCounts& after = thread_tracking_counts();
             steps += after.steps - before.steps;
             density_lookups += after.lookups - before.lookups;
@@ -135,7 +130,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             return l;
         };
         hooks.counts = [&] {
-            CountedOperations c = counted_operations();
+            CountedOperations c = counted_operations(pilot_counters);
             c.steps = double(steps.load());
             c.density_lookups = double(density_lookups.load());
             c.cells = double(cells.load());
@@ -154,17 +149,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
             return query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps +
                    w.density_lookup * c.density_lookups + w.cell * c.cells;
         };
-        // The pilot measures its own maps and halves whole: the run's maps per glass region are not theirs.
-        const RegionPhotonMaps* run_regions[2] = {volume_regions_, surface_regions_};
-        use_regions(nullptr, nullptr);
-        with_fresh_counters([&] {
-            measured = measure_gathers(scene_.camera, *map, candidates, hooks,
-                                       mix64(context.seed ^ 0x6d61706e6f697365ULL), context.run_stream_offset, budget, in.pixels);
-        });
-        use_regions(run_regions[0], run_regions[1]);
-        map_ = run_map;
-        surface_map_ = run_surface;
-        set_map_emitted(run_emitted);
+        measured = measure_gathers(scene_.camera, *map, candidates, hooks, mix64(context.seed ^ 0x6d61706e6f697365ULL),
+                                   context.run_stream_offset, budget, in.pixels);
     } else {
         // An empty volume map beside a surface map: the gathers cost the same and "continue" is left
         // out (the empty map costs nothing and the surface map keeps its use).

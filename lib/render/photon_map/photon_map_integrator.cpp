@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -15,8 +14,7 @@
 #include "core/sampling.h"
 #include "photon/estimate/ball_extinction.h"
 #include "photon/estimate/bounded_radius.h"
-#include "render/photon_map/beam_gather.h"
-#include "render/photon_map/photon_beam_gather.h"
+#include "render/photon_map/gathers/segment_gather.h"
 #include "render/plan/pass_plan.h"
 #include "render/plan/work_units.h"
 #include "transport/seen_through.h"
@@ -24,10 +22,7 @@
 #include "transport/single_scattering.h"
 #include "transport/specular_step.h"
 #include "scene/media/homogeneous_medium.h"
-#include "photon/estimate/group_estimate.h"
-#include "photon/estimate/linear_estimate.h"
 #include "config/params.h"
-#include "scene/dielectric_regions.h"
 #include "transport/direct_light.h"
 #include "transport/equiangular.h"
 #include "transport/march_points.h"
@@ -38,50 +33,16 @@ namespace vpm {
 
 namespace {
 
-double total_sigma_t(const Scene& scene, const Vec3& x) {
-    double sigma_t = 0.0;   // overlapping media: photons of all of them are in the map
-    for (const auto& m : scene.media) sigma_t += m->sigma_t(x);
-    return sigma_t;
-}
-
+// The gather in force before any pilot has run: the chosen one, and for "auto" or "pilot" the
+// per-segment threshold.
+GatherMode initial_gather(GatherMode mode) { return gather_entry(mode).chooses ? GatherMode::threshold : mode; }
 
 }  // namespace
 
-// "threshold", and "auto" or "pilot" before its pilot has run (no prepare()): the per-segment threshold.
-PhotonMapIntegrator::Gather initial_gather(GatherMode mode) {
-    switch (mode) {
-        case GatherMode::collision: return PhotonMapIntegrator::Gather::collision;
-        case GatherMode::march: return PhotonMapIntegrator::Gather::march;
-        case GatherMode::beam: return PhotonMapIntegrator::Gather::beam;
-        case GatherMode::photon_beams: return PhotonMapIntegrator::Gather::photon_beams;
-        case GatherMode::automatic:
-        case GatherMode::pilot:
-        case GatherMode::threshold: break;
-    }
-    return PhotonMapIntegrator::Gather::threshold;
-}
-
 struct PhotonMapIntegrator::ThreadState {
     explicit ThreadState(const Scene& scene) : ball(scene.media) {}
-    explicit ThreadState(const BallExtinction& shared) : ball(shared) {}   // the same box masses and mass lattices
-    BallExtinction ball;   // mean sigma_t over kNN balls (photons.extinction = "ball")
-    struct Local {
-        GatherBuffers buffers;
-        EstimatorStats stats, surface_stats;
-        uint64_t continued = 0;   // camera paths continued past a collision (bounded radius)
-        uint64_t linear_fallbacks = 0;   // linear estimates that fell back to the ball's (photon/estimate/linear_estimate.h)
-        uint64_t march_wide = 0;  // march queries whose kNN ball exceeds max_radius_mfp mean free paths
-        uint64_t rays = 0;        // tracked segments: free flights, shadow rays, march transmittances (pilot cost)
-        uint64_t lookups = 0;     // sigma_t lookups of the ball quadrature (pilot cost)
-        double march_weight_max = 0.0, march_weight_sum = 0.0;   // relative march point weights
-        uint64_t march_points = 0;
-        uint64_t map_used = 0;    // estimates taken from a map, not continued past (pilot: render/plan/no_map_candidate.h)
-        uint64_t decisions = 0;   // queries of the bound's decision map
-        std::vector<Rgb> linear_weights;   // photons.extinction = "linear"
-        OpticalDepthProfile profile;       // transport/seen_through.h (no path is traced while it is in use)
-        RegionMask region = 0;             // the region of the camera path being traced (trace())
-    };
-    mutable tbb::enumerable_thread_specific<Local> local;
+    BallExtinction ball;   // mean sigma_t over kNN balls (photons.extinction = "ball", "linear")
+    mutable CounterSet local;
 };
 
 PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSettings& settings)
@@ -102,7 +63,7 @@ PhotonMapIntegrator::PhotonMapIntegrator(const Scene& scene, const PhotonMapSett
     gather_ = initial_gather(settings.gather);
     both_strategies_ = settings.walk.mis && bounces_find_lights(scene);
     schedule_pass(0);
-    if (gather_ == Gather::beam) build_beam(nullptr, nullptr);
+    if (gather_entry(gather_).build) build_segment_gather(nullptr, nullptr);
 }
 
 PhotonMapIntegrator::~PhotonMapIntegrator() = default;
@@ -139,7 +100,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         trace_maps(context, plan_ ? plan_->count : first_map_photons(context, stats), surface, stats);
         if (!decision_map_ && wants_decision_map()) trace_decision_map(context, stats);
         // k above the stored count: say so once per run (the maps are then not queried).
-        const bool volume_short = scene_.has_media() && settings_.gather != GatherMode::photon_beams && volume_map_starved();
+        const bool volume_short = scene_.has_media() && !gather_entry(settings_.gather).stores_beams && volume_map_starved();
         const bool surface_short = surface_map_ && surface_map_->size() < k_;
         if ((volume_short || surface_short) && !warned_k_ && context.log) {
             warned_k_ = true;
@@ -148,8 +109,7 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
                          << ": no estimate can use k photons, so camera paths are path traced past every "
                          << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)\n";
         }
-        if (settings_.gather == GatherMode::beam) build_beam(log, &stats);
-        if (settings_.gather == GatherMode::photon_beams) build_photon_beams(log, &stats);
+        if (gather_entry(settings_.gather).build) build_segment_gather(log, &stats);
     } else if (log) {
         *log << "photons: no media and no surface map, so no photon pass\n";
     }
@@ -205,7 +165,7 @@ void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, Ru
     const WorkUnits w = work_units(scene_, k_);
     double per_photon = w.path + w.collision * p.collisions_per_photon + w.stored * p.stored_per_photon;
     // The point-beam gather then finds every stored photon's radius: a kNN query each.
-    if (settings_.gather == GatherMode::beam)
+    if (settings_.gather == GatherMode::point_beam)
         per_photon += p.stored_per_photon * query_price(w, std::max(1.0, p.stored_per_photon * double(settings_.count)));
     const double budget = settings_.time_limit * kWorkUnitsPerSecond, work = per_photon * double(settings_.count);
     if (!(work > budget)) return;
@@ -224,8 +184,7 @@ void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, Ru
 }
 
 void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats) {
-    retire_beam();           // its BVH points into the last pass's map
-    retire_photon_beams();
+    retire_segment_gather(stats);   // its structure points into the last pass's map
     owned_ = PhotonMaps();   // one map in memory at a time: free the last pass's first
     PhotonMapSettings pass_settings = settings_;
     pass_settings.count = count;
@@ -240,13 +199,17 @@ void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, 
     set_map_emitted(double(count));
 }
 
+void PhotonMapIntegrator::use_regions(const RegionPhotonMaps* volume, const RegionPhotonMaps* surface) {
+    volume_regions_ = volume;
+    surface_regions_ = surface;
+}
+
 bool PhotonMapIntegrator::traces_surface_map() const {
     return scene_.uses_embree() && !settings_.final_gather;
 }
 
 bool PhotonMapIntegrator::wants_decision_map() const {
-    return scene_.has_media() && settings_.max_radius_mfp > 0.0 && settings_.gather != GatherMode::beam &&
-           settings_.gather != GatherMode::photon_beams;
+    return scene_.has_media() && settings_.max_radius_mfp > 0.0 && gather_entry(settings_.gather).uses_decision_map;
 }
 
 void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStats& stats) {
@@ -260,8 +223,8 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     RunStats traced;   // its counts are not the run's photon passes'
     PhotonMapSettings decision_settings = settings_;
     // An eighth of photons.count, also where the auto plan's pilot map is smaller (render/photon_map/photon_pass.h):
-    // the passes that keep the map have photons.count or more, and the decision's ball and count were
-    // measured at that ratio (docs/studies/heldout_scenes.md section 31).
+    // the passes that keep the map have photons.count or more, and the decision's ball and count are
+    // scaled for that ratio (docs/integrators.md: the decision map).
     decision_settings.count = std::max<int64_t>(1, settings_.count / kDecisionMapShare);
     // The run's photons per light (traced after its first map, which set them).
     decision_owned_ = std::move(run_photon_pass(scene_, decision_settings, c, false, traced, allocation_).volume);
@@ -293,32 +256,13 @@ void PhotonMapIntegrator::decide_bound_on(const PhotonMap* map, double emitted_r
     decision_ratio_ = emitted_ratio;
 }
 
-PhotonMapIntegrator::DecisionBall PhotonMapIntegrator::decision_ball(double radius) const {
-    // The map's k photons within R, in the decision map's density: k N_d / N photons expected within
-    // R, at least kDecisionMinK of them (a smaller count decides by its noise), within the ball that
-    // holds that many on average.
-    DecisionBall d;
-    d.k = std::min(k_, std::max(kDecisionMinK, size_t(std::lround(double(k_) / decision_ratio_))));
-    d.radius = radius * std::cbrt(double(d.k) / double(k_) * decision_ratio_);
-    return d;
-}
-
 uint64_t PhotonMapIntegrator::decision_queries() const {
     uint64_t total = 0;
-    for (const auto& l : threads_->local) total += l.decisions;
+    for (const auto& l : threads_->local) total += l.estimates.decisions;
     return total;
 }
 
-std::string PhotonMapIntegrator::gather_used() const {
-    if (no_map_) return "none";
-    switch (gather_) {
-        case Gather::collision: return "collision";
-        case Gather::march: return "march";
-        case Gather::threshold: return "threshold";
-        case Gather::beam: return "beam";
-    }
-    return "collision";
-}
+std::string PhotonMapIntegrator::gather_used() const { return no_map_ ? "none" : gather_entry(gather_).name; }
 
 uint64_t PhotonMapIntegrator::map_estimates() const {
     uint64_t total = 0;
@@ -355,7 +299,7 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
     stats.continued_paths = continued_paths();
     if (settings_.extinction == ExtinctionNormalisation::linear) {
         uint64_t fallbacks = 0;
-        for (const auto& l : threads_->local) fallbacks += l.linear_fallbacks;
+        for (const auto& l : threads_->local) fallbacks += l.estimates.linear_fallbacks;
         stats.linear_fallbacks = fallbacks;
         if (fallbacks && log)
             *log << "linear: " << fallbacks << " of " << stats.volume_estimates->queries << " estimates fell back to the "
@@ -386,33 +330,7 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
                  << " mean free paths, or fewer than k = " << k_ << " photons in the map); "
                  << stats.volume_estimates->queries << " map queries in all\n";
     }
-    if (beam_) {
-        stats.beam = beam_->stats();
-        stats.beam->radii_seconds += beam_before_.radii_seconds;
-        stats.beam->bvh_seconds += beam_before_.bvh_seconds;
-        stats.beam->queries += beam_before_.queries;
-        stats.beam->crossed += beam_before_.crossed;
-        stats.beam->tracking_lookups += beam_before_.tracking_lookups;
-        if (log)
-            *log << "beam: " << stats.beam->queries << " segment queries crossed " << stats.beam->crossed << " photon discs ("
-                 << (stats.beam->queries ? double(stats.beam->crossed) / double(stats.beam->queries) : 0.0) << " per query)\n";
-    }
-    if (photon_beams_) {
-        PhotonBeamGatherStats b = photon_beams_->stats();
-        b.widths_seconds += photon_beams_before_.widths_seconds;
-        b.bvh_seconds += photon_beams_before_.bvh_seconds;
-        b.queries += photon_beams_before_.queries;
-        b.crossed += photon_beams_before_.crossed;
-        b.tested += photon_beams_before_.tested;
-        b.starved += photon_beams_before_.starved;
-        b.tracking_lookups += photon_beams_before_.tracking_lookups;
-        stats.photon_beams = b;
-        if (log)
-            *log << "photon_beams: " << b.queries << " segment queries weighed " << b.crossed << " beams ("
-                 << (b.queries ? double(b.crossed) / double(b.queries) : 0.0) << " per query, "
-                 << (b.queries ? double(b.tested) / double(b.queries) : 0.0) << " crossing tests per query); "
-                 << b.starved << " found fewer than k beams (estimate 0)\n";
-    }
+    if (segment_gather_) segment_gather_->add_to(stats, log);
     const EstimatorStats ss = surface_stats();
     if (ss.queries) {
         stats.surface_estimates = ss;
@@ -422,7 +340,7 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
 
 EstimatorStats PhotonMapIntegrator::stats() const {
     EstimatorStats total;
-    for (const auto& l : threads_->local) total.merge(l.stats);
+    for (const auto& l : threads_->local) total.merge(l.estimates.stats);
     return total;
 }
 
@@ -440,503 +358,77 @@ EstimatorStats PhotonMapIntegrator::surface_stats() const {
 
 Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
     if (no_map_) return continuation_.radiance(camera_ray, rng);
-    return trace(camera_ray, 0, rng, EmissionWeighting::camera());
+    PassMaps maps = pass_maps(gather_, *map_, surface_map_, decision_ratio_);
+    maps.volume_regions = volume_regions_;
+    maps.surface_regions = surface_map_ ? surface_regions_ : nullptr;
+    return CameraPath(scene_, settings_, maps, both_strategies_).trace(camera_ray, 0, rng, threads_->local.local());
 }
 
-Rgb PhotonMapIntegrator::single_scattering(const Vec3& x, const Vec3& dir, double g, bool goes_on, Rng& rng,
-                                           const SegmentPoint* at) const {
-    if (goes_on) return direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis, at);
-    if (!both_strategies_) return direct_light_in_medium(scene_, x, dir, g, rng, false, at);
-    uint64_t rays = 0;
-    const Rgb l = single_scattering_both_strategies(scene_, x, dir, g, rng, rays, at);
-    threads_->local.local().rays += rays - 1;   // the caller counts one
-    return l;
-}
-
-void PhotonMapIntegrator::use_regions(const RegionPhotonMaps* volume, const RegionPhotonMaps* surface) {
-    volume_regions_ = volume;
-    surface_regions_ = surface;
-}
-
-const PhotonMap& PhotonMapIntegrator::volume_map_here() const {
-    return volume_regions_ ? volume_regions_->at(threads_->local.local().region) : *map_;
-}
-
-const PhotonMap* PhotonMapIntegrator::surface_map_here() const {
-    if (!surface_map_) return nullptr;
-    return surface_regions_ ? &surface_regions_->at(threads_->local.local().region) : surface_map_;
-}
-
-double PhotonMapIntegrator::region_share(const Vec3& x, double radius) const {
-    if (!volume_regions_) return 1.0;
-    return region_ball_fraction(scene_.surfaces.get(), x, radius, threads_->local.local().region);
-}
-
-Rgb PhotonMapIntegrator::trace(const Ray& first_ray, int first_depth, Rng& rng, const EmissionWeighting& first_emission) const {
-    const int max_depth = settings_.walk.max_depth;
-    // The path's region (scene/dielectric_regions.h), restored on return: a path continued from a
-    // march point is traced inside the outer path's segment.
-    RegionMask& region = threads_->local.local().region;
-    struct RegionScope {
-        RegionMask& region;
-        const RegionMask outer;
-        ~RegionScope() { region = outer; }
-    } scope{region, region};
-    if (volume_regions_ || surface_regions_) region = region_at(scene_.surfaces.get(), first_ray.origin);
-    Ray ray = first_ray;
-    Rgb throughput = Rgb::Ones();
-    Rgb radiance = Rgb::Zero();
-    // transport/mis.h. A path started deeper (first_depth > 0) continues from a march point: the
-    // emission it meets counts as that point's NEE was weighted (transport/single_scattering.h).
-    EmissionWeighting emission = first_emission;
-    for (int depth = first_depth;; ++depth) {
-        const PathVertex v = next_vertex(scene_, ray, rng);
-        ++threads_->local.local().rays;
-        const MediumEvent& event = v.medium;
-        const SurfaceHit& hit = v.hit;
-        const double t_end = v.on_surface ? hit.t : kInfinity;
-        // A path continued from a march point (first_depth > 0) gathers at its collisions: marching
-        // again would branch at every point, a tree that grows without bound where every ball is
-        // wide (the stress matrix's furnace and pathological cells hung once "auto" chose the march).
-        const bool march = first_depth == 0 && marches(ray, t_end);
-        const bool beam = gather_ == Gather::beam || gather_ == Gather::photon_beams;
-        // The collision gather's segments with direct = "nee", where every collision takes NEE: point
-        // and spot lights are also sampled equiangularly along it (transport/equiangular.h). The march's
-        // and the beam's segments do the same in march_in_scattering and segment_direct_light.
-        std::optional<EquiangularSegment> segment;
-        if (settings_.walk.equiangular && settings_.direct == DirectLighting::nee && !march && !beam &&
-            !(max_depth >= 0 && depth + 1 > max_depth) && scene_.has_media()) {
-            segment.emplace(scene_, ray, t_end);
-            if (segment->empty())
-                segment.reset();
-            else
-                radiance += throughput * segment->in_scattering(rng, threads_->local.local().rays,
-                                                                [](size_t, double s, double, double tau) {
-                                                                    return free_flight_density(s, tau);
-                                                                });
-        }
-        if ((march || beam) && (!v.on_surface || hit.emitter)) {
-            // The segment's in-scattering is gathered apart, so the sky or area light behind it is
-            // weighed by the exact transmittance, not found by the free flight's trial
-            // (transport/seen_through.h). The light is black: the path ends here either way.
-            auto& local = threads_->local.local();
-            const bool gathers = !(max_depth >= 0 && depth + 1 > max_depth);
-            if (march && gathers) {
-                // The march's profiles give the segment's optical depth: one walk, not two.
-                double tau = 0.0;
-                const Rgb in = march_in_scattering(ray, t_end, depth, rng, &tau);
-                radiance += throughput * seen_through_depth(scene_, ray, v.on_surface, hit, emission, tau, local.rays);
-                radiance += throughput * in;
-                break;
-            }
-            radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, local.profile, local.rays);
-            if (gathers) radiance += throughput * beam_in_scattering(ray, t_end, rng);
-            break;
-        }
-        if (v.escaped()) {
-            radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
-            if (march && !(max_depth >= 0 && depth + 1 > max_depth))
-                radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng);
-            if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng);
-            break;
-        }
-        if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
-        if (max_depth >= 0 && depth + 1 > max_depth) break;
-        if (march) {
-            // The medium's in-scattering along this segment comes from the march; the collision
-            // sampled above only decides whether the path reaches the surface behind (probability T).
-            radiance += throughput * march_in_scattering(ray, t_end, depth, rng);
-            if (event) break;
-        }
-        if (beam) {   // the same rule with the whole segment in one query
-            radiance += throughput * beam_in_scattering(ray, t_end, rng);
-            if (event) break;
-        }
-        if (event) {
-            const Vec3 x = ray.at(event.t);
-            const Medium& m = *event.medium;
-            const Rgb weight = throughput * m.albedo();
-            if ((weight == 0.0).all()) break;
-            const bool nee = settings_.direct == DirectLighting::nee;
-            const double sigma_t = total_sigma_t(scene_, x);
-            auto& local = threads_->local.local();
-            // The query draws no random numbers, so it runs first: a path that goes on from x
-            // weighs its NEE against the bounce (render.mis) like the path tracer's
-            // (transport/single_scattering.h); one that ends on the map weighs it 1.
-            BoundedEstimate b;
-            if (sigma_t > 0.0) b = bounded_in_scattering(x, -ray.dir, m.g(), sigma_t, local.buffers, &local.stats);
-            const bool goes_on = b.rule == BoundedQuery::continue_path;
-            if (nee) {
-                if (segment) {
-                    const SegmentPoint at{&*segment, event.t, segment->free_flight_density_at(event.t, m.sigma_t(x))};
-                    radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng, &at);
-                } else {
-                    radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng);
-                }
-                ++local.rays;
-            }
-            if (!(sigma_t > 0.0) || b.rule == BoundedQuery::zero) break;
-            if (goes_on) {   // too few photons: scatter and go on
-                ++local.continued;
-                if (!nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, settings_.walk.mis);
-                throughput = weight;
-                const double u1 = rng.uniform(), u2 = rng.uniform();
-                const Vec3 wo = hg_sample(ray.dir, m.g(), u1, u2);
-                emission = continued_emission(settings_.walk.mis, x, ray.dir, wo, m.g());
-                ray = Ray{x, wo};
-                if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
-                continue;
-            }
-            radiance += weight * normalised(b.estimate, x, -ray.dir, m.g(), b.radius, sigma_t, local.buffers, local.linear_weights) /
-                        region_share(x, b.estimate.radius);
-            ++local.map_used;
-            break;
-        }
-        if (hit.specular) {   // mirror or glass (transport/specular_step.h): on to the chain's next vertex
-            if (!camera_specular_step(hit, ray, throughput, emission, depth + 1, settings_.walk.rr_depth, rng)) break;
-            region = region_after_specular(region, hit, ray.dir);
-            continue;
-        }
-        if ((hit.reflectance == 0.0).all()) break;
-        // The surface photon map gives the light the path would gather. A map of fewer than k photons
-        // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
-        const PhotonMap* surface_map = surface_map_here();
-        if (surface_map && surface_map->size() >= k_) {
-            if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
-            auto& local = threads_->local.local();
-            const Estimate<Rgb> e = estimate_surface_irradiance(*surface_map, hit.position, hit.normal,
-                                                                surface_estimator_, k_, max_radius_, local.buffers, &local.surface_stats);
-            radiance += throughput * hit.reflectance * (e.value / kPi);
-            ++local.map_used;
-            break;
-        }
-        radiance += throughput * direct_light_on_surface(scene_, hit, rng, settings_.walk.mis);
-        throughput *= hit.reflectance;
-        ray = diffuse_bounce(hit, rng);
-        emission = EmissionWeighting::after(settings_.walk.mis, hit.position, std::max(0.0, ray.dir.dot(hit.normal)) * kInvPi);
-        if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
-    }
-    return radiance;
-}
-
-Rgb PhotonMapIntegrator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec3& w_o, double g, double max_radius,
-                                    double sigma_t, GatherBuffers& buffers, std::vector<Rgb>& scratch) const {
-    // S estimates sigma_t times the incident radiance. The ball can miss every quadrature point's
-    // smoke only if it is tiny; then use the point.
-    if (settings_.extinction == ExtinctionNormalisation::point || !(s.radius > 0.0)) return s.value / sigma_t;
-    const bool linear = settings_.extinction == ExtinctionNormalisation::linear;
-    if (leaves_half_out() && s.kind == EstimateCase::knn) {
-        // photon/estimate/group_estimate.h: the list was gathered with gather_count() neighbours; rarely more are needed.
-        size_t found = buffers.list.size();
-        const PhotonMap& map = volume_map_here();
-        bool complete = found < gather_count() || found == map.size();
-        for (;;) {
-            const GroupEstimate e = leave_half_out(buffers, found, complete, k_, max_radius, map, x, threads_->ball, linear,
-                                                   &threads_->local.local().lookups, volume_estimator_.radius_scale());
-            if (e.used) {
-                if (e.linear_fell_back) ++threads_->local.local().linear_fallbacks;
-                return e.value;
-            }
-            if (e.want == 0) break;   // no finite ball for some half: the plain estimate below
-            found = map.knn(x, e.want, max_radius, buffers.list);
-            complete = found < e.want || found == map.size();
-            if (buffers.w.size() < found) {
-                buffers.w.resize(found);
-                buffers.d2.resize(found);
-            }
-            for (size_t i = 0; i < found; ++i) {
-                buffers.w[i] = hg_eval(buffers.list[i].direction.dot(w_o), g) * buffers.list[i].power;
-                buffers.d2[i] = buffers.list[i].d2;
-            }
-        }
-    }
-    if (linear) {
-        const BallMoments m = threads_->ball.moments(x, s.radius, &threads_->local.local().lookups);
-        if (m.m0 > 0.0)
-            return linear_estimate(s, volume_estimator_, buffers, volume_map_here(), x, m, scratch, &threads_->local.local().linear_fallbacks);
-        return s.value / sigma_t;
-    }
-    const double ball = threads_->ball.mean(x, s.radius, &threads_->local.local().lookups);
-    return s.value / (ball > 0.0 ? ball : sigma_t);
-}
-
-void PhotonMapIntegrator::with_fresh_counters(const std::function<void()>& f) {
-    std::unique_ptr<ThreadState> run = std::move(threads_);
-    threads_ = std::make_unique<ThreadState>(run->ball);
-    f();
-    threads_ = std::move(run);
-}
-
-CountedOperations PhotonMapIntegrator::counted_operations() const {
+CountedOperations counted_operations(const CounterSet& counters) {
     CountedOperations c;
-    for (const auto& l : threads_->local) {
-        c.queries += double(l.stats.queries + l.surface_stats.queries + l.decisions);
+    for (const auto& l : counters) {
+        c.queries += double(l.estimates.stats.queries + l.surface_stats.queries + l.estimates.decisions);
         c.rays += double(l.rays);
-        c.lookups += double(l.lookups);
+        c.lookups += double(l.estimates.lookups);
         c.march_weight_max = std::max(c.march_weight_max, l.march_weight_max);
         c.map_used += double(l.map_used);
     }
     return c;
 }
 
-bool PhotonMapIntegrator::leaves_half_out() const { return settings_.leaves_group_out(); }
+bool PhotonMapIntegrator::volume_map_starved() const { return map_->size() < k_; }
 
-size_t PhotonMapIntegrator::gather_count() const { return leaves_half_out() ? leave_half_out_gather(k_) : k_; }
-
-PhotonMapIntegrator::BoundedEstimate PhotonMapIntegrator::bounded_in_scattering(const Vec3& x, const Vec3& w_o, double g,
-                                                                             double sigma_t, GatherBuffers& buffers,
-                                                                             EstimatorStats* stats) const {
-    BoundedEstimate b;
-    b.radius = bounded_radius(max_radius_, settings_.max_radius_mfp, sigma_t);
-    if (volume_map_starved()) {
-        b.rule = BoundedQuery::continue_path;
-        return b;
-    }
-    if (decision_map_ && b.radius < max_radius_) {
-        // Decided apart (photon/estimate/bounded_radius.h): k photons of the decision map within the bound,
-        // scaled to its density, and the estimate is the map's unbounded kNN estimate.
-        const DecisionBall d = decision_ball(b.radius);
-        if (!decision_cells_.surely_holds(x, d.radius, d.k)) {
-            ++threads_->local.local().decisions;
-            if (decision_map_->knn(x, d.k, d.radius, buffers.list) < d.k) {
-                b.rule = BoundedQuery::continue_path;
-                return b;
-            }
-        }
-        b.radius = max_radius_;
-    }
-    b.estimate = estimate_in_scattering(volume_map_here(), x, w_o, g, volume_estimator_, k_, b.radius, buffers, stats, gather_count());
-    if (b.radius < max_radius_) b.rule = bounded_query(b.estimate, k_);   // the mean-free-path bound is in force
-    return b;
+PassMaps PhotonMapIntegrator::pass_maps(GatherMode gather, const PhotonMap& volume, const PhotonMap* surface,
+                                        double decision_ratio) const {
+    const DecisionMap decision{decision_map_, &decision_cells_, decision_ratio};
+    return PassMaps{VolumeEstimator{volume, decision, k_, volume_estimator_, max_radius_, settings_.max_radius_mfp,
+                                    settings_.extinction, settings_.leaves_group_out(), threads_->ball},
+                    surface, &surface_estimator_, k_, max_radius_, gather,
+                    gather_entry(gather).build ? segment_gather_.get() : nullptr};
 }
 
-bool PhotonMapIntegrator::volume_map_starved() const {
-    // A query needs k photons: a map of fewer than k (empty, thinned by store_probability, a tiny
-    // count, or k above the stored count) has no kNN ball anywhere, bound or no bound. Without the
-    // bound (max_radius_mfp = 0) estimator rule (b) would use the whole map instead, at the cost of
-    // a pass over the map per query (k = 65536 over 55,265 photons ran for minutes).
-    return volume_map_here().size() < k_;
+double PhotonMapIntegrator::decision_ratio_for(double emitted) const {
+    return decision_emitted_ > 0.0 ? emitted / decision_emitted_ : decision_ratio_;
 }
 
-bool PhotonMapIntegrator::marches(const Ray& ray, double t_end) const {
-    switch (gather_) {
-        case Gather::collision: return false;
-        case Gather::march: return true;
-        case Gather::beam: return false;
-        case Gather::photon_beams: return false;
-        case Gather::threshold: break;
-    }
-    // gather = "threshold" (the default before the measured plan). Thin along this segment: every ray
-    // gathers at a few points. Thick: the collision gather puts its one query where the light is and
-    // bounds its ball in mean free paths, while the march's points, all a few mean free paths apart,
-    // would mostly take continued paths. The walk stops once the threshold is passed,
-    // so thick segments, the collision gather's, pay for a few majorant pieces only.
-    const double limit = settings_.march_max_optical_depth;
-    double depth = 0.0;
-    for (const auto& m : scene_.media) {
-        m->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
-            depth += mu * (tb - ta);
-            return depth <= limit;
-        });
-        if (depth > limit) return false;
-    }
-    return true;
+void PhotonMapIntegrator::build_segment_gather(std::ostream* log, RunStats* stats) {
+    const GatherEntry& entry = gather_entry(settings_.gather);
+    SegmentGatherInputs inputs{scene_, settings_, *map_, owned_.beams, k_, max_radius_, beam_scale_};
+    segment_gather_ = entry.build(inputs);
+    segment_gather_->report_build(stats, log);
+    gather_ = segment_gather_->usable() ? entry.mode : GatherMode::march;
 }
 
-Rgb PhotonMapIntegrator::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng, double* optical_depth) const {
-    // Per medium, m stratified points with the free-flight density of its exact extinction
-    // (transport/march_points.h): each weighs albedo P / m times the other media's transmittance,
-    // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field; m = n or fewer where
-    // P is small (photons.march_points, transport/march_count.h).
-    const int n = settings_.gather_queries;
-    auto& local = threads_->local.local();
-    Rgb sum = Rgb::Zero();
-    // With direct = "nee" every point takes NEE: point and spot lights are also sampled equiangularly
-    // along the segment, each point's NEE to them weighted with the march's density there.
-    std::optional<EquiangularSegment> segment;
-    std::vector<MarchMass> masses;
-    if (settings_.walk.equiangular && settings_.direct == DirectLighting::nee) {
-        segment.emplace(scene_, ray, t_end);
-        if (segment->empty())
-            segment.reset();
-        else
-            masses.assign(scene_.media.size(), MarchMass{});
-    }
-    // The profile counts as one tracked segment per point, like each other medium's.
-    for_each_march_point(scene_, ray, t_end, n, settings_.march_points, rng, scene_.media.size(), local.rays,
-                         [&](const Medium& medium, double t, double others, MarchMass mass) {
-                             // Relative to the weight in the medium alone.
-                             local.march_weight_max = std::max(local.march_weight_max, others);
-                             local.march_weight_sum += others;
-                             ++local.march_points;
-                             const Vec3 x = ray.at(t);
-                             const Rgb weight = (others * mass.mass / mass.divisor) * medium.albedo();
-                             if (!segment) {
-                                 sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, rng);
-                                 return;
-                             }
-                             const double tau = segment->medium_depth(segment->medium_index(medium), t);
-                             const SegmentPoint at{&*segment, t, march_density(mass, medium.sigma_t(x), tau)};
-                             sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight,
-                                                                     depth, rng, &at);
-                         },
-                         optical_depth, segment ? masses.data() : nullptr);
-    if (segment)
-        sum += segment->in_scattering(rng, local.rays, [&](size_t i, double sigma_t, double tau_m, double) {
-            return march_density(masses[i], sigma_t, tau_m);
-        });
-    return sum;
-}
-
-Rgb PhotonMapIntegrator::incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t,
-                                                 const Rgb& weight, int depth, Rng& rng, const SegmentPoint* at) const {
-    const bool nee = settings_.direct == DirectLighting::nee;
-    Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
-    auto& local = threads_->local.local();
-    // The collision gather's bound and rule (photon/estimate/bounded_radius.h) here: a ball spanning many mean
-    // free paths averages the lit skin of a dense medium with its dark inside (biased low), so where
-    // fewer than k photons lie within the bound the point takes the light a path would find instead,
-    // NEE and one phase-sampled continuation, both unbiased for the same incident radiance; where
-    // exactly k - 1 do, it takes 0, whose mass the k-1 correction already counts on the kNN side.
-    // The choice depends on x and the map only; the query draws no random numbers, so NEE, weighted
-    // as transport/single_scattering.h says, follows it.
-    const BoundedEstimate b = bounded_in_scattering(x, -dir, g, sigma_t, local.buffers, &local.stats);
-    const bool wide = b.rule == BoundedQuery::continue_path;
-    if (nee) {
-        in += single_scattering(x, dir, g, wide, rng, at);
-        ++local.rays;
-    }
-    if (b.rule == BoundedQuery::zero) return in;
-    if (wide) {
-        ++local.march_wide;
-        if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis);
-        ++local.rays;
-        // Roulette on the point's weight: where it is small, so is the chance of paying for a path.
-        const double q = std::min(1.0, weight.maxCoeff());
-        if (rng.uniform() < q) {
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            const Vec3 wo = hg_sample(dir, g, u1, u2);
-            in += trace(Ray{x, wo}, depth + 1, rng, continued_emission(settings_.walk.mis, x, dir, wo, g)) / q;
-        }
-        return in;
-    }
-    ++local.map_used;
-    return in + normalised(b.estimate, x, -dir, g, b.radius, sigma_t, local.buffers, local.linear_weights) /
-                    region_share(x, b.estimate.radius);
-}
-
-void PhotonMapIntegrator::retire_beam() {
-    if (!beam_) return;
-    const BeamGatherStats b = beam_->stats();
-    beam_before_.radii_seconds += b.radii_seconds;
-    beam_before_.bvh_seconds += b.bvh_seconds;
-    beam_before_.queries += b.queries;
-    beam_before_.crossed += b.crossed;
-    beam_before_.tracking_lookups += b.tracking_lookups;
-    beam_.reset();
-}
-
-void PhotonMapIntegrator::build_beam(std::ostream* log, RunStats* stats) {
-    retire_beam();
-    beam_ = std::make_unique<BeamGather>(scene_, *map_, size_t(settings_.beam_k), settings_.estimator.kernel(), max_radius_,
-                                         settings_.max_radius_mfp, beam_scale_);
-    const BeamGatherStats b = beam_->stats();
-    if (stats) {
-        stats->phase("build_radii", b.radii_seconds);
-        stats->phase("build_beam_bvh", b.bvh_seconds);
-    }
-    // A map of at most beam_k photons has no disc: its segments gather like "march", whose points
-    // take NEE and a continued path where the map is starved (unbiased, and every segment still
-    // gets its single scattering by NEE, as the beam's would).
-    gather_ = beam_->usable() ? Gather::beam : Gather::march;
-    if (log) {
-        *log << "beam: radii (beam_k = " << b.k << ") " << b.radii_seconds << " s, BVH over " << b.photons << " discs "
-             << b.bvh_seconds << " s; " << b.total_bytes_per_photon << " bytes/photon (map " << b.map_bytes_per_photon
-             << " + BVH " << b.bvh_bytes_per_photon << ")\n";
-        if (!beam_->usable() && scene_.has_media())
-            *log << "warning: photons.beam_k = " << b.k << " is not below the " << map_->size()
-                 << " volume photons stored: no photon has a beam_k-th neighbour, so this pass gathers like \"march\"\n";
-    }
-}
-
-void PhotonMapIntegrator::retire_photon_beams() {
-    if (!photon_beams_) return;
-    const PhotonBeamGatherStats b = photon_beams_->stats();
-    photon_beams_before_.widths_seconds += b.widths_seconds;
-    photon_beams_before_.bvh_seconds += b.bvh_seconds;
-    photon_beams_before_.queries += b.queries;
-    photon_beams_before_.crossed += b.crossed;
-    photon_beams_before_.tested += b.tested;
-    photon_beams_before_.starved += b.starved;
-    photon_beams_before_.tracking_lookups += b.tracking_lookups;
-    photon_beams_.reset();
-}
-
-void PhotonMapIntegrator::build_photon_beams(std::ostream* log, RunStats* stats) {
-    retire_photon_beams();
-    photon_beams_ = std::make_unique<PhotonBeamGather>(scene_, std::move(owned_.beams), settings_.beam_widths, k_,
-                                                       std::string(settings_.estimator.name()) == "classic",
-                                                       settings_.estimator.kernel(), max_radius_);
-    owned_.beams.clear();
-    const PhotonBeamGatherStats b = photon_beams_->stats();
-    if (stats) {
-        if (settings_.beam_widths == BeamWidths::sample_point) stats->phase("build_beam_widths", b.widths_seconds);
-        stats->phase("build_photon_beam_bvh", b.bvh_seconds);
-    }
-    // No beam at all (no media, or every flight outside them): the segments gather like "march".
-    gather_ = photon_beams_->usable() ? Gather::photon_beams : Gather::march;
-    if (log) {
-        *log << "photon_beams: " << b.beams << " beams, widths \"" << b.widths << "\" (k = " << b.k << ", "
-             << settings_.estimator.label() << " in 1D)";
-        if (settings_.beam_widths == BeamWidths::sample_point) *log << ", widths " << b.widths_seconds << " s";
-        *log << ", BVH " << b.bvh_seconds << " s, " << b.bytes_per_beam << " bytes/beam\n";
-        if (!photon_beams_->usable() && scene_.has_media())
-            *log << "warning: no photon beam was recorded in the media, so this pass gathers like \"march\"\n";
-    }
-}
-
-Rgb PhotonMapIntegrator::beam_in_scattering(const Ray& ray, double t_end, Rng& rng) const {
-    Rgb l = gather_ == Gather::photon_beams ? photon_beams_->in_scattering(ray, t_end, rng) : beam_->in_scattering(ray, t_end, rng);
-    if (settings_.direct == DirectLighting::nee)
-        l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, threads_->local.local().rays,
-                                  settings_.walk.equiangular);
-    return l;
+void PhotonMapIntegrator::retire_segment_gather(RunStats& stats) {
+    if (!segment_gather_) return;
+    segment_gather_->add_to(stats, nullptr);
+    segment_gather_.reset();
 }
 
 void PhotonMapIntegrator::choose_gather(const PassContext& context) {
-    // Work units per counted operation, in nanoseconds of this machine's single-thread figures
-    // (docs/studies/photon_map_structure.md section 1, photon_tracing.md section 3): a kNN query 700 + 280 k (bench_photon_map: 2.9 us at k = 8,
-    // 8.3 at k = 32, 37 at k = 128), a tracked segment 1000 in grids (about one real collision
-    // of delta tracking plus the DDA) and 100 in homogeneous media (closed forms), a sigma_t
-    // lookup of the ball quadrature 50. Only their ratios matter, and only between candidates
-    // whose variance x cost differ by less than the error of these weights.
+    // Work units per counted operation, in nanoseconds of single-thread work (fitted to bench_photon_map
+    // and the photon tracer's benchmarks, BENCHMARKS.md): a kNN query 700 + 280 k, a tracked segment 1000
+    // in grids (about one real collision of delta tracking plus the DDA) and 100 in homogeneous media
+    // (closed forms), a sigma_t lookup of the ball quadrature 50. Only their ratios matter, and only
+    // between candidates whose variance x cost differ by less than the error of these weights.
     bool grids = false;
     for (const auto& m : scene_.media) grids = grids || !dynamic_cast<const HomogeneousMedium*>(m.get());
     const double w_query = 700.0 + 280.0 * double(k_), w_ray = grids ? 1000.0 : 100.0, w_lookup = 50.0;
     constexpr int kSide = 8, kSamples = 16;
     constexpr int kRays = kSide * kSide;
-    const Gather candidates[] = {Gather::collision, Gather::march, Gather::threshold};
+    const GatherMode candidates[] = {GatherMode::collision, GatherMode::march, GatherMode::threshold};
     GatherPilotStats pilot = pilot_ ? *pilot_ : GatherPilotStats{};
     pilot.candidates = {"collision", "march", "auto"};
     pilot.variance.assign(3, 0.0);
     pilot.cost.assign(3, 0.0);
 
-    // The pilot's queries are not the run's: its counters are put back afterwards.
-    struct Counts {
-        EstimatorStats stats, surface_stats;
-        uint64_t continued, march_wide, rays, lookups;
-        double weight_max, weight_sum;
-        uint64_t points;
-    };
-    std::map<const ThreadState::Local*, Counts> saved;
-    for (auto& l : threads_->local)
-        saved[&l] = {l.stats, l.surface_stats, l.continued, l.march_wide, l.rays, l.lookups, l.march_weight_max, l.march_weight_sum, l.march_points};
-    auto totals = [&](uint64_t& queries, uint64_t& rays, uint64_t& lookups) {
+    // Each candidate's work is counted apart from the run's, on counters of its own.
+    auto totals = [](const CounterSet& counters, uint64_t& queries, uint64_t& rays, uint64_t& lookups) {
         queries = rays = lookups = 0;
-        for (const auto& l : threads_->local) {
-            queries += l.stats.queries + l.surface_stats.queries;
+        for (const auto& l : counters) {
+            queries += l.estimates.stats.queries + l.surface_stats.queries;
             rays += l.rays;
-            lookups += l.lookups;
+            lookups += l.estimates.lookups;
         }
     };
     const Camera& camera = scene_.camera;
@@ -944,16 +436,16 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
     std::vector<double> variance(kRays);
     int chosen = 0;
     for (int c = 0; c < 3; ++c) {
-        gather_ = candidates[c];
-        uint64_t q0, r0, l0, q1, r1, l1;
-        totals(q0, r0, l0);
+        const PassMaps maps = pass_maps(candidates[c], *map_, surface_map_, decision_ratio_);
+        const CameraPath path(scene_, settings_, maps, both_strategies_);
+        CounterSet counters;
         tbb::parallel_for(0, kRays, [&](int j) {
             Rng rng(seed, context.stream_offset * uint64_t(kRays) + uint64_t(j));
             double mean = 0.0, m2 = 0.0;
             for (int s = 0; s < kSamples; ++s) {
                 const double x = (j % kSide + rng.uniform()) / kSide * camera.width();
                 const double y = (j / kSide + rng.uniform()) / kSide * camera.height();
-                const Rgb l = trace(camera.generate_ray(x, y), 0, rng);
+                const Rgb l = path.trace(camera.generate_ray(x, y), 0, rng, counters.local());
                 const double v = all_finite(l) ? 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2] : 0.0;
                 const double d = v - mean;
                 mean += d / (s + 1);
@@ -961,11 +453,12 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
             }
             variance[size_t(j)] = m2 / (kSamples - 1);
         });
-        totals(q1, r1, l1);
+        uint64_t queries, rays, lookups;
+        totals(counters, queries, rays, lookups);
         double v = 0.0;
         for (double x : variance) v += x;
         pilot.variance[size_t(c)] = v / kRays;
-        pilot.cost[size_t(c)] = (w_query * double(q1 - q0) + w_ray * double(r1 - r0) + w_lookup * double(l1 - l0)) / (kRays * kSamples);
+        pilot.cost[size_t(c)] = (w_query * double(queries) + w_ray * double(rays) + w_lookup * double(lookups)) / (kRays * kSamples);
     }
     // Least variance x cost; with no variance anywhere (nothing lit in view), least cost.
     for (int c = 1; c < 3; ++c) {
@@ -978,19 +471,6 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
     pilot.chosen_count.resize(3, 0);
     ++pilot.chosen_count[size_t(chosen)];
     pilot_ = pilot;
-    for (auto& l : threads_->local) {
-        const auto it = saved.find(&l);
-        const Counts k = it != saved.end() ? it->second : Counts{};
-        l.stats = k.stats;
-        l.surface_stats = k.surface_stats;
-        l.continued = k.continued;
-        l.march_wide = k.march_wide;
-        l.rays = k.rays;
-        l.lookups = k.lookups;
-        l.march_weight_max = k.weight_max;
-        l.march_weight_sum = k.weight_sum;
-        l.march_points = k.points;
-    }
     if (context.log && context.first_of_run) {
         *context.log << "gather: the pilot chose \"" << pilot.chosen << "\" (pilot, " << kRays << " rays x " << kSamples
                      << " samples: variance x cost";
@@ -1024,14 +504,17 @@ std::unique_ptr<IntegratorSettings> read_auto_integrator_settings(Params& render
     Params photons = root.table("photons");
     s->settings = PhotonMapSettings::read(render, photons, true);
     photons.finish();
-    // The plan chooses between the path tracer and the map's collision or march gather: a gather
-    // that is chosen otherwise ("pilot", "threshold", "beam") cannot be honoured with it.
+    // The plan chooses between the path tracer and the gathers its pilot measures: a gather that is
+    // chosen otherwise cannot be honoured with it.
     const GatherMode g = s->settings.gather;
-    if (render.string("integrator", "path") == "auto" && g != GatherMode::automatic && g != GatherMode::collision &&
-        g != GatherMode::march)
+    if (render.string("integrator", "path") == "auto" && g != GatherMode::automatic && !gather_entry(g).plan_measures) {
+        std::string allowed = "\"auto\"";
+        for (const GatherEntry& e : gather_entries())
+            if (e.plan_measures) allowed += std::string(", \"") + e.name + "\"";
         photons.fail("gather", "render.integrator = \"auto\" chooses between the path tracer and the photon map's "
-                               "\"collision\" or \"march\" gather: photons.gather must be \"auto\", \"collision\" or "
-                               "\"march\" with it (or set render.integrator = \"photon_map\")");
+                               "gathers its pilot measures: photons.gather must be " + allowed +
+                               " with it (or set render.integrator = \"photon_map\")");
+    }
     return s;
 }
 

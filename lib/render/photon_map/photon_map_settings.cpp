@@ -7,11 +7,23 @@
 #include "config/params.h"
 #include "photon/estimate/radius_schedule.h"
 #include "core/sampler_registry.h"
-#include "render/photon_map/photon_beam_gather.h"
+#include "render/photon_map/gathers/photon_beams_gather.h"
 
 namespace vpm {
 
 namespace {
+
+// photons.gather from the gather registry (render/photon_map/gathers/gather_registry.h); an old name
+// is accepted with a note on stderr.
+GatherMode read_gather(Params& p, GatherMode fallback) {
+    std::vector<std::pair<std::string, GatherMode>> allowed;
+    for (const GatherEntry& e : gather_entries()) allowed.emplace_back(e.name, e.mode);
+    for (const GatherAlias& a : gather_aliases()) allowed.emplace_back(a.name, a.mode);
+    if (const toml::node* g = p.node("gather"))
+        for (const GatherAlias& a : gather_aliases())
+            if (g->value<std::string>().value_or("") == a.name) std::cerr << "note: " << p.where("gather") << ": " << a.note << "\n";
+    return p.choice("gather", fallback, allowed);
+}
 
 // A number in (0, 1] or "auto" (photon/trace/store_thinning.h).
 void read_store_probability(Params& p, PhotonMapSettings& s) {
@@ -95,7 +107,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     if (size_t(s.k) < s.estimator.min_k())
         p.fail("k", std::string("the ") + s.estimator.name() + " estimator needs k >= " +
                         std::to_string(s.estimator.min_k()) +
-                        (std::string(s.estimator.name()) == "corrected" ? " (it drops the k-th photon)" : ""));
+                        (s.estimator.traits().min_k_reason ? std::string(" (") + s.estimator.traits().min_k_reason + ")" : ""));
     if (const std::string w = s.estimator.warning(size_t(s.k)); !w.empty() && !chooses_integrator)
         std::cerr << "warning: " << p.where("k") << ": " << w << "\n";
     s.direct = p.choice("direct", s.direct, {{"nee", DirectLighting::nee}, {"photon_map", DirectLighting::photon_map}});
@@ -110,17 +122,17 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
-    s.gather = p.choice("gather", s.gather, {{"collision", GatherMode::collision}, {"march", GatherMode::march}, {"auto", GatherMode::automatic}, {"pilot", GatherMode::pilot}, {"threshold", GatherMode::threshold}, {"point_beam", GatherMode::beam}, {"beam", GatherMode::beam}, {"photon_beams", GatherMode::photon_beams}});
-    if (const toml::node* g = p.node("gather"); g && g->value<std::string>().value_or("") == "beam")
-        std::cerr << "note: " << p.where("gather") << ": \"beam\" is the old name of \"point_beam\" (the beam radiance "
-                     "estimate over photon points); \"photon_beams\" is the photon-beams gather (docs/photon_beams.md)\n";
+    s.gather = read_gather(p, s.gather);
     s.beam_widths = p.choice("beam_widths", BeamWidths::balloon,
                              {{"balloon", BeamWidths::balloon}, {"sample_point", BeamWidths::sample_point}});
     if (s.gather == GatherMode::photon_beams) {
-        const std::string e = s.estimator.name();
-        if (e != "classic" && e != "corrected")
-            p.fail("estimator", "photons.gather = \"photon_beams\" takes \"classic\" or \"corrected\" (the k-th beam "
-                                "weighed or not), not \"" + e + "\"");
+        if (!s.estimator.traits().photon_beams) {
+            std::string allowed;
+            for (const Estimator& e : Estimator::all())
+                if (e.traits().photon_beams) allowed += (allowed.empty() ? "\"" : ", \"") + std::string(e.name()) + "\"";
+            p.fail("estimator", "photons.gather = \"photon_beams\" takes " + allowed + " (the k-th beam weighed or not), not \"" +
+                                    s.estimator.name() + "\"");
+        }
         if (s.forced_collisions)
             p.fail("forced_collisions", "must be false with photons.gather = \"photon_beams\" (its beams are the "
                                         "photons' free flights, which forced collisions replace)");
@@ -131,8 +143,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     // single candidate: the gather stays the user's); the other gathers are not measured by the pilot.
     if (s.plan_sizes_passes() && s.time_limit > 0.0) {
         // A key the user sets is honoured: photons.count pins the photons per pass, render.spp and
-        // render.passes the samples per pass (spp / passes). Unset, the plan sizes them (a
-        // thin blob sized at 4 s had 0.17 relative RMSE against 0.52 at 64 samples per pass).
+        // render.passes the samples per pass (spp / passes). Unset, the plan sizes them.
         s.size_photons = !s.count_given;
         s.size_samples = !s.passes_given && !render.has("spp");
     }
@@ -164,7 +175,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
 }
 
 bool PhotonMapSettings::leaves_group_out() const {
-    return clustering == Clustering::leave_group_out && std::string(estimator.name()) == "corrected" &&
+    return clustering == Clustering::leave_group_out && estimator.traits().leave_group_out &&
            estimator.kernel().is_constant() && extinction != ExtinctionNormalisation::point;
 }
 

@@ -128,9 +128,9 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
                  << " regions (glass interfaces, scene/dielectric_regions.h), " << maps.surface_regions.memory_bytes() / 1e6 << " MB\n";
     }
     maps.volume_regions = split(traced.photons, traced.photon_regions);
-    const bool beam_gather = ps.gather == GatherMode::beam || ps.gather == GatherMode::photon_beams;
+    const bool beam_gather = ps.gather == GatherMode::point_beam || ps.gather == GatherMode::photon_beams;
     if (context.first_of_run && beam_gather && scene.surfaces && !scene.surfaces->dielectric_shapes().empty())
-        stats.warn(std::string("photons.gather = \"") + (ps.gather == GatherMode::beam ? "beam" : "photon_beams") +
+        stats.warn(std::string("photons.gather = \"") + (ps.gather == GatherMode::point_beam ? "point_beam" : "photon_beams") +
                        "\" gathers photons from both sides of a glass interface (its discs and beams are not split by "
                        "region, docs/interface_regions.md); \"collision\" and \"march\" are",
                    context.log);

@@ -33,8 +33,8 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& settings
 
 // The auto plan's pilot map where photons.count is not given (render/photon_map/auto_gather.cpp): photons.count
 // photons, or fewer where walks store many photons each, so that it holds about kPilotStoredPhotons
-// (in a box at optical thickness 100, albedo 0.99, 1e5 photons stored 1.35 M: a trace and a build
-// of 1.4 s, most of a 2 s budget, before the pilot could find that no map pays there). A probe of
+// (in a dense, bright medium a walk stores tens of photons, and tracing and building the full map
+// could take most of a short budget before the pilot finds that no map pays there). A probe of
 // one batch, with a seed of its own, measures the volume photons stored per emitted one; the map is traced
 // apart from it, as a count chosen on the photons it then normalises would bias them.
 constexpr double kPilotStoredPhotons = 262144.0;

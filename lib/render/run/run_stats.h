@@ -11,9 +11,9 @@
 #include "photon/estimate/estimators.h"
 #include "photon/trace/photon_tracer.h"
 #include "render/plan/pass_plan.h"
-#include "render/photon_map/beam_gather_stats.h"
+#include "render/photon_map/gathers/point_beam_gather_stats.h"
 #include "render/photon_map/photon_map_settings.h"
-#include "render/photon_map/photon_beam_gather_stats.h"
+#include "render/photon_map/gathers/photon_beams_gather_stats.h"
 #include "render/run/render_loop.h"
 
 namespace vpm {
@@ -160,8 +160,8 @@ struct RunStats {
     std::optional<PassRadiiStats> pass_radii;          // photon map: photons.schedule per pass
     std::optional<GatherPilotStats> gather_pilot;      // gather = "pilot"
     std::optional<AutoGatherStats> auto_gather;        // gather = "auto"
-    std::optional<BeamGatherStats> beam;               // gather = "beam": memory, build, queries
-    std::optional<PhotonBeamGatherStats> photon_beams; // gather = "photon_beams": beams, build, queries
+    std::optional<PointBeamGatherStats> beam;               // gather = "beam": memory, build, queries
+    std::optional<PhotonBeamsGatherStats> photon_beams; // gather = "photon_beams": beams, build, queries
     // March points' weights relative to their value where the majorant is exact (T sigma_t /
     // (mu e^-tau_mu) = 1 in homogeneous media): the largest and the mean, over the camera pass.
     std::optional<double> march_weight_max, march_weight_mean;

@@ -31,6 +31,27 @@ TEST(Estimators, NamesParseValidateWarn) {
     EXPECT_THROW(ball_volume(4, 1.0), Error);
 }
 
+// The traits agree with the formulas: the classic sum keeps the k-th neighbour, and a unit-weight
+// estimate counts k photons exactly when it does (unit_weight_count); the forms the renderer
+// combines with photon beams and leave-group-out are the unshrunk sums.
+TEST(Estimators, TraitsAgreeWithTheFormulas) {
+    for (const Estimator& e : Estimator::all()) {
+        const double k = 8.0;
+        EXPECT_EQ(e.traits().keeps_kth, e.entry().unit_weight_count(8) == k) << e.name();
+        const bool unshrunk = e.entry().unit_weight_count(8) >= k - 1.0;
+        if (e.traits().photon_beams || e.traits().leave_group_out) {
+            EXPECT_TRUE(unshrunk) << e.name();
+        }
+        if (e.traits().leave_group_out) {
+            EXPECT_FALSE(e.traits().keeps_kth) << e.name();
+        }
+    }
+    EXPECT_TRUE(Estimator::named("classic").traits().photon_beams);
+    EXPECT_TRUE(Estimator::named("corrected").traits().photon_beams);
+    EXPECT_TRUE(Estimator::named("corrected").traits().leave_group_out);
+    EXPECT_FALSE(Estimator::named("mse_optimal").traits().photon_beams);
+}
+
 // Distinct weights: which photon is dropped is visible in the value.
 TEST(Estimators, ExactFormulasDropTheFarthest) {
     const double w[5] = {1, 2, 4, 8, 16};

@@ -55,7 +55,7 @@ TEST(Kernels, RegistryNamesParametersLabels) {
 // The registry's closed-form normalisations equal the quadrature mean of the profile over the
 // unit disc / ball, except Jensen's Gaussian, whose alpha = 0.918 leaves it at M_2 = 0.5312:
 // the follow-up's 46.9% underestimate.
-// The 1D normalisation of photon beams (render/photon_map/photon_beam_gather.h): n_1 = int_0^1 K dt
+// The 1D normalisation of photon beams (render/photon_map/gathers/photon_beams_gather.h): n_1 = int_0^1 K dt
 // in closed form equals the quadrature, so the weight integrates to 1 over [-r, r] (2 r in all).
 TEST(Kernels, OneDimensionalNormalisationIntegratesToOne) {
     for (const Kernel& k : kernels()) {

@@ -1,4 +1,4 @@
-// photons.gather = "beam" (render/photon_map/beam_gather.h): the beam radiance estimate in the renderer.
+// photons.gather = "beam" (render/photon_map/gathers/point_beam_gather.h): the beam radiance estimate in the renderer.
 // - Uniform furnace: unbiased for beam_k = 2, 8, 32 within 3 standard errors over independent
 //   photon maps (docs/beam_estimate.md: a sample-point estimate has no k-1 factor).
 // - Thin cube against the path tracer: within 3 combined standard errors plus the smoothing and
@@ -24,7 +24,7 @@
 
 using namespace vpm;
 
-TEST(BeamGather, FurnaceIsUnbiasedForEveryK) {
+TEST(PointBeamGather, FurnaceIsUnbiasedForEveryK) {
     // All light through the map (direct = "photon_map"), no radius bound: the pure beam estimate.
     // The maps' noise dominates (photons of one random walk are clustered), so the k's share each
     // map: their paired ratios are far more precise than the means and must be 1 as well.
@@ -32,7 +32,7 @@ TEST(BeamGather, FurnaceIsUnbiasedForEveryK) {
                                              {"render.width=16", "render.height=16", "photons.count=10000",
                                               "photons.gather=\"beam\""});
     PhotonMapSettings ps = photon_map_settings(config);
-    ASSERT_EQ(ps.gather, GatherMode::beam);
+    ASSERT_EQ(ps.gather, GatherMode::point_beam);
     const double env = config.scene->escaped_radiance(Vec3::UnitZ())[1];
     const int ks[] = {2, 8, 32};
     std::vector<test::Sample> s(3), ratio(3);
@@ -46,7 +46,7 @@ TEST(BeamGather, FurnaceIsUnbiasedForEveryK) {
         for (int i = 0; i < 3; ++i) {
             ps.beam_k = ks[i];
             const PhotonMapIntegrator integrator(*config.scene, ps, map);
-            ASSERT_EQ(integrator.gather(), PhotonMapIntegrator::Gather::beam);
+            ASSERT_EQ(integrator.gather(), GatherMode::point_beam);
             m[i] = test::image_mean(config, integrator, 31 + uint64_t(r), 1) / env;
             s[size_t(i)].add(m[i]);
         }
@@ -66,7 +66,7 @@ TEST(BeamGather, FurnaceIsUnbiasedForEveryK) {
     }
 }
 
-TEST(BeamGather, ThinCubeMatchesThePathTracer) {
+TEST(PointBeamGather, ThinCubeMatchesThePathTracer) {
     auto brightness = [](const std::vector<std::string>& sets, int repeats) {
         std::vector<std::string> all = {"render.width=16", "render.height=16", "photons.count=20000"};
         all.insert(all.end(), sets.begin(), sets.end());
@@ -79,7 +79,7 @@ TEST(BeamGather, ThinCubeMatchesThePathTracer) {
     EXPECT_NEAR(beam.mean(), path.mean(), 3.0 * se + 0.03 * path.mean());
 }
 
-TEST(BeamGather, DefaultSceneMatchesThePathTracer) {
+TEST(PointBeamGather, DefaultSceneMatchesThePathTracer) {
     // The plume (a grid: ratio-tracked transmittance to every photon) on a floor with the surface
     // map. Measured here: beam 0.08314 +- 0.00032, path tracer 0.08236 +- 0.00028 (+0.9%; the beam's
     // radii come from beam_k = 32 other photons and smooth the plume).
@@ -95,7 +95,7 @@ TEST(BeamGather, DefaultSceneMatchesThePathTracer) {
     EXPECT_NEAR(beam.mean(), path.mean(), 3.0 * se + 0.03 * path.mean());
 }
 
-TEST(BeamGather, SameImageOnOneAndTwoThreadsInAGrid) {
+TEST(PointBeamGather, SameImageOnOneAndTwoThreadsInAGrid) {
     auto image = [](int threads) {
         RunOptions o;
         o.progress = false;
@@ -119,7 +119,7 @@ TEST(BeamGather, SameImageOnOneAndTwoThreadsInAGrid) {
                      j["bvh_bytes_per_photon"].get<double>() + j["map_bytes_per_photon"].get<double>());
 }
 
-TEST(BeamGather, BadKeysAreOneClearError) {
+TEST(PointBeamGather, BadKeysAreOneClearError) {
     auto error = [](const std::string& set) {
         try {
             RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml", {set});

@@ -1,11 +1,11 @@
 #pragma once
-// What the photon-beams gather (render/photon_map/photon_beam_gather.h) built and answered in a run.
+// What the photon-beams gather (render/photon_map/gathers/photon_beams_gather.h) built and answered in a run.
 #include <cstdint>
 #include <string>
 
 namespace vpm {
 
-struct PhotonBeamGatherStats {
+struct PhotonBeamsGatherStats {
     std::string widths;              // photons.beam_widths: "balloon" | "sample_point"
     uint64_t k = 0;                  // photons.k of the last pass (photons.schedule may shrink it)
     uint64_t beams = 0;              // beams in the BVH (last pass)

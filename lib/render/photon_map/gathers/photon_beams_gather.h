@@ -32,7 +32,8 @@
 #include "photon/estimate/kernels.h"
 #include "photon/map/photon_beam.h"
 #include "photon/map/photon_beam_bvh.h"
-#include "render/photon_map/photon_beam_gather_stats.h"
+#include "render/photon_map/gathers/photon_beams_gather_stats.h"
+#include "render/photon_map/gathers/segment_gather.h"
 #include "scene/scene.h"
 
 namespace vpm {
@@ -40,21 +41,23 @@ namespace vpm {
 enum class BeamWidths { balloon, sample_point };
 const char* beam_widths_name(BeamWidths w);
 
-class PhotonBeamGather {
+class PhotonBeamsGather : public SegmentGather {
 public:
     // keep_kth: the classic numerator (the k-th beam weighed) rather than the corrected's (balloon
     // only). max_width: kInfinity for none.
-    PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k, bool keep_kth,
+    PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k, bool keep_kth,
                      const Kernel& kernel, double max_width);
 
     // Whether any beam is in the BVH.
-    bool usable() const { return bvh_.size() > 0; }
+    bool usable() const override { return bvh_.size() > 0; }
     size_t beam_count() const { return beams_.size(); }
 
     // The in-scattered radiance from the beams along `ray` over (0, t_end); dir unit length.
-    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const;
+    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const override;
+    void report_build(RunStats* stats, std::ostream* log) const override;
+    void add_to(RunStats& run, std::ostream* log) const override;
 
-    PhotonBeamGatherStats stats() const;
+    PhotonBeamsGatherStats stats() const;
 
 private:
     struct Local {
@@ -72,7 +75,7 @@ private:
     double max_width_;
     std::vector<bool> exact_;
     PhotonBeamBvh bvh_;
-    PhotonBeamGatherStats built_;
+    PhotonBeamsGatherStats built_;
     mutable tbb::enumerable_thread_specific<Local> local_;
 
     Rgb scattering(const Vec3& x, double cos_theta) const;

@@ -1,29 +1,32 @@
-#include "render/photon_map/photon_beam_gather.h"
+#include "render/photon_map/gathers/photon_beams_gather.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <ostream>
 
 #include <tbb/parallel_for.h>
 
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
+#include "render/photon_map/photon_map_settings.h"
+#include "render/run/run_stats.h"
 #include "transport/transmittance_at_points.h"
 
 namespace vpm {
 
 const char* beam_widths_name(BeamWidths w) { return w == BeamWidths::balloon ? "balloon" : "sample_point"; }
 
-PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k,
+PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k,
                                    bool keep_kth, const Kernel& kernel, double max_width)
     : scene_(scene), beams_(std::move(beams)), widths_(widths), k_(k), keep_kth_(keep_kth), kernel_(kernel),
       max_width_(max_width), exact_(homogeneous_media(scene)) {
     built_.widths = beam_widths_name(widths);
     built_.k = k;
     // Long beams as pieces in the camera rays' BVH (photon/map/photon_beam_bvh.h): the same answers,
-    // fewer tests. The sample-point widths' queries (each beam's own segment) keep whole beams: pieces
-    // there were 6.2x faster in the furnace but 5.8x slower in a dense sphere, where most own
-    // segments are crossed by fewer than k beams and search every item (docs/photon_beams.md, "Cost").
+    // fewer tests. The sample-point widths' queries (each beam's own segment) keep whole beams: where
+    // most own segments are crossed by fewer than k beams (dense media) a query searches every item,
+    // and pieces multiply the items (docs/photon_beams.md, "Cost").
     const double piece = PhotonBeamBvh::automatic_piece_length(beams_);
     built_.piece_length = piece;
     std::vector<double> radii;
@@ -54,7 +57,7 @@ PhotonBeamGather::PhotonBeamGather(const Scene& scene, std::vector<PhotonBeam> b
     built_.bytes_per_beam = double(built_.bvh_bytes) / double(std::max<size_t>(beams_.size(), 1));
 }
 
-Rgb PhotonBeamGather::scattering(const Vec3& x, double cos_theta) const {
+Rgb PhotonBeamsGather::scattering(const Vec3& x, double cos_theta) const {
     Rgb sum = Rgb::Zero();
     for (const auto& m : scene_.media) {
         const double s = m->sigma_t(x);
@@ -63,7 +66,7 @@ Rgb PhotonBeamGather::scattering(const Vec3& x, double cos_theta) const {
     return sum;
 }
 
-Rgb PhotonBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
     Local& local = local_.local();
     std::vector<BeamCrossing>& hits = local.hits;
     std::vector<double>& widths = local.widths;
@@ -117,8 +120,8 @@ Rgb PhotonBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) cons
     return sum;
 }
 
-PhotonBeamGatherStats PhotonBeamGather::stats() const {
-    PhotonBeamGatherStats s = built_;
+PhotonBeamsGatherStats PhotonBeamsGather::stats() const {
+    PhotonBeamsGatherStats s = built_;
     for (const Local& l : local_) {
         s.queries += l.queries;
         s.crossed += l.crossed;
@@ -127,6 +130,54 @@ PhotonBeamGatherStats PhotonBeamGather::stats() const {
         s.tracking_lookups += l.tracking_lookups;
     }
     return s;
+}
+
+void PhotonBeamsGather::report_build(RunStats* stats, std::ostream* log) const {
+    const PhotonBeamsGatherStats b = this->stats();
+    if (stats) {
+        if (widths_ == BeamWidths::sample_point) stats->phase("build_beam_widths", b.widths_seconds);
+        stats->phase("build_photon_beam_bvh", b.bvh_seconds);
+    }
+    if (!log) return;
+    const std::string estimator = std::string(keep_kth_ ? "classic" : "corrected") +
+                                  (kernel_.is_constant() ? "" : "/" + kernel_.label());
+    *log << "photon_beams: " << b.beams << " beams, widths \"" << b.widths << "\" (k = " << b.k << ", " << estimator
+         << " in 1D)";
+    if (widths_ == BeamWidths::sample_point) *log << ", widths " << b.widths_seconds << " s";
+    *log << ", BVH " << b.bvh_seconds << " s, " << b.bytes_per_beam << " bytes/beam\n";
+    // No beam at all (no media, or every flight outside them): the segments gather like "march".
+    if (!usable() && scene_.has_media())
+        *log << "warning: no photon beam was recorded in the media, so this pass gathers like \"march\"\n";
+}
+
+void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
+    PhotonBeamsGatherStats total = stats();   // this pass's sizes, the run's times and counts
+    if (run.photon_beams) {
+        const PhotonBeamsGatherStats& before = *run.photon_beams;
+        total.widths_seconds += before.widths_seconds;
+        total.bvh_seconds += before.bvh_seconds;
+        total.queries += before.queries;
+        total.crossed += before.crossed;
+        total.tested += before.tested;
+        total.starved += before.starved;
+        total.tracking_lookups += before.tracking_lookups;
+    }
+    run.photon_beams = total;
+    if (log) {
+        const double q = total.queries ? double(total.queries) : 1.0;
+        *log << "photon_beams: " << total.queries << " segment queries weighed " << total.crossed << " beams ("
+             << (total.queries ? double(total.crossed) / q : 0.0) << " per query, "
+             << (total.queries ? double(total.tested) / q : 0.0) << " crossing tests per query); " << total.starved
+             << " found fewer than k beams (estimate 0)\n";
+    }
+}
+
+std::unique_ptr<SegmentGather> build_photon_beams_gather(SegmentGatherInputs& in) {
+    auto gather = std::make_unique<PhotonBeamsGather>(in.scene, std::move(in.beams), in.settings.beam_widths, in.k,
+                                                      in.settings.estimator.traits().keeps_kth, in.settings.estimator.kernel(),
+                                                      in.max_radius);
+    in.beams.clear();
+    return gather;
 }
 
 }  // namespace vpm

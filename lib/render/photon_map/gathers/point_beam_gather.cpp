@@ -1,7 +1,8 @@
-#include "render/photon_map/beam_gather.h"
+#include "render/photon_map/gathers/point_beam_gather.h"
 
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 
 #include <tbb/parallel_for.h>
 
@@ -9,11 +10,13 @@
 #include "core/progress.h"
 #include "photon/estimate/ball_extinction.h"
 #include "photon/map/photon_radii.h"
+#include "render/photon_map/photon_map_settings.h"
+#include "render/run/run_stats.h"
 #include "scene/media/homogeneous_medium.h"
 
 namespace vpm {
 
-BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
+PointBeamGather::PointBeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
                        double max_radius_mfp, double radius_scale)
     : scene_(scene), map_(map), kernel_(kernel) {
     for (const auto& m : scene.media) exact_.push_back(dynamic_cast<const HomogeneousMedium*>(m.get()) != nullptr);
@@ -59,7 +62,7 @@ BeamGather::BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const
     built_.total_bytes_per_photon = built_.bvh_bytes_per_photon + built_.map_bytes_per_photon;
 }
 
-Rgb BeamGather::scattering(const Vec3& x, double cos_theta) const {
+Rgb PointBeamGather::scattering(const Vec3& x, double cos_theta) const {
     Rgb sum = Rgb::Zero();
     for (const auto& m : scene_.media) {
         const double s = m->sigma_t(x);
@@ -68,7 +71,7 @@ Rgb BeamGather::scattering(const Vec3& x, double cos_theta) const {
     return sum;
 }
 
-Rgb BeamGather::albedo_phase(const Vec3& x, double cos_theta) const {
+Rgb PointBeamGather::albedo_phase(const Vec3& x, double cos_theta) const {
     if (scene_.media.size() == 1) return scene_.media.front()->albedo() * hg_eval(cos_theta, scene_.media.front()->g());
     Rgb sum = Rgb::Zero();
     double sigma_t = 0.0;
@@ -83,7 +86,7 @@ Rgb BeamGather::albedo_phase(const Vec3& x, double cos_theta) const {
     return sum / double(scene_.media.size());
 }
 
-void BeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hits, std::vector<double>& out, Rng& rng,
+void PointBeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hits, std::vector<double>& out, Rng& rng,
                                 Local& local) const {
     const size_t n = hits.size();
     out.assign(n, 1.0);
@@ -120,7 +123,7 @@ void BeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hits, st
     }
 }
 
-Rgb BeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
+Rgb PointBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
     Local& local = local_.local();
     std::vector<Hit>& hits = local.hits;
     hits.clear();
@@ -150,14 +153,51 @@ Rgb BeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng) const {
     return sum;
 }
 
-BeamGatherStats BeamGather::stats() const {
-    BeamGatherStats s = built_;
+PointBeamGatherStats PointBeamGather::stats() const {
+    PointBeamGatherStats s = built_;
     for (const Local& l : local_) {
         s.queries += l.queries;
         s.crossed += l.crossed;
         s.tracking_lookups += l.tracking_lookups;
     }
     return s;
+}
+
+void PointBeamGather::report_build(RunStats* stats, std::ostream* log) const {
+    const PointBeamGatherStats b = this->stats();
+    if (stats) {
+        stats->phase("build_radii", b.radii_seconds);
+        stats->phase("build_beam_bvh", b.bvh_seconds);
+    }
+    if (!log) return;
+    *log << "beam: radii (beam_k = " << b.k << ") " << b.radii_seconds << " s, BVH over " << b.photons << " discs "
+         << b.bvh_seconds << " s; " << b.total_bytes_per_photon << " bytes/photon (map " << b.map_bytes_per_photon
+         << " + BVH " << b.bvh_bytes_per_photon << ")\n";
+    // A map of at most beam_k photons has no disc: its segments gather like "march", whose points take
+    // NEE and a continued path where the map is starved (unbiased; single scattering by NEE as here).
+    if (!usable() && scene_.has_media())
+        *log << "warning: photons.beam_k = " << b.k << " is not below the " << map_.size()
+             << " volume photons stored: no photon has a beam_k-th neighbour, so this pass gathers like \"march\"\n";
+}
+
+void PointBeamGather::add_to(RunStats& run, std::ostream* log) const {
+    PointBeamGatherStats total = stats();   // this pass's sizes, the run's times and counts
+    if (run.beam) {
+        total.radii_seconds += run.beam->radii_seconds;
+        total.bvh_seconds += run.beam->bvh_seconds;
+        total.queries += run.beam->queries;
+        total.crossed += run.beam->crossed;
+        total.tracking_lookups += run.beam->tracking_lookups;
+    }
+    run.beam = total;
+    if (log)
+        *log << "beam: " << total.queries << " segment queries crossed " << total.crossed << " photon discs ("
+             << (total.queries ? double(total.crossed) / double(total.queries) : 0.0) << " per query)\n";
+}
+
+std::unique_ptr<SegmentGather> build_point_beam_gather(SegmentGatherInputs& in) {
+    return std::make_unique<PointBeamGather>(in.scene, in.volume, size_t(in.settings.beam_k), in.settings.estimator.kernel(),
+                                             in.max_radius, in.settings.max_radius_mfp, in.disc_scale);
 }
 
 }  // namespace vpm

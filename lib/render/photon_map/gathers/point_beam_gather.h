@@ -1,5 +1,5 @@
 #pragma once
-// photons.gather = "beam": the beam radiance estimate (Jarosz, Zwicker & Jensen 2008) in the
+// photons.gather = "point_beam": the beam radiance estimate (Jarosz, Zwicker & Jensen 2008) in the
 // photon-map renderer. Each camera segment through the media is answered by one query: every
 // photon i whose disc (radius r_i, perpendicular to the segment) the segment crosses at foot point
 // t_i contributes
@@ -31,29 +31,32 @@
 #include "photon/estimate/kernels.h"
 #include "photon/map/photon_disc_bvh.h"
 #include "photon/map/photon_map.h"
-#include "render/photon_map/beam_gather_stats.h"
+#include "render/photon_map/gathers/point_beam_gather_stats.h"
+#include "render/photon_map/gathers/segment_gather.h"
 #include "scene/scene.h"
 
 namespace vpm {
 
-class BeamGather {
+class PointBeamGather : public SegmentGather {
 public:
     // Builds the radii (parallel) and the BVH over `map`, which must outlive this object.
     // max_radius: kInfinity for none; max_radius_mfp: 0 for none. radius_scale in (0, 1]: every disc's
     // radius times it after the bounds (photons.schedule = "progressive", photon/estimate/radius_schedule.h;
     // still the photon's own, so the estimate stays a sample-point one, unbiased on a uniform density).
-    BeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
+    PointBeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
                double max_radius_mfp, double radius_scale = 1.0);
 
     // Whether any photon has a disc: a map of at most k photons has no k-th other photon.
-    bool usable() const { return bvh_.size() > 0; }
+    bool usable() const override { return bvh_.size() > 0; }
 
     // The in-scattered radiance from the map along `ray` over (0, t_end) (t_end may be kInfinity).
     // `dir` of the ray is unit length.
-    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const;
+    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const override;
+    void report_build(RunStats* stats, std::ostream* log) const override;
+    void add_to(RunStats& run, std::ostream* log) const override;
 
     // Counts so far (queries over all threads) plus the build figures.
-    BeamGatherStats stats() const;
+    PointBeamGatherStats stats() const;
 
 private:
     struct Hit {
@@ -71,7 +74,7 @@ private:
     const PhotonMap& map_;
     Kernel kernel_;
     PhotonDiscBvh bvh_;
-    BeamGatherStats built_;
+    PointBeamGatherStats built_;
     std::vector<bool> exact_;   // per medium: homogeneous, so its majorant pieces are sigma_t exactly
     bool foot_point_ = false;   // some medium has a jump (homogeneous shapes): the foot-point rule
     std::vector<float> inv_ball_sigma_t_;   // then per stored photon: 1 / mean sigma_t over its ball (0: no disc)

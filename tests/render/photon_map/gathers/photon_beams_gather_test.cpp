@@ -1,4 +1,4 @@
-// photons.gather = "photon_beams" (render/photon_map/photon_beam_gather.h) in the renderer.
+// photons.gather = "photon_beams" (render/photon_map/gathers/photon_beams_gather.h) in the renderer.
 // - Uniform furnace (all light through the beams): balloon corrected and sample_point unbiased,
 //   balloon classic k/(k-1) high (docs/photon_beams.md), within 3 standard errors over
 //   independent runs.
@@ -19,7 +19,7 @@
 
 using namespace vpm;
 
-TEST(PhotonBeamGather, FurnaceBalloonCorrectedAndSamplePointUnbiasedClassicHigh) {
+TEST(PhotonBeamsGather, FurnaceBalloonCorrectedAndSamplePointUnbiasedClassicHigh) {
     // The camera inside a non-absorbing sphere under a constant sky: radiance 0.5 everywhere. The
     // maps' noise dominates, so classic is checked by its ratio to corrected on the same runs (the
     // same beams and rays): the k/(k-1) of the in-scattered part, 1 - T of the light, T = e^-3.6
@@ -56,7 +56,7 @@ TEST(PhotonBeamGather, FurnaceBalloonCorrectedAndSamplePointUnbiasedClassicHigh)
     EXPECT_GT(ratio.mean(), 1.0 + 10.0 * ratio.se());
 }
 
-TEST(PhotonBeamGather, SameImageOnOneAndTwoThreadsInAGrid) {
+TEST(PhotonBeamsGather, SameImageOnOneAndTwoThreadsInAGrid) {
     for (const char* widths : {"balloon", "sample_point"}) {
         auto image = [&](int threads) {
             RunOptions o;
@@ -82,7 +82,7 @@ TEST(PhotonBeamGather, SameImageOnOneAndTwoThreadsInAGrid) {
     }
 }
 
-TEST(PhotonBeamGather, BadKeysAreOneClearError) {
+TEST(PhotonBeamsGather, BadKeysAreOneClearError) {
     auto error = [](const std::vector<std::string>& sets) {
         try {
             RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml", sets);
@@ -134,18 +134,18 @@ void expect_beams_match_path_tracer(const std::string& config, double bias) {
 
 }  // namespace
 
-TEST(PhotonBeamGather, MatchesThePathTracerInTheThinCube) {
+TEST(PhotonBeamsGather, MatchesThePathTracerInTheThinCube) {
     // configs/thin_cube.toml: a homogeneous unit cube (sigma_t 1, albedo 0.8) under a point light,
     // single scattering by NEE, the beams carry the multiple scattering.
     expect_beams_match_path_tracer("thin_cube.toml", 0.03);
 }
 
-TEST(PhotonBeamGather, MatchesThePathTracerInThePlumeGrid) {
+TEST(PhotonBeamsGather, MatchesThePathTracerInThePlumeGrid) {
     // configs/default.toml: the plume's grid (ratio-tracked camera transmittance) under its lights.
     expect_beams_match_path_tracer("default.toml", 0.03);
 }
 
-TEST(PhotonBeamGather, ProgressiveScheduleIsRefusedWithOneClearError) {
+TEST(PhotonBeamsGather, ProgressiveScheduleIsRefusedWithOneClearError) {
     try {
         RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml",
                         {"photons.gather=\"photon_beams\"", "photons.schedule=\"progressive\""});

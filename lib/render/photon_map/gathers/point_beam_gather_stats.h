@@ -1,11 +1,11 @@
 #pragma once
-// What the beam gather (render/photon_map/beam_gather.h) built and answered in a run: its memory beside the
+// What the beam gather (render/photon_map/gathers/point_beam_gather.h) built and answered in a run: its memory beside the
 // point map's, the build time of the radii and the BVH, and queries against photons crossed.
 #include <cstdint>
 
 namespace vpm {
 
-struct BeamGatherStats {
+struct PointBeamGatherStats {
     uint64_t k = 0;                  // photons.beam_k
     uint64_t photons = 0;            // photons with a finite radius (in the BVH)
     uint64_t bvh_bytes = 0;          // the BVH (balls + nodes; the radii live in its balls) and, with a

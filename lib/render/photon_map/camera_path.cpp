@@ -1,0 +1,297 @@
+#include "render/photon_map/camera_path.h"
+
+#include <algorithm>
+#include <optional>
+#include <vector>
+
+#include "core/henyey_greenstein.h"
+#include "render/photon_map/gathers/segment_gather.h"
+#include "scene/dielectric_regions.h"
+#include "transport/direct_light.h"
+#include "transport/equiangular.h"
+#include "transport/march_points.h"
+#include "transport/segment_direct_light.h"
+#include "transport/single_scattering.h"
+#include "transport/specular_step.h"
+#include "transport/walk_steps.h"
+
+namespace vpm {
+
+namespace {
+
+double total_sigma_t(const Scene& scene, const Vec3& x) {
+    double sigma_t = 0.0;   // overlapping media: photons of all of them are in the map
+    for (const auto& m : scene.media) sigma_t += m->sigma_t(x);
+    return sigma_t;
+}
+
+}  // namespace
+
+Rgb CameraPath::single_scattering(const Vec3& x, const Vec3& dir, double g, bool goes_on, Rng& rng, CameraCounters& c,
+                                  const SegmentPoint* at) const {
+    if (goes_on) return direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis, at);
+    if (!both_strategies_) return direct_light_in_medium(scene_, x, dir, g, rng, false, at);
+    uint64_t rays = 0;
+    const Rgb l = single_scattering_both_strategies(scene_, x, dir, g, rng, rays, at);
+    c.rays += rays - 1;   // the caller counts one
+    return l;
+}
+
+VolumeEstimator CameraPath::volume_in(RegionMask region) const {
+    const VolumeEstimator& v = maps_.volume;
+    if (!maps_.volume_regions) return v;
+    return VolumeEstimator{maps_.volume_regions->at(region), v.decision, v.k, v.estimator, v.max_radius, v.max_radius_mfp,
+                           v.extinction, v.leave_group_out, v.ball, scene_.surfaces.get(), region};
+}
+
+const PhotonMap* CameraPath::surface_in(RegionMask region) const {
+    return maps_.surface && maps_.surface_regions ? &maps_.surface_regions->at(region) : maps_.surface;
+}
+
+Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCounters& c,
+                       const EmissionWeighting& first_emission) const {
+    const int max_depth = settings_.walk.max_depth;
+    // The path's region (scene/dielectric_regions.h): where it starts (the camera, or the march point
+    // a continued path leaves), toggled at every refraction through glass.
+    RegionMask region = maps_.volume_regions || maps_.surface_regions ? region_at(scene_.surfaces.get(), first_ray.origin) : 0;
+    Ray ray = first_ray;
+    Rgb throughput = Rgb::Ones();
+    Rgb radiance = Rgb::Zero();
+    // transport/mis.h. A path started deeper (first_depth > 0) continues from a march point: the
+    // emission it meets counts as that point's NEE was weighted (transport/single_scattering.h).
+    EmissionWeighting emission = first_emission;
+    for (int depth = first_depth;; ++depth) {
+        const PathVertex v = next_vertex(scene_, ray, rng);
+        ++c.rays;
+        const MediumEvent& event = v.medium;
+        const SurfaceHit& hit = v.hit;
+        const double t_end = v.on_surface ? hit.t : kInfinity;
+        // A path continued from a march point (first_depth > 0) gathers at its collisions: marching
+        // again would branch at every point, a tree that grows without bound where every ball is wide.
+        const bool march = first_depth == 0 && marches(ray, t_end);
+        const bool beam = maps_.segment != nullptr;
+        // The collision gather's segments with direct = "nee", where every collision takes NEE: point
+        // and spot lights are also sampled equiangularly along it (transport/equiangular.h). The march's
+        // and the beam's segments do the same in march_in_scattering and segment_direct_light.
+        std::optional<EquiangularSegment> segment;
+        if (settings_.walk.equiangular && settings_.direct == DirectLighting::nee && !march && !beam &&
+            !(max_depth >= 0 && depth + 1 > max_depth) && scene_.has_media()) {
+            segment.emplace(scene_, ray, t_end);
+            if (segment->empty())
+                segment.reset();
+            else
+                radiance += throughput * segment->in_scattering(rng, c.rays,
+                                                                [](size_t, double s, double, double tau) {
+                                                                    return free_flight_density(s, tau);
+                                                                });
+        }
+        if ((march || beam) && (!v.on_surface || hit.emitter)) {
+            // The segment's in-scattering is gathered apart, so the sky or area light behind it is
+            // weighed by the exact transmittance, not found by the free flight's trial
+            // (transport/seen_through.h). The light is black: the path ends here either way.
+            const bool gathers = !(max_depth >= 0 && depth + 1 > max_depth);
+            if (march && gathers) {
+                // The march's profiles give the segment's optical depth: one walk, not two.
+                double tau = 0.0;
+                const Rgb in = march_in_scattering(ray, t_end, depth, region, rng, c, &tau);
+                radiance += throughput * seen_through_depth(scene_, ray, v.on_surface, hit, emission, tau, c.rays);
+                radiance += throughput * in;
+                break;
+            }
+            radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, c.profile, c.rays);
+            if (gathers) radiance += throughput * beam_in_scattering(ray, t_end, rng, c);
+            break;
+        }
+        if (v.escaped()) {
+            radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
+            if (march && !(max_depth >= 0 && depth + 1 > max_depth))
+                radiance += throughput * march_in_scattering(ray, kInfinity, depth, region, rng, c);
+            if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng, c);
+            break;
+        }
+        if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
+        if (max_depth >= 0 && depth + 1 > max_depth) break;
+        if (march) {
+            // The medium's in-scattering along this segment comes from the march; the collision
+            // sampled above only decides whether the path reaches the surface behind (probability T).
+            radiance += throughput * march_in_scattering(ray, t_end, depth, region, rng, c);
+            if (event) break;
+        }
+        if (beam) {   // the same rule with the whole segment in one query
+            radiance += throughput * beam_in_scattering(ray, t_end, rng, c);
+            if (event) break;
+        }
+        if (event) {
+            const Vec3 x = ray.at(event.t);
+            const Medium& m = *event.medium;
+            const Rgb weight = throughput * m.albedo();
+            if ((weight == 0.0).all()) break;
+            const bool nee = settings_.direct == DirectLighting::nee;
+            const double sigma_t = total_sigma_t(scene_, x);
+            // The query draws no random numbers, so it runs first: a path that goes on from x
+            // weighs its NEE against the bounce (render.mis) like the path tracer's
+            // (transport/single_scattering.h); one that ends on the map weighs it 1.
+            VolumeEstimate b;
+            if (sigma_t > 0.0) b = volume_in(region).estimate(x, -ray.dir, m.g(), sigma_t, c.scratch, c.estimates);
+            const bool goes_on = b.rule == BoundedQuery::continue_path;
+            if (nee) {
+                if (segment) {
+                    const SegmentPoint at{&*segment, event.t, segment->free_flight_density_at(event.t, m.sigma_t(x))};
+                    radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng, c, &at);
+                } else {
+                    radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng, c);
+                }
+                ++c.rays;
+            }
+            if (!(sigma_t > 0.0) || b.rule == BoundedQuery::zero) break;
+            if (goes_on) {   // too few photons: scatter and go on
+                ++c.continued;
+                if (!nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, settings_.walk.mis);
+                throughput = weight;
+                const double u1 = rng.uniform(), u2 = rng.uniform();
+                const Vec3 wo = hg_sample(ray.dir, m.g(), u1, u2);
+                emission = continued_emission(settings_.walk.mis, x, ray.dir, wo, m.g());
+                ray = Ray{x, wo};
+                if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
+                continue;
+            }
+            radiance += weight * b.incident;
+            ++c.map_used;
+            break;
+        }
+        if (hit.specular) {   // mirror or glass (transport/specular_step.h): on to the chain's next vertex
+            if (!camera_specular_step(hit, ray, throughput, emission, depth + 1, settings_.walk.rr_depth, rng)) break;
+            region = region_after_specular(region, hit, ray.dir);
+            continue;
+        }
+        if ((hit.reflectance == 0.0).all()) break;
+        // The surface photon map gives the light the path would gather. A map of fewer than k photons
+        // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
+        const PhotonMap* surface = surface_in(region);
+        if (surface && surface->size() >= maps_.k) {
+            if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
+            const Estimate<Rgb> e = estimate_surface_irradiance(*surface, hit.position, hit.normal, *maps_.surface_estimator,
+                                                                maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats);
+            radiance += throughput * hit.reflectance * (e.value / kPi);
+            ++c.map_used;
+            break;
+        }
+        radiance += throughput * direct_light_on_surface(scene_, hit, rng, settings_.walk.mis);
+        throughput *= hit.reflectance;
+        ray = diffuse_bounce(hit, rng);
+        emission = EmissionWeighting::after(settings_.walk.mis, hit.position, std::max(0.0, ray.dir.dot(hit.normal)) * kInvPi);
+        if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
+    }
+    return radiance;
+}
+
+bool CameraPath::marches(const Ray& ray, double t_end) const {
+    if (maps_.gather == GatherMode::march) return true;
+    if (maps_.gather != GatherMode::threshold) return false;
+    // gather = "threshold". Thin along this segment: every ray
+    // gathers at a few points. Thick: the collision gather puts its one query where the light is and
+    // bounds its ball in mean free paths, while the march's points, all a few mean free paths apart,
+    // would mostly take continued paths. The walk stops once the threshold is passed,
+    // so thick segments, the collision gather's, pay for a few majorant pieces only.
+    const double limit = settings_.march_max_optical_depth;
+    double depth = 0.0;
+    for (const auto& m : scene_.media) {
+        m->majorant_pieces(ray, t_end, [&](double ta, double tb, double mu) {
+            depth += mu * (tb - ta);
+            return depth <= limit;
+        });
+        if (depth > limit) return false;
+    }
+    return true;
+}
+
+Rgb CameraPath::march_in_scattering(const Ray& ray, double t_end, int depth, RegionMask region, Rng& rng,
+                                    CameraCounters& c, double* optical_depth) const {
+    // Per medium, m stratified points with the free-flight density of its exact extinction
+    // (transport/march_points.h): each weighs albedo P / m times the other media's transmittance,
+    // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field; m = n or fewer where
+    // P is small (photons.march_points, transport/march_count.h).
+    const int n = settings_.gather_queries;
+    Rgb sum = Rgb::Zero();
+    // With direct = "nee" every point takes NEE: point and spot lights are also sampled equiangularly
+    // along the segment, each point's NEE to them weighted with the march's density there.
+    std::optional<EquiangularSegment> segment;
+    std::vector<MarchMass> masses;
+    if (settings_.walk.equiangular && settings_.direct == DirectLighting::nee) {
+        segment.emplace(scene_, ray, t_end);
+        if (segment->empty())
+            segment.reset();
+        else
+            masses.assign(scene_.media.size(), MarchMass{});
+    }
+    // The profile counts as one tracked segment per point, like each other medium's.
+    for_each_march_point(scene_, ray, t_end, n, settings_.march_points, rng, scene_.media.size(), c.rays,
+                         [&](const Medium& medium, double t, double others, MarchMass mass) {
+                             // Relative to the weight in the medium alone.
+                             c.march_weight_max = std::max(c.march_weight_max, others);
+                             c.march_weight_sum += others;
+                             ++c.march_points;
+                             const Vec3 x = ray.at(t);
+                             const Rgb weight = (others * mass.mass / mass.divisor) * medium.albedo();
+                             if (!segment) {
+                                 sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, region,
+                                                                         rng, c);
+                                 return;
+                             }
+                             const double tau = segment->medium_depth(segment->medium_index(medium), t);
+                             const SegmentPoint at{&*segment, t, march_density(mass, medium.sigma_t(x), tau)};
+                             sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight,
+                                                                     depth, region, rng, c, &at);
+                         },
+                         optical_depth, segment ? masses.data() : nullptr);
+    if (segment)
+        sum += segment->in_scattering(rng, c.rays, [&](size_t i, double sigma_t, double tau_m, double) {
+            return march_density(masses[i], sigma_t, tau_m);
+        });
+    return sum;
+}
+
+Rgb CameraPath::incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight,
+                                        int depth, RegionMask region, Rng& rng, CameraCounters& c, const SegmentPoint* at) const {
+    const bool nee = settings_.direct == DirectLighting::nee;
+    Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
+    // The collision gather's bound and rule (photon/estimate/bounded_radius.h) here: a ball spanning many mean
+    // free paths averages the lit skin of a dense medium with its dark inside (biased low), so where
+    // fewer than k photons lie within the bound the point takes the light a path would find instead,
+    // NEE and one phase-sampled continuation, both unbiased for the same incident radiance; where
+    // exactly k - 1 do, it takes 0, whose mass the k-1 correction already counts on the kNN side.
+    // The choice depends on x and the map only; the query draws no random numbers, so NEE, weighted
+    // as transport/single_scattering.h says, follows it.
+    const VolumeEstimate b = volume_in(region).estimate(x, -dir, g, sigma_t, c.scratch, c.estimates);
+    const bool wide = b.rule == BoundedQuery::continue_path;
+    if (nee) {
+        in += single_scattering(x, dir, g, wide, rng, c, at);
+        ++c.rays;
+    }
+    if (b.rule == BoundedQuery::zero) return in;
+    if (wide) {
+        ++c.march_wide;
+        if (!nee) in += direct_light_in_medium(scene_, x, dir, g, rng, settings_.walk.mis);
+        ++c.rays;
+        // Roulette on the point's weight: where it is small, so is the chance of paying for a path.
+        const double q = std::min(1.0, weight.maxCoeff());
+        if (rng.uniform() < q) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            const Vec3 wo = hg_sample(dir, g, u1, u2);
+            in += trace(Ray{x, wo}, depth + 1, rng, c, continued_emission(settings_.walk.mis, x, dir, wo, g)) / q;
+        }
+        return in;
+    }
+    ++c.map_used;
+    return in + b.incident;
+}
+
+Rgb CameraPath::beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c) const {
+    Rgb l = maps_.segment->in_scattering(ray, t_end, rng);
+    if (settings_.direct == DirectLighting::nee)
+        l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, c.rays,
+                                  settings_.walk.equiangular);
+    return l;
+}
+
+}  // namespace vpm

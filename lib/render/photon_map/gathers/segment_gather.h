@@ -1,0 +1,52 @@
+#pragma once
+// A gather that answers a whole camera segment with one query of a structure built per pass
+// ("point_beam": a BVH of photon discs; "photon_beams": a BVH of the photons' free flights). The
+// point gathers ("collision", "march", "threshold") need none: they estimate at points of the
+// segment (render/photon_map/volume_estimate.h), which the camera path does itself.
+//
+// A new segment gather is its file pair here (a class deriving from SegmentGather and a build
+// function), one line in gather_registry.cpp, a row in docs/config.md and a test.
+#include <iosfwd>
+#include <memory>
+#include <vector>
+
+#include "core/math.h"
+#include "core/rng.h"
+#include "photon/map/photon_beam.h"
+#include "photon/map/photon_map.h"
+
+namespace vpm {
+
+class Scene;
+struct PhotonMapSettings;
+struct RunStats;
+
+// What a segment gather is built from, once per pass.
+struct SegmentGatherInputs {
+    const Scene& scene;
+    const PhotonMapSettings& settings;
+    const PhotonMap& volume;             // the pass's volume map
+    std::vector<PhotonBeam>& beams;      // the pass's photon beams (gathers that store them take them)
+    size_t k;                            // the pass's k (photons.schedule)
+    double max_radius;                   // kInfinity for none
+    double disc_scale;                   // the pass's disc radius scale (photons.schedule), in (0, 1]
+};
+
+class SegmentGather {
+public:
+    virtual ~SegmentGather() = default;
+    // Whether the pass gave it anything to query; if not, the pass's segments gather like "march".
+    virtual bool usable() const = 0;
+    // The in-scattered radiance from the pass's photons along `ray` over (0, t_end) (t_end may be
+    // kInfinity; ray.dir unit length), single scattering excluded.
+    virtual Rgb in_scattering(const Ray& ray, double t_end, Rng& rng) const = 0;
+    // The build's phases (stats, when given) and its log line with any warning (log, when given).
+    virtual void report_build(RunStats* stats, std::ostream* log) const = 0;
+    // Adds this pass's build figures and query counts to the run's section for this gather; with a
+    // log, writes the run's totals (once, when the run's statistics are collected).
+    virtual void add_to(RunStats& run, std::ostream* log) const = 0;
+};
+
+using SegmentGatherBuild = std::unique_ptr<SegmentGather> (*)(SegmentGatherInputs& inputs);
+
+}  // namespace vpm
