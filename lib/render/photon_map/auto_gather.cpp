@@ -90,7 +90,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
         candidates.push_back({e.name, true});
         gathers.push_back(e.mode);
     }
-    if (settings_.chooses_integrator) {
+    const bool path_misses_light = path_tracer_misses_light(scene_);
+    if (settings_.chooses_integrator && !path_misses_light) {
         candidates.push_back({kNoMapCandidate, false});
         gathers.push_back(GatherMode::collision);
     }
@@ -226,7 +227,11 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
                 log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance";
             log << "\n";
         }
-        if (settings_.chooses_integrator) {
+        if (settings_.chooses_integrator && path_misses_light)
+            log << "integrator: auto keeps the photon map: the scene has a point, spot or directional light and a mirror "
+                   "or glass surface, whose light the path tracer cannot reach (render.integrator = \"path\" renders it "
+                   "anyway)\n";
+        if (settings_.chooses_integrator && !path_misses_light) {
             // The figures behind the choice: each candidate's error^2 x work (pass_plan.h), the best map gather's against the path tracer's.
             double best_map = kInfinity, path = kInfinity;
             std::string best_name = "none";

@@ -25,11 +25,27 @@
 #include <vector>
 
 #include "render/plan/pass_plan.h"
+#include "scene/lights/light.h"
+#include "scene/scene.h"
+#include "scene/surfaces/surfaces.h"
 
 namespace vpm {
 
 constexpr const char* kNoMapCandidate = "continue";
 constexpr double kNoMapMaxUsedShare = 0.02;
+
+// Whether the path tracer misses light the scene has: a delta light (point, spot, direction) is
+// found by next-event estimation alone, which cannot connect through a mirror or glass, so its
+// light that meets one before a diffuse surface or a medium (caustics, light through a window)
+// reaches no path-traced vertex. The photon map carries it. With both in the scene "continue" is
+// not a candidate: decided from the scene, not from the pilot's noise, which cannot see light
+// that no sample finds.
+inline bool path_tracer_misses_light(const Scene& scene) {
+    if (!scene.surfaces || !scene.surfaces->has_specular()) return false;
+    for (const auto& light : scene.lights)
+        if (light->delta()) return true;
+    return false;
+}
 
 // The share of a map candidate's kNN queries whose estimate was used (0 where it made none).
 inline double map_used_share(const GatherMeasurement& m) {

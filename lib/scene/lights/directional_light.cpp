@@ -31,6 +31,7 @@ public:
     Rgb power() const override { return irradiance_ * bounds_.projected_area(dir_); }
     void set_scene_bounds(const Bounds3& b) override { bounds_.set(b); }
     bool at_infinity() const override { return true; }
+    bool delta() const override { return true; }
     bool set_emission_focus(const Bounds3& f) override {
         bounds_.set_focus(f);
         return bounds_.focused();

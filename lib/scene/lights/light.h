@@ -56,6 +56,9 @@ public:
     // Lights that emit from one point (point, spot): that point, for strategies that place points
     // along a ray by their distance to it (transport/equiangular.h). false for every other light.
     virtual bool delta_position(Vec3& position) const { return false; }
+    // Lights that a path cannot hit (a point, a spot, a direction): only next-event estimation finds
+    // them, so light they send through mirrors and glass reaches no path-traced vertex.
+    virtual bool delta() const { return false; }
     // They aim part of their photons at the region the camera sees (scene/camera_region.h) when it
     // is much smaller than those bounds (returns whether it does); other lights ignore it. Call
     // after set_scene_bounds.

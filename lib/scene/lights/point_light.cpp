@@ -38,6 +38,7 @@ public:
         const double pdf = guided_.pdf(emission_direction_pdf(dir), dir);
         return {Ray{position_, dir}, pdf > 0.0 ? Rgb(intensity_ / pdf) : Rgb::Zero()};
     }
+    bool delta() const override { return true; }
     bool delta_position(Vec3& position) const override {
         position = position_;
         return true;

@@ -48,6 +48,7 @@ public:
         const bool lit = dir.dot(frame_.n) >= cos_max_;
         return {Ray{position_, dir}, lit && pdf > 0.0 ? Rgb(intensity_ / pdf) : Rgb::Zero()};
     }
+    bool delta() const override { return true; }
     bool delta_position(Vec3& position) const override {
         position = position_;
         return true;

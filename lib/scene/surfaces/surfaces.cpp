@@ -327,6 +327,12 @@ public:
     Bounds3 bounds() const override { return bounds_; }
     size_t triangle_count() const override { return triangles_; }
     const std::vector<DielectricShape>& dielectric_shapes() const override { return dielectrics_; }
+    bool has_specular() const override {
+        for (const auto* list : {&geoms_, &spheres_})
+            for (const Geometry& g : *list)
+                if (g.specular) return true;
+        return false;
+    }
 
     std::string describe() const override {
         std::ostringstream s;

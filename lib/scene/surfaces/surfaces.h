@@ -66,6 +66,8 @@ public:
     // The closed dielectric shapes, in the order of SurfaceHit::dielectric (at most
     // kMaxDielectricShapes: create() refuses more).
     virtual const std::vector<DielectricShape>& dielectric_shapes() const = 0;
+    // Whether any shape is a mirror or glass (a specular material).
+    virtual bool has_specular() const = 0;
     virtual std::string describe() const = 0;
 };
 
