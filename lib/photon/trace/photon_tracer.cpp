@@ -76,6 +76,7 @@ bool roulette(Rgb& power, const Rgb& factor, Rng& rng) {
 
 struct BatchOutput {
     std::vector<PhotonInput> photons, surface_photons;
+    std::vector<RegionMask> photon_regions, surface_photon_regions;
     std::vector<PhotonBeam> beams;
     EnergyBalance energy;
     uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0, light_hits = 0, storing_walks = 0;
@@ -97,6 +98,8 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
     OpticalDepthProfile profile;
     Bounds3 media_bounds;   // beams are clipped to it
     for (const auto& m : scene.media) media_bounds.extend(m->bounds());
+    const Surfaces* surfaces = scene.surfaces.get();
+    const bool regions = surfaces && !surfaces->dielectric_shapes().empty();
     for (uint64_t i = begin; i < end; ++i) {
         sampler.start_sample(whole_pass ? i : i - begin);
         double light_pdf = 1.0;
@@ -110,6 +113,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
         Rgb power = e.power * (inv_n / light_pdf);
         out.energy.emitted += power;
         Ray ray = e.ray;
+        RegionMask region = regions ? region_at(surfaces, ray.origin) : 0;
         const double window = kForcedWindow * power.maxCoeff();   // forced steps: the weight window's floor
         bool scattered = false;
         int bounces = 0;
@@ -159,9 +163,11 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 const Vec3 x = ray.at(event.t);
                 ++out.collisions;
                 if (s.store_volume && (s.store_direct || scattered)) {
+                    const size_t before = out.photons.size();
                     if (q >= 1.0) out.photons.push_back(PhotonInput{x, ray.dir, power, group, i});
                     else if (rng.uniform() < q)
                         out.photons.push_back(PhotonInput{x, ray.dir, power / q, group, i});
+                    if (regions && out.photons.size() > before) out.photon_regions.push_back(region);
                 }
                 alive = roulette(power, event.medium->albedo(), rng);
                 if (alive) {
@@ -173,9 +179,12 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 if (hit.emitter) ++out.light_hits;
                 if (hit.specular) {   // mirror or glass: on without storing (a caustic photon from here on)
                     alive = photon_specular_step(hit, ray, power, rng);
+                    if (alive) region = region_after_specular(region, hit, ray.dir);
                 } else {
-                    if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any())
+                    if (s.store_surface && (s.store_direct || scattered) && (hit.reflectance > 0.0).any()) {
                         out.surface_photons.push_back(PhotonInput{hit.position, ray.dir, power, group, i});
+                        if (regions) out.surface_photon_regions.push_back(region);
+                    }
                     alive = roulette(power, hit.reflectance, rng);
                     if (alive) ray = diffuse_bounce(hit, rng);
                 }
@@ -232,6 +241,9 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
             result.surface_photons.insert(result.surface_photons.end(), o.surface_photons.begin(),
                                           o.surface_photons.end());
             std::vector<PhotonInput>().swap(o.surface_photons);
+            result.photon_regions.insert(result.photon_regions.end(), o.photon_regions.begin(), o.photon_regions.end());
+            result.surface_photon_regions.insert(result.surface_photon_regions.end(), o.surface_photon_regions.begin(),
+                                                 o.surface_photon_regions.end());
             result.beams.insert(result.beams.end(), o.beams.begin(), o.beams.end());
             std::vector<PhotonBeam>().swap(o.beams);
             result.surface_hits += o.surface_hits;

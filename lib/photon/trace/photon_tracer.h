@@ -23,6 +23,11 @@
 // interface, so with `store_direct` false such photons (caustic photons) are stored at their next
 // medium collision or diffuse hit, after any number of specular events.
 //
+// Regions (scene/dielectric_regions.h): in a scene with closed dielectric shapes every photon's walk
+// carries the set of glass shapes containing it (region_at where the light emits it, toggled at each
+// refraction), and every stored photon records it in photon_regions / surface_photon_regions, so
+// that an estimate counts only photons of its own region (photon/map/region_photon_maps.h).
+//
 // Energy is accounted per run: emitted = absorbed + escaped + truncated, where "absorbed" is the
 // power removed at each event (power in minus power out), so the balance telescopes exactly and
 // a photon that vanishes unaccounted shows up as an imbalance.
@@ -33,6 +38,7 @@
 #include "core/sampler.h"
 #include "photon/map/photon.h"
 #include "photon/map/photon_beam.h"
+#include "scene/dielectric_regions.h"
 #include "scene/scene.h"
 
 namespace vpm {
@@ -110,6 +116,9 @@ struct PhotonTraceResult {
     std::vector<PhotonInput> photons;   // in a fixed order for a given seed, any thread count
     std::vector<PhotonInput> surface_photons;   // store_surface: hits on Lambertian surfaces, same order rule
     std::vector<PhotonBeam> beams;              // store_beams: free flights in the media, same order rule
+    // The region of each photon of `photons` / `surface_photons`, in their order; both empty in a
+    // scene without closed dielectric shapes (every photon is in region 0 there).
+    std::vector<RegionMask> photon_regions, surface_photon_regions;
     EnergyBalance energy;
     uint64_t paths = 0;
     uint64_t collisions = 0;            // real medium collisions, stored or not

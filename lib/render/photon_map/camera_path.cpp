@@ -6,6 +6,7 @@
 
 #include "core/henyey_greenstein.h"
 #include "render/photon_map/gathers/segment_gather.h"
+#include "scene/dielectric_regions.h"
 #include "transport/direct_light.h"
 #include "transport/equiangular.h"
 #include "transport/march_points.h"
@@ -36,9 +37,23 @@ Rgb CameraPath::single_scattering(const Vec3& x, const Vec3& dir, double g, bool
     return l;
 }
 
+VolumeEstimator CameraPath::volume_in(RegionMask region) const {
+    const VolumeEstimator& v = maps_.volume;
+    if (!maps_.volume_regions) return v;
+    return VolumeEstimator{maps_.volume_regions->at(region), v.decision, v.k, v.estimator, v.max_radius, v.max_radius_mfp,
+                           v.extinction, v.leave_group_out, v.ball, scene_.surfaces.get(), region};
+}
+
+const PhotonMap* CameraPath::surface_in(RegionMask region) const {
+    return maps_.surface && maps_.surface_regions ? &maps_.surface_regions->at(region) : maps_.surface;
+}
+
 Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCounters& c,
                        const EmissionWeighting& first_emission) const {
     const int max_depth = settings_.walk.max_depth;
+    // The path's region (scene/dielectric_regions.h): where it starts (the camera, or the march point
+    // a continued path leaves), toggled at every refraction through glass.
+    RegionMask region = maps_.volume_regions || maps_.surface_regions ? region_at(scene_.surfaces.get(), first_ray.origin) : 0;
     Ray ray = first_ray;
     Rgb throughput = Rgb::Ones();
     Rgb radiance = Rgb::Zero();
@@ -89,7 +104,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
             if (march && gathers) {
                 // The march's profiles give the segment's optical depth: one walk, not two.
                 double tau = 0.0;
-                const Rgb in = march_in_scattering(ray, t_end, depth, rng, c, &tau);
+                const Rgb in = march_in_scattering(ray, t_end, depth, region, rng, c, &tau);
                 radiance += throughput * seen_through_depth(scene_, ray, v.on_surface, hit, emission, tau, c.rays);
                 radiance += throughput * in;
                 break;
@@ -101,7 +116,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             if (march && !(max_depth >= 0 && depth + 1 > max_depth))
-                radiance += throughput * march_in_scattering(ray, kInfinity, depth, rng, c);
+                radiance += throughput * march_in_scattering(ray, kInfinity, depth, region, rng, c);
             if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng, c, taken);
             break;
         }
@@ -110,7 +125,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         if (march) {
             // The medium's in-scattering along this segment comes from the march; the collision
             // sampled above only decides whether the path reaches the surface behind (probability T).
-            radiance += throughput * march_in_scattering(ray, t_end, depth, rng, c);
+            radiance += throughput * march_in_scattering(ray, t_end, depth, region, rng, c);
             if (event) break;
         }
         if (beam) {   // the same rule with the whole segment in one query
@@ -128,7 +143,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
             // weighs its NEE against the bounce (render.mis) like the path tracer's
             // (transport/single_scattering.h); one that ends on the map weighs it 1.
             VolumeEstimate b;
-            if (sigma_t > 0.0) b = maps_.volume.estimate(x, -ray.dir, m.g(), sigma_t, c.scratch, c.estimates);
+            if (sigma_t > 0.0) b = volume_in(region).estimate(x, -ray.dir, m.g(), sigma_t, c.scratch, c.estimates);
             const bool goes_on = b.rule == BoundedQuery::continue_path;
             if (nee) {
                 if (segment) {
@@ -157,18 +172,20 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         }
         if (hit.specular) {   // mirror or glass (transport/specular_step.h): on to the chain's next vertex
             if (!camera_specular_step(hit, ray, throughput, emission, depth + 1, settings_.walk.rr_depth, rng)) break;
+            region = region_after_specular(region, hit, ray.dir);
             continue;
         }
         if ((hit.reflectance == 0.0).all()) break;
         // The surface photon map gives the light the path would gather. A map of fewer than k photons
         // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
-        if (maps_.surface && maps_.surface->size() >= maps_.k) {
+        const PhotonMap* surface = surface_in(region);
+        if (surface && surface->size() >= maps_.k) {
             if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
             const Estimate<Rgb> e =
                 settings_.neighbourhood == Neighbourhood::walks
-                    ? estimate_surface_irradiance_walks(*maps_.surface, hit.position, hit.normal, *maps_.surface_estimator,
+                    ? estimate_surface_irradiance_walks(*surface, hit.position, hit.normal, *maps_.surface_estimator,
                                                         maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats)
-                    : estimate_surface_irradiance(*maps_.surface, hit.position, hit.normal, *maps_.surface_estimator,
+                    : estimate_surface_irradiance(*surface, hit.position, hit.normal, *maps_.surface_estimator,
                                                   maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats);
             radiance += throughput * hit.reflectance * (e.value / kPi);
             ++c.map_used;
@@ -203,8 +220,8 @@ bool CameraPath::marches(const Ray& ray, double t_end) const {
     return true;
 }
 
-Rgb CameraPath::march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng, CameraCounters& c,
-                                    double* optical_depth) const {
+Rgb CameraPath::march_in_scattering(const Ray& ray, double t_end, int depth, RegionMask region, Rng& rng,
+                                    CameraCounters& c, double* optical_depth) const {
     // Per medium, m stratified points with the free-flight density of its exact extinction
     // (transport/march_points.h): each weighs albedo P / m times the other media's transmittance,
     // P = 1 - exp(-tau(t_end)), so weights stay bounded in any density field; m = n or fewer where
@@ -232,13 +249,14 @@ Rgb CameraPath::march_in_scattering(const Ray& ray, double t_end, int depth, Rng
                              const Vec3 x = ray.at(t);
                              const Rgb weight = (others * mass.mass / mass.divisor) * medium.albedo();
                              if (!segment) {
-                                 sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, rng, c);
+                                 sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight, depth, region,
+                                                                         rng, c);
                                  return;
                              }
                              const double tau = segment->medium_depth(segment->medium_index(medium), t);
                              const SegmentPoint at{&*segment, t, march_density(mass, medium.sigma_t(x), tau)};
                              sum += weight * incident_at_march_point(x, ray.dir, medium.g(), total_sigma_t(scene_, x), weight,
-                                                                     depth, rng, c, &at);
+                                                                     depth, region, rng, c, &at);
                          },
                          optical_depth, segment ? masses.data() : nullptr);
     if (segment)
@@ -249,7 +267,7 @@ Rgb CameraPath::march_in_scattering(const Ray& ray, double t_end, int depth, Rng
 }
 
 Rgb CameraPath::incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight,
-                                        int depth, Rng& rng, CameraCounters& c, const SegmentPoint* at) const {
+                                        int depth, RegionMask region, Rng& rng, CameraCounters& c, const SegmentPoint* at) const {
     const bool nee = settings_.direct == DirectLighting::nee;
     Rgb in = Rgb::Zero();   // phase-weighted incident radiance at x
     // The collision gather's bound and rule (photon/estimate/bounded_radius.h) here: a ball spanning many mean
@@ -259,7 +277,7 @@ Rgb CameraPath::incident_at_march_point(const Vec3& x, const Vec3& dir, double g
     // exactly k - 1 do, it takes 0, whose mass the k-1 correction already counts on the kNN side.
     // The choice depends on x and the map only; the query draws no random numbers, so NEE, weighted
     // as transport/single_scattering.h says, follows it.
-    const VolumeEstimate b = maps_.volume.estimate(x, -dir, g, sigma_t, c.scratch, c.estimates);
+    const VolumeEstimate b = volume_in(region).estimate(x, -dir, g, sigma_t, c.scratch, c.estimates);
     const bool wide = b.rule == BoundedQuery::continue_path;
     if (nee) {
         in += single_scattering(x, dir, g, wide, rng, c, at);

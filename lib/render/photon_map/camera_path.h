@@ -25,6 +25,7 @@
 #include "core/rng.h"
 #include "photon/estimate/estimators.h"
 #include "photon/map/photon_map.h"
+#include "photon/map/region_photon_maps.h"
 #include "render/photon_map/gathers/gather_registry.h"
 #include "render/photon_map/photon_map_settings.h"
 #include "render/photon_map/volume_estimate.h"
@@ -64,6 +65,10 @@ struct PassMaps {
     double max_radius = kInfinity;
     GatherMode gather = GatherMode::collision;    // never "auto" or "pilot": what they chose
     const SegmentGather* segment = nullptr;       // a segment gather in force (gathers/segment_gather.h): its pass's structure
+    // Glass interfaces (scene/dielectric_regions.h): the maps split by region; the path tracks its
+    // region and its estimates take that region's photons alone. Null: one region (the maps above).
+    const RegionPhotonMaps* volume_regions = nullptr;
+    const RegionPhotonMaps* surface_regions = nullptr;
 };
 
 class CameraPath {
@@ -93,11 +98,15 @@ private:
     bool marches(const Ray& ray, double t_end) const;
     // The march: the in-scattered radiance along `ray` over (0, t_end) from stratified points, each
     // weighted by the other media's transmittance; optical_depth, when given, receives the segment's.
-    Rgb march_in_scattering(const Ray& ray, double t_end, int depth, Rng& rng, CameraCounters& c,
+    // region: the segment's (scene/dielectric_regions.h).
+    Rgb march_in_scattering(const Ray& ray, double t_end, int depth, RegionMask region, Rng& rng, CameraCounters& c,
                             double* optical_depth = nullptr) const;
     // The phase-weighted incident radiance at march point x (weight: the point's, for roulette).
     Rgb incident_at_march_point(const Vec3& x, const Vec3& dir, double g, double sigma_t, const Rgb& weight, int depth,
-                                Rng& rng, CameraCounters& c, const SegmentPoint* at = nullptr) const;
+                                RegionMask region, Rng& rng, CameraCounters& c, const SegmentPoint* at = nullptr) const;
+    // The volume estimate and the surface map of `region`'s photons (maps_'s own without regions).
+    VolumeEstimator volume_in(RegionMask region) const;
+    const PhotonMap* surface_in(RegionMask region) const;
     // The beam gathers' segment: one BVH query, single scattering by NEE when direct = "nee".
     // taken: the segment gather's value for this segment when already taken (trace()).
     Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c, const Rgb* taken = nullptr) const;

@@ -194,7 +194,14 @@ void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, 
     ledger_.pass_maps += uint64_t(count);
     ledger_.passes_traced += 1;
     surface_map_ = surface ? &owned_.surface : nullptr;
+    use_regions(owned_.volume_regions.empty() ? nullptr : &owned_.volume_regions,
+                owned_.surface_regions.empty() ? nullptr : &owned_.surface_regions);
     set_map_emitted(double(count));
+}
+
+void PhotonMapIntegrator::use_regions(const RegionPhotonMaps* volume, const RegionPhotonMaps* surface) {
+    volume_regions_ = volume;
+    surface_regions_ = surface;
 }
 
 bool PhotonMapIntegrator::traces_surface_map() const {
@@ -351,7 +358,9 @@ EstimatorStats PhotonMapIntegrator::surface_stats() const {
 
 Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
     if (no_map_) return continuation_.radiance(camera_ray, rng);
-    const PassMaps maps = pass_maps(gather_, *map_, surface_map_, decision_ratio_);
+    PassMaps maps = pass_maps(gather_, *map_, surface_map_, decision_ratio_);
+    maps.volume_regions = volume_regions_;
+    maps.surface_regions = surface_map_ ? surface_regions_ : nullptr;
     return CameraPath(scene_, settings_, maps, both_strategies_).trace(camera_ray, 0, rng, threads_->local.local());
 }
 

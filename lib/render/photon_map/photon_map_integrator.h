@@ -73,6 +73,9 @@ public:
     // elsewhere, `map` (independent of the volume map, null for the switch on the volume map's own
     // list) and the volume map's emitted photons per emitted photon of `map`. prepare() traces its own.
     void decide_bound_on(const PhotonMap* map, double emitted_ratio);
+    // Maps built elsewhere, split by region (scene/dielectric_regions.h): the estimates query these
+    // by the camera path's region, the maps given to the constructor serve the rest. Null: none.
+    void use_regions(const RegionPhotonMaps* volume, const RegionPhotonMaps* surface);
     // kNN queries made on the decision map so far (decisions its cell counts did not settle).
     uint64_t decision_queries() const;
 
@@ -85,6 +88,10 @@ private:
     std::optional<LightAllocation> allocation_;   // photons per light, from the run's first pass
     const PhotonMap* map_;
     const PhotonMap* surface_map_;
+    // Glass interfaces (scene/dielectric_regions.h): the maps per region, null in a scene without
+    // closed glass shapes; the camera paths' estimates take their own region's (camera_path.h).
+    const RegionPhotonMaps* volume_regions_ = nullptr;
+    const RegionPhotonMaps* surface_regions_ = nullptr;
     // The bound's decision map (photon/estimate/bounded_radius.h): traced once per run with a seed of its own
     // at photons.count / kDecisionMapShare photons, so every pass and machine of a run decides alike.
     // decision_ratio_ = emitted photons of map_ / of the decision map. (At photons.count it cost the

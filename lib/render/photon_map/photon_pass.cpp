@@ -116,6 +116,27 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
             *log << "trace: " << maps.beams.size() << " photon beams (free flights in the media, "
                  << double(maps.beams.size()) / double(std::max<uint64_t>(traced.paths, 1)) << " per path)\n";
     }
+    // A scene with glass shapes (photons carry regions): one more kd-tree per region, even where all
+    // photons share one (a path in another region must find none there, not theirs).
+    auto split = [](const std::vector<PhotonInput>& photons, const std::vector<RegionMask>& regions) {
+        return regions.empty() ? RegionPhotonMaps() : RegionPhotonMaps(photons, regions);
+    };
+    if (surface) {
+        maps.surface_regions = split(traced.surface_photons, traced.surface_photon_regions);
+        if (log && !maps.surface_regions.empty())
+            *log << "build: surface photon maps of " << maps.surface_regions.regions()
+                 << " regions (glass interfaces, scene/dielectric_regions.h), " << maps.surface_regions.memory_bytes() / 1e6 << " MB\n";
+    }
+    maps.volume_regions = split(traced.photons, traced.photon_regions);
+    const bool beam_gather = ps.gather == GatherMode::point_beam || ps.gather == GatherMode::photon_beams;
+    if (context.first_of_run && beam_gather && scene.surfaces && !scene.surfaces->dielectric_shapes().empty())
+        stats.warn(std::string("photons.gather = \"") + (ps.gather == GatherMode::point_beam ? "point_beam" : "photon_beams") +
+                       "\" gathers photons from both sides of a glass interface (its discs and beams are not split by "
+                       "region, docs/interface_regions.md); \"collision\" and \"march\" are",
+                   context.log);
+    if (log && !maps.volume_regions.empty())
+        *log << "build: volume photon maps of " << maps.volume_regions.regions()
+             << " regions (glass interfaces, scene/dielectric_regions.h), " << maps.volume_regions.memory_bytes() / 1e6 << " MB\n";
     if (surface) {
         const Timer surface_timer;
         const size_t n_surface = traced.surface_photons.size();

@@ -8,6 +8,7 @@
 #include "photon/trace/photon_allocation.h"
 #include "photon/map/photon_beam.h"
 #include "photon/map/photon_map.h"
+#include "photon/map/region_photon_maps.h"
 #include "render/integrator.h"
 #include "render/photon_map/photon_map_settings.h"
 #include "render/run/run_stats.h"
@@ -19,6 +20,9 @@ struct PhotonMaps {
     PhotonMap volume;
     PhotonMap surface;   // empty unless built
     std::vector<PhotonBeam> beams;   // photons.gather = "photon_beams": the free flights (no volume photons then)
+    // A scene with closed glass shapes (scene/dielectric_regions.h): the same photons again, one
+    // kd-tree per region, which the estimates query (the maps above serve the rest).
+    RegionPhotonMaps volume_regions, surface_regions;
 };
 
 // `allocation`: photons per light; computed on the first call (a pilot, for "importance") and

@@ -49,7 +49,10 @@ VolumeEstimate VolumeEstimator::estimate(const Vec3& x, const Vec3& w_o, double 
                                 ? estimate_in_scattering_walks(map, x, w_o, g, estimator, k, bound, buffers, &counts.stats)
                                 : estimate_in_scattering(map, x, w_o, g, estimator, k, bound, buffers, &counts.stats, gather_count());
     if (bound < max_radius) result.rule = bounded_query(s, k);   // the mean-free-path bound is in force
-    if (result.rule == BoundedQuery::use_estimate) result.incident = normalised(s, x, w_o, g, bound, sigma_t, scratch, counts);
+    if (result.rule == BoundedQuery::use_estimate) {
+        result.incident = normalised(s, x, w_o, g, bound, sigma_t, scratch, counts);
+        if (interfaces) result.incident /= region_ball_fraction(interfaces, x, s.radius, region);
+    }
     return result;
 }
 

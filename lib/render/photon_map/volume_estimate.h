@@ -27,6 +27,7 @@
 #include "photon/map/photon_cell_counts.h"
 #include "photon/map/photon_map.h"
 #include "render/photon_map/photon_map_settings.h"
+#include "scene/dielectric_regions.h"
 
 namespace vpm {
 
@@ -69,6 +70,11 @@ struct VolumeEstimator {
     bool leave_group_out;           // PhotonMapSettings::leaves_group_out()
     const BallExtinction& ball;
     Neighbourhood neighbourhood = Neighbourhood::photons;   // photons.neighbours
+    // Glass interfaces (scene/dielectric_regions.h): `map` holds the photons of `region` alone, and
+    // the estimate is divided by the share of its ball inside the region (docs/interface_regions.md).
+    // Null: no interfaces.
+    const Surfaces* interfaces = nullptr;
+    RegionMask region = 0;
 
     // Whether the map is too small for any estimate: every query continues the path.
     bool starved() const { return map.size() < k; }

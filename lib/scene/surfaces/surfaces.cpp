@@ -15,8 +15,9 @@
 //  type = "sphere": center [x,y,z], radius (> 0)   required; intersected analytically in double
 //                                        (no Embree geometry), beside the triangles
 // A dielectric needs a closed shape whose inside is known: a box, a sphere, or a mesh in which
-// every edge joins exactly two triangles of opposite winding (vertices welded by position); the
-// mesh is turned to face outwards by the sign of its volume. A quad or an open mesh is an error.
+// every edge joins exactly two triangles of opposite winding (vertices welded by position); each
+// closed part of the mesh is turned to face out of the glass (outwards, or into a cavity it
+// encloses). A quad or an open mesh is an error.
 //  [shapes.transform]: scale     number or [sx,sy,sz], default 1; no zero component
 //                      rotate    [ax,ay,az,degrees], default [1,0,0,0]; axis need not be unit
 //                      translate [x,y,z], default [0,0,0]
@@ -84,10 +85,28 @@ struct Geometry {
     // type = "sphere": no triangles.
     Vec3 center = Vec3::Zero();
     double radius = 0.0;
+    int dielectric = -1;   // index among the closed dielectric shapes (SurfaceHit::dielectric)
 };
 
+// Whether the ray from o along d crosses triangle (a, b, c) at t > 0 (Moller-Trumbore, in double).
+bool ray_crosses(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 e1 = b - a, e2 = c - a, pv = d.cross(e2);
+    const double det = e1.dot(pv);
+    if (std::abs(det) < 1e-300) return false;
+    const Vec3 tv = o - a;
+    const double u = tv.dot(pv) / det;
+    if (u < 0.0 || u > 1.0) return false;
+    const Vec3 qv = tv.cross(e1);
+    const double v = d.dot(qv) / det;
+    if (v < 0.0 || u + v > 1.0) return false;
+    return e2.dot(qv) / det > 0.0;
+}
+
 // A dielectric's mesh must enclose a volume with a known inside: every edge shared by exactly two
-// triangles that run through it in opposite directions. Turns it to wind outwards (positive volume).
+// triangles that run through it in opposite directions. Each closed part (connected by edges) is
+// turned so that its triangles face out of the glass: a part inside an even number of the others
+// (0: a solid, the outside of a shell) winds outwards (positive volume), one inside an odd number
+// (a shell's cavity) inwards. Which part holds which is read by ray parity from one of its vertices.
 void orient_closed_mesh(TriangleMesh& mesh, const Params& p, const std::string& type) {
     const std::string why = "material = \"dielectric\" needs a closed, consistently oriented " + type +
                             " (which side is glass is read from it): ";
@@ -106,12 +125,46 @@ void orient_closed_mesh(TriangleMesh& mesh, const Params& p, const std::string& 
             p.fail("material", why + "an edge is used by " + std::to_string(n) + " triangle(s) one way and " +
                                    std::to_string(back == directed.end() ? 0 : back->second) + " the other");
     }
-    double volume = 0.0;
+    // The closed parts: triangles joined by shared (welded) vertices.
+    std::vector<uint32_t> parent(welded.size());
+    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    auto root = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
     for (const auto& t : mesh.triangles)
-        volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
-    if (!(std::abs(volume) > 0.0)) p.fail("material", why + "the mesh encloses no volume");
-    if (volume < 0.0)
-        for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+        for (int e = 1; e < 3; ++e) parent[root(id[t[e]])] = root(id[t[0]]);
+    std::map<uint32_t, size_t> part_of_root;
+    std::vector<size_t> part(mesh.triangles.size());
+    for (size_t i = 0; i < mesh.triangles.size(); ++i)
+        part[i] = part_of_root.emplace(root(id[mesh.triangles[i][0]]), part_of_root.size()).first->second;
+    const size_t parts = part_of_root.size();
+    std::vector<double> volume(parts, 0.0);
+    std::vector<Vec3> probe(parts);
+    for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+        const auto& t = mesh.triangles[i];
+        volume[part[i]] += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
+        probe[part[i]] = mesh.vertices[t[0]];
+    }
+    const Vec3 dir = Vec3(0.5773, 0.6129, 0.5397).normalized();   // off every axis and diagonal
+    for (size_t a = 0; a < parts; ++a) {
+        if (!(std::abs(volume[a]) > 0.0)) p.fail("material", why + "a closed part of the mesh encloses no volume");
+        int depth = 0;   // the other parts that contain part a
+        for (size_t b = 0; b < parts; ++b) {
+            if (b == a) continue;
+            int crossings = 0;
+            for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+                const auto& t = mesh.triangles[i];
+                if (part[i] == b && ray_crosses(probe[a], dir, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]))
+                    ++crossings;
+            }
+            depth += crossings % 2;
+        }
+        const bool outwards = depth % 2 == 0;
+        if ((volume[a] > 0.0) != outwards)
+            for (size_t i = 0; i < mesh.triangles.size(); ++i)
+                if (part[i] == a) std::swap(mesh.triangles[i][1], mesh.triangles[i][2]);
+    }
 }
 
 Geometry read_shape(Params& p) {
@@ -173,6 +226,19 @@ public:
     explicit EmbreeSurfaces(std::vector<Geometry> shapes) {
         for (Geometry& g : shapes) {
             ++counts_[g.type];
+            if (g.material->needs_closed_shape()) {
+                g.dielectric = int(dielectrics_.size());
+                DielectricShape d;
+                d.sphere = g.type == "sphere";
+                d.center = g.center;
+                d.radius = g.radius;
+                if (d.sphere) {
+                    d.bounds.extend(g.center - Vec3::Constant(g.radius));
+                    d.bounds.extend(g.center + Vec3::Constant(g.radius));
+                }
+                for (const Vec3& v : g.vertices) d.bounds.extend(v);
+                dielectrics_.push_back(d);
+            }
             if (g.type == "sphere") {
                 bounds_.extend(g.center - Vec3::Constant(g.radius));
                 bounds_.extend(g.center + Vec3::Constant(g.radius));
@@ -269,6 +335,7 @@ public:
 
     Bounds3 bounds() const override { return bounds_; }
     size_t triangle_count() const override { return triangles_; }
+    const std::vector<DielectricShape>& dielectric_shapes() const override { return dielectrics_; }
     bool has_specular() const override {
         for (const auto* list : {&geoms_, &spheres_})
             for (const Geometry& g : *list)
@@ -350,6 +417,7 @@ private:
             hit.normal = cos > 0.0 ? Vec3(-n) : n;
             hit.reflectance = g.reflectance;
             hit.specular = g.specular;
+            hit.dielectric = g.dielectric;
             hit.exiting = cos > 0.0;   // along the outward winding (dielectric meshes are oriented so)
             hit.epsilon = kSpawnOffset * (scale + magnitude(hit.position));
             return true;
@@ -401,6 +469,7 @@ private:
         hit.normal = cos > 0.0 ? Vec3(-outward) : outward;
         hit.reflectance = best->reflectance;
         hit.specular = best->specular;
+        hit.dielectric = best->dielectric;
         hit.exiting = cos > 0.0;
         hit.epsilon = kSpawnOffset * (magnitude(best->center) + best->radius);
         return true;
@@ -460,6 +529,7 @@ private:
 
     std::vector<Geometry> geoms_;     // triangle meshes, by Embree geometry id
     std::vector<Geometry> spheres_;   // analytic spheres
+    std::vector<DielectricShape> dielectrics_;   // SurfaceHit::dielectric indexes it
     std::map<std::string, size_t> counts_;
     Bounds3 bounds_;
     size_t triangles_ = 0;
@@ -475,7 +545,14 @@ private:
 std::unique_ptr<Surfaces> Surfaces::create(std::vector<Params>& shapes) {
     std::vector<Geometry> geoms;
     geoms.reserve(shapes.size());
-    for (Params& p : shapes) geoms.push_back(read_shape(p));   // all config errors before Embree
+    size_t dielectrics = 0;
+    for (Params& p : shapes) {   // all config errors before Embree
+        geoms.push_back(read_shape(p));
+        if (geoms.back().material->needs_closed_shape() && ++dielectrics > kMaxDielectricShapes)
+            p.fail("material", "at most " + std::to_string(kMaxDielectricShapes) +
+                                   " closed dielectric shapes per scene (each is one bit of a photon's region, "
+                                   "scene/dielectric_regions.h)");
+    }
     return std::make_unique<EmbreeSurfaces>(std::move(geoms));
 }
 

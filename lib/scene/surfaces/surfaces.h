@@ -26,12 +26,27 @@ struct SurfaceHit {
     // How far a ray leaving this hit starts off the surface: a bound on the rounding of position
     // across the surface, from the hit's own coordinates and shape (scene/surfaces/offsets.h).
     double epsilon = 0.0;
+    // The closed dielectric shape hit, its index among the scene's dielectrics (Surfaces::
+    // dielectric_shapes, scene/dielectric_regions.h); -1 for every other material.
+    int dielectric = -1;
     // Set by Scene::intersect when the hit is an area light (black, so paths end there): the light
     // and the radiance it sends back along the ray.
     const Light* emitter = nullptr;
     Rgb emitted = Rgb::Zero();   // summed over coincident emitters (Scene::intersect)
     bool coincident_emitters = false;   // more than one area light at this point
 };
+
+// A closed dielectric shape, as the regions (scene/dielectric_regions.h) see it: a sphere
+// (exact lens volumes) or a closed mesh (its bounds only; inside is read by ray parity).
+struct DielectricShape {
+    bool sphere = false;
+    Vec3 center = Vec3::Zero();   // sphere
+    double radius = 0.0;          // sphere
+    Bounds3 bounds;
+};
+
+// Regions are masks of 64 bits, one per closed dielectric shape.
+constexpr size_t kMaxDielectricShapes = 64;
 
 class Surfaces {
 public:
@@ -50,6 +65,9 @@ public:
     virtual bool occluded(const Ray& ray, double tmax) const = 0;
     virtual Bounds3 bounds() const = 0;
     virtual size_t triangle_count() const = 0;
+    // The closed dielectric shapes, in the order of SurfaceHit::dielectric (at most
+    // kMaxDielectricShapes: create() refuses more).
+    virtual const std::vector<DielectricShape>& dielectric_shapes() const = 0;
     // Whether any shape is a mirror or glass (a specular material).
     virtual bool has_specular() const = 0;
     virtual std::string describe() const = 0;

@@ -1,6 +1,7 @@
 // Embree-backed surfaces: configuration keys, materials, and ray queries against analytic answers.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -488,4 +489,40 @@ TEST(Surfaces, EachShapeIsTracedAtItsOwnScale) {
     }
     EXPECT_EQ(self_hits, 0);
     EXPECT_LE(inward_wrong, 2);   // a ray grazing an edge may slip through it
+
+TEST(Surfaces, EachClosedPartOfADielectricMeshFacesOutOfTheGlass) {
+    // Two tetrahedra apart, the second wound inwards (its volume alone negative; the sum positive):
+    // both must read as solids. And a shell: a tetrahedron inside a larger one, both wound
+    // outwards in the file; the inner part is the cavity and must face into it.
+    const vpm::test::ScratchDir scratch;
+    const fs::path& dir = scratch.path;
+    const char* outward = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";   // tetra.obj's winding, checked above
+    const char* inward = "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
+    {
+        std::ofstream f(dir / "two.obj");
+        f << "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 0 0 2\n" << outward;
+        f << "v 5 0 0\nv 6 0 0\nv 5 1 0\nv 5 0 1\n";
+        for (const char* c = inward; *c; ++c) f << (std::isdigit(*c) ? char(*c + 4) : *c);
+    }
+    {
+        std::ofstream f(dir / "shell.obj");
+        f << "v -1 -1 -1\nv 5 -1 -1\nv -1 5 -1\nv -1 -1 5\n" << outward;
+        f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+        for (const char* c = outward; *c; ++c) f << (std::isdigit(*c) ? char(*c + 4) : *c);
+    }
+    SurfaceHit h;
+    auto two = build("[[shapes]]\ntype = 'mesh'\nfile = 'two.obj'\nmaterial = 'dielectric'\n", dir);
+    ASSERT_TRUE(two->intersect(ray({5.2, 0.2, -1}, {0, 0, 1}), kInfinity, h));
+    EXPECT_FALSE(h.exiting);   // entering the second solid
+    ASSERT_TRUE(two->intersect(ray({5.2, 0.2, 0.1}, {0, 0, 1}), kInfinity, h));
+    EXPECT_TRUE(h.exiting);
+    ASSERT_TRUE(two->intersect(ray({0.2, 0.2, -1}, {0, 0, 1}), kInfinity, h));
+    EXPECT_FALSE(h.exiting);   // the first is untouched
+    auto shell = build("[[shapes]]\ntype = 'mesh'\nfile = 'shell.obj'\nmaterial = 'dielectric'\n", dir);
+    ASSERT_TRUE(shell->intersect(ray({0.2, 0.2, -0.5}, {0, 0, 1}), kInfinity, h));   // glass into the cavity
+    EXPECT_TRUE(h.exiting);
+    ASSERT_TRUE(shell->intersect(ray({0.2, 0.2, 0.1}, {0, 0, 1}), kInfinity, h));    // the cavity into glass
+    EXPECT_FALSE(h.exiting);
+    ASSERT_TRUE(shell->intersect(ray({0.2, 0.2, -2}, {0, 0, 1}), kInfinity, h));     // air into glass
+    EXPECT_FALSE(h.exiting);
 }
