@@ -41,7 +41,7 @@ VolumeEstimator CameraPath::volume_in(RegionMask region) const {
     const VolumeEstimator& v = maps_.volume;
     if (!maps_.volume_regions) return v;
     return VolumeEstimator{maps_.volume_regions->at(region), v.decision, v.k, v.estimator, v.max_radius, v.max_radius_mfp,
-                           v.extinction, v.leave_group_out, v.ball, scene_.surfaces.get(), region};
+                           v.extinction, v.leave_group_out, v.ball, v.neighbourhood, scene_.surfaces.get(), region};
 }
 
 const PhotonMap* CameraPath::surface_in(RegionMask region) const {
