@@ -248,6 +248,7 @@ TEST(DenseBiasEstimators, WalkGroupSplitPartsKeepBothHalves) {
         const Vec3 x(5, 5, 5);
         const Estimate<Rgb> s = estimate_in_scattering(part, x, Vec3::UnitZ(), 0.0, Estimator::named("corrected"), k, kInfinity, buf,
                                                        nullptr, leave_half_out_gather(k));
+        EXPECT_EQ(s.kind, EstimateCase::knn);
         const GroupEstimate e = leave_half_out(buf, buf.list.size(), false, k, kInfinity, part, x, ball, false);
         EXPECT_TRUE(e.used);
         EXPECT_EQ(e.want, 0u) << "both halves' m-th photons within the first gather";

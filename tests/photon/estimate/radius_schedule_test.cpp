@@ -54,7 +54,9 @@ TEST(RadiusSchedule, KnnPassShrinksKToTheFloorThenTheRadius) {
         const double target = std::pow(progressive_measure_ratio(i, 4.0 / 7.0), 2.0 / 3.0) * knn_bias_moment(32, 3);
         EXPECT_NEAR(s * s * knn_bias_moment(k, 3), target, 1e-12 * target);
         // k is the smallest that reaches the target with s <= 1.
-        if (k > 4) EXPECT_LT(knn_bias_moment(k - 1, 3), target);
+        if (k > 4) {
+            EXPECT_LT(knn_bias_moment(k - 1, 3), target);
+        }
     }
     EXPECT_EQ(last_k, 4);
     EXPECT_LT(progressive_knn_scale(4000, 32, 4, points[0]), 0.75);   // below the floor the radius goes on shrinking

@@ -237,7 +237,9 @@ TEST(PhotonBeamBvh, SlabFilterAndLineBoundHoldForEveryPointOfTheBox) {
         for (int j = 0; j < 64; ++j) {
             const Vec3 x = box.lo + (box.hi - box.lo).cwiseProduct(Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
             const double s = (x - o).dot(d);
-            if (s >= 0.0 && s <= tmax) ASSERT_TRUE(meets) << i;   // a point in the slab: the box meets it
+            if (s >= 0.0 && s <= tmax) {
+                ASSERT_TRUE(meets) << i;   // a point in the slab: the box meets it
+            }
             ASSERT_LE(line, (x - o - s * d).norm() + 1e-12) << i;   // no point nearer the line than the bound
         }
     }

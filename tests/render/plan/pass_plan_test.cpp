@@ -13,9 +13,22 @@ using namespace vpm;
 
 namespace {
 
+// A candidate's pilot figures, the rest of GatherMeasurement at its defaults.
+GatherMeasurement measured(const char* name, double v_camera, double v_half, double v_quarter, double sample_cost,
+                           double max_weight = 0.0) {
+    GatherMeasurement m;
+    m.name = name;
+    m.v_camera = v_camera;
+    m.v_map_half = v_half;
+    m.v_map_quarter = v_quarter;
+    m.sample_cost = sample_cost;
+    m.max_weight = max_weight;
+    return m;
+}
+
 PlanInputs inputs(double v_camera, double v_half, double v_quarter, double sample_cost, double photon_cost) {
     PlanInputs in;
-    in.candidates = {{"collision", v_camera, v_half, v_quarter, /*bias2*/ 0.0, sample_cost}};
+    in.candidates = {measured("collision", v_camera, v_half, v_quarter, sample_cost)};
     in.photon_cost = photon_cost;
     in.pixels = 1000.0;
     in.count = 1000;
@@ -84,7 +97,7 @@ TEST(PassPlan, MapNoiseBuysPhotonsAndCameraNoiseBuysSamples) {
 
 TEST(PassPlan, KeepsGivenSizesAndPicksTheGather) {
     PlanInputs in = inputs(1.0, 0.1, 0.2, 10.0, 100.0);
-    in.candidates.push_back({"march", 0.1, 0.01, 0.02, 0.0, 40.0, 1.0, {}});   // 10x less variance at 4x the samples' cost
+    in.candidates.push_back(measured("march", 0.1, 0.01, 0.02, 40.0, 1.0));   // 10x less variance at 4x the samples' cost
     in.size_photons = in.size_samples = false;
     const PassPlan p = plan_passes(in);
     EXPECT_EQ(p.count, 1000);
@@ -105,7 +118,7 @@ TEST(PassPlan, KeepsGivenSizesAndPicksTheGather) {
 
 TEST(PassPlan, NothingLitGoesToTheCheaperGather) {
     PlanInputs in = inputs(0.0, 0.0, 0.0, 30.0, 10.0);
-    in.candidates.push_back({"march", 0.0, 0.0, 0.0, 0.0, 20.0, 1.0, {}});
+    in.candidates.push_back(measured("march", 0.0, 0.0, 0.0, 20.0, 1.0));
     const PassPlan p = plan_passes(in);
     EXPECT_EQ(p.chosen, 1);
     EXPECT_EQ(p.spp, 1);
@@ -155,7 +168,7 @@ TEST(PassPlan, PassesStayWithinTheBudgetsShareAndHeavyTailedMarchesAreNotTrusted
     // passes; with the cost mostly photons, 1000 x 8 passes is the same variance).
     EXPECT_EQ(double(p.count) * std::floor(in.budget / (100.0 * double(p.count) + 1000.0 * p.spp * 10.0)), 8000.0);
     // The march measures 100x less variance but its points weighed up to 50: not trusted.
-    in.candidates.push_back({"march", 1e-5, 1e-2, 2e-2, 0.0, 10.0, 50.0, {}});
+    in.candidates.push_back(measured("march", 1e-5, 1e-2, 2e-2, 10.0, 50.0));
     EXPECT_EQ(plan_passes(in).chosen, 0);
     in.candidates[1].max_weight = 1.0;
     EXPECT_EQ(plan_passes(in).chosen, 1);
