@@ -405,6 +405,26 @@ PhotonMap::PhotonMap(const std::vector<PhotonInput>& in, size_t leaf_size) {
     index_->release_order(photons_.data());
 }
 
+float PhotonMap::search_bound(const Vec3& rel, double max_radius) const {
+    if (!std::isfinite(max_radius)) return std::numeric_limits<float>::max();
+    // Each float rounding is <= 2^-24 of the coordinate magnitude per axis.
+    const double coord = rel.cwiseAbs().maxCoeff() + 0.5 * (bounds_.hi - bounds_.lo).cwiseAbs().maxCoeff();
+    const double slack = 8.0 * 0x1p-24 * coord;
+    return static_cast<float>((max_radius + slack) * (max_radius + slack) * (1.0 + 1e-6));
+}
+
+Neighbour PhotonMap::neighbour(uint32_t index, double d2) const {
+    const Photon& p = photons_[index];
+    Neighbour n;
+    n.index = index;
+    n.d2 = d2;
+    n.power = decode_power(p.power, exponent_scale(p.reserved));
+    n.direction = decode_direction(p.dir);
+    n.group = walk_group(p.reserved);
+    n.walk = walks_[index];
+    return n;
+}
+
 size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourList& out) const {
     out.items.clear();
     if (k == 0 || photons_.empty() || !(max_radius >= 0.0)) return 0;
@@ -417,14 +437,8 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
     const float q[3] = {static_cast<float>(rel[0]), static_cast<float>(rel[1]), static_cast<float>(rel[2])};
     const bool limited = std::isfinite(max_radius);
     const double max_r2 = max_radius * max_radius;
-    // Float search bound with a margin covering the float rounding of stored positions and of
-    // the query (each <= 2^-24 of the coordinate magnitude per axis); the exact double test is
-    // applied below.
-    const double coord = rel.cwiseAbs().maxCoeff() + 0.5 * (bounds_.hi - bounds_.lo).cwiseAbs().maxCoeff();
-    const double slack = 8.0 * 0x1p-24 * coord;
-    const float bound = limited ? static_cast<float>((max_radius + slack) * (max_radius + slack) * (1.0 + 1e-6))
-                                : std::numeric_limits<float>::max();
-    KnnRadiusResultSet rs(out.scratch_index.data(), out.scratch_d2.data(), k, bound);
+    // The exact double test is applied below.
+    KnnRadiusResultSet rs(out.scratch_index.data(), out.scratch_d2.data(), k, search_bound(rel, max_radius));
     search(rs, q);
     const size_t found = rs.size();
     if (out.items.capacity() < k) out.items.reserve(k);
@@ -434,14 +448,7 @@ size_t PhotonMap::knn(const Vec3& query, size_t k, double max_radius, NeighbourL
         const Vec3 d = rel - Vec3(p.p[0], p.p[1], p.p[2]);
         const double d2 = d.squaredNorm();
         if (limited && d2 > max_r2) continue;
-        Neighbour n;
-        n.index = idx;
-        n.d2 = d2;
-        n.power = decode_power(p.power, exponent_scale(p.reserved));
-        n.direction = decode_direction(p.dir);
-        n.group = walk_group(p.reserved);
-        n.walk = walks_[idx];
-        out.items.push_back(n);
+        out.items.push_back(neighbour(idx, d2));
     }
     std::sort(out.items.begin(), out.items.end(), [](const Neighbour& a, const Neighbour& b) {
         return a.d2 < b.d2 || (a.d2 == b.d2 && a.index < b.index);
@@ -457,12 +464,7 @@ size_t PhotonMap::knn_walks(const Vec3& query, size_t k, double max_radius, Neig
     const float q[3] = {static_cast<float>(rel[0]), static_cast<float>(rel[1]), static_cast<float>(rel[2])};
     const bool limited = std::isfinite(max_radius);
     const double max_r2 = max_radius * max_radius;
-    // The float bound and its margin as in knn.
-    const double coord = rel.cwiseAbs().maxCoeff() + 0.5 * (bounds_.hi - bounds_.lo).cwiseAbs().maxCoeff();
-    const double slack = 8.0 * 0x1p-24 * coord;
-    const float bound = limited ? static_cast<float>((max_radius + slack) * (max_radius + slack) * (1.0 + 1e-6))
-                                : std::numeric_limits<float>::max();
-    WalkResultSet rs(walks_.data(), k, bound, out.scratch_candidates, out.scratch_walks);
+    WalkResultSet rs(walks_.data(), k, search_bound(rel, max_radius), out.scratch_candidates, out.scratch_walks);
     search(rs, q);
     const float last = rs.worstDist();
     for (const auto& c : out.scratch_candidates) {
@@ -471,14 +473,7 @@ size_t PhotonMap::knn_walks(const Vec3& query, size_t k, double max_radius, Neig
         const Photon& p = photons_[idx];
         const double d2 = (rel - Vec3(p.p[0], p.p[1], p.p[2])).squaredNorm();
         if (limited && d2 > max_r2) continue;
-        Neighbour n;
-        n.index = idx;
-        n.d2 = d2;
-        n.power = decode_power(p.power, exponent_scale(p.reserved));
-        n.direction = decode_direction(p.dir);
-        n.group = walk_group(p.reserved);
-        n.walk = walks_[idx];
-        out.items.push_back(n);
+        out.items.push_back(neighbour(idx, d2));
     }
     std::sort(out.items.begin(), out.items.end(), [](const Neighbour& a, const Neighbour& b) {
         return a.d2 < b.d2 || (a.d2 == b.d2 && a.index < b.index);
@@ -498,13 +493,7 @@ size_t PhotonMap::gather_all(const Vec3& query, NeighbourList& out) const {
     size_t far = 0;
     for (size_t i = 0; i < photons_.size(); ++i) {
         const Photon& p = photons_[i];
-        Neighbour n;
-        n.index = uint32_t(i);
-        n.d2 = (rel - Vec3(p.p[0], p.p[1], p.p[2])).squaredNorm();
-        n.power = decode_power(p.power, exponent_scale(p.reserved));
-        n.direction = decode_direction(p.dir);
-        n.group = walk_group(p.reserved);
-        n.walk = walks_[i];
+        const Neighbour n = neighbour(uint32_t(i), (rel - Vec3(p.p[0], p.p[1], p.p[2])).squaredNorm());
         if (i == 0 || n.d2 >= out.items[far].d2) far = i;   // ties: the highest index is "farthest"
         out.items.push_back(n);
     }

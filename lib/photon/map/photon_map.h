@@ -114,6 +114,11 @@ private:
     struct Index;
     template <class ResultSet>
     void search(ResultSet& result, const float q[3]) const;
+    // The float search bound for max_radius around the query at `rel` (relative to centre_), with a
+    // margin covering the float rounding of stored positions and of the query.
+    float search_bound(const Vec3& rel, double max_radius) const;
+    // Photon `index` at squared distance d2, decoded.
+    Neighbour neighbour(uint32_t index, double d2) const;
     std::vector<Photon> photons_;
     std::vector<uint32_t> walks_;
     size_t walk_count_ = 0;
