@@ -489,6 +489,7 @@ TEST(Surfaces, EachShapeIsTracedAtItsOwnScale) {
     }
     EXPECT_EQ(self_hits, 0);
     EXPECT_LE(inward_wrong, 2);   // a ray grazing an edge may slip through it
+}
 
 TEST(Surfaces, EachClosedPartOfADielectricMeshFacesOutOfTheGlass) {
     // Two tetrahedra apart, the second wound inwards (its volume alone negative; the sum positive):
