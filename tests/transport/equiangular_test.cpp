@@ -143,7 +143,9 @@ TEST(Equiangular, GridMediumWithMultipleScatteringAgreesWithDistanceSampling) {
                     on.se(), off.mean(), off.se(), z_of(on, off));
         EXPECT_GT(on.mean(), 0.0);
         EXPECT_LT(std::abs(z_of(on, off)), 4.0) << depth;
-        if (depth == 1) EXPECT_LT(on.se(), off.se());
+        if (depth == 1) {
+            EXPECT_LT(on.se(), off.se());
+        }
     }
 }
 

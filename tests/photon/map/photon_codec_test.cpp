@@ -63,10 +63,11 @@ TEST(PhotonCodec, PowerRoundTripWithinBound) {
         encode_power(p, 1.0 / scale, q);
         const Rgb r = decode_power(q, scale);
         for (int c = 0; c < 3; ++c) {
-            if (p[c] >= 0x1p-14 * scale)
+            if (p[c] >= 0x1p-14 * scale) {
                 ASSERT_LE(std::abs(r[c] - p[c]), 0x1p-11 * p[c]) << p[c];
-            else
+            } else {
                 ASSERT_LE(std::abs(r[c] - p[c]), 0x1p-25 * scale) << p[c];
+            }
         }
     }
 }

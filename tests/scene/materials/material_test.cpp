@@ -119,8 +119,11 @@ TEST(Materials, EveryMaterialsSampleAgreesWithEvalAndPdfAndCreatesNoEnergy) {
         }
         const Rgb mean = weight_sum / kN;
         EXPECT_TRUE((mean <= 1.0 + 1e-12).all()) << name << " creates energy: " << mean.transpose();
-        if (m->specular() || (m->diffuse_reflectance() == 0.0).all()) EXPECT_EQ(pdf_integral, 0.0) << name;
-        else EXPECT_NEAR(pdf_integral / kN, 1.0, 0.02) << name;   // SE of the uniform estimate ~0.0045
+        if (m->specular() || (m->diffuse_reflectance() == 0.0).all()) {
+            EXPECT_EQ(pdf_integral, 0.0) << name;
+        } else {
+            EXPECT_NEAR(pdf_integral / kN, 1.0, 0.02) << name;   // SE of the uniform estimate ~0.0045
+        }
     }
 }
 
@@ -212,8 +215,11 @@ TEST(Materials, DielectricReflectsWithTheFresnelProbabilityAndRefractsBySnell) {
                     EXPECT_NEAR(s.dir.z(), std::cos(theta), 1e-12);
                 }
             }
-            if (f == 1.0) EXPECT_EQ(reflected.mean(), 1.0) << "total internal reflection at theta " << theta;
-            else EXPECT_NEAR(reflected.mean(), f, 4.0 * std::sqrt(f * (1.0 - f) / kN) + 1e-12) << theta << " exiting " << exiting;
+            if (f == 1.0) {
+                EXPECT_EQ(reflected.mean(), 1.0) << "total internal reflection at theta " << theta;
+            } else {
+                EXPECT_NEAR(reflected.mean(), f, 4.0 * std::sqrt(f * (1.0 - f) / kN) + 1e-12) << theta << " exiting " << exiting;
+            }
         }
     }
 }
