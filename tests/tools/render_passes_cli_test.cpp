@@ -59,10 +59,11 @@ TEST(RenderPassesCli, ReferenceErrorAfterEveryPass) {
               0);
     const auto rows = read_csv(dir / "pm.passes.csv");
     ASSERT_EQ(rows.size(), 9u);
+    // The named metric (relMSE by default, docs/metrics.md) and its noise floor follow the linear columns.
     EXPECT_EQ(rows[0], (std::vector<std::string>{"pass", "spp", "elapsed_s", "seconds", "passes", "image_mean", "rel_rmse",
-                                                 "rel_mean_error"}));
+                                                 "rel_mean_error", "relMSE", "relMSE_noise_floor"}));
     for (size_t i = 1; i < rows.size(); ++i) {
-        ASSERT_EQ(rows[i].size(), 8u);
+        ASSERT_EQ(rows[i].size(), 10u);
         EXPECT_EQ(rows[i][4], "1");   // photon-map passes are one per group (each has its own map)
         EXPECT_EQ(std::stoi(rows[i][0]), int(i));
         EXPECT_EQ(std::stoi(rows[i][1]), int(i));

@@ -8,7 +8,7 @@
 // kPeakBytesPerBeam per beam: the beams' BVH). When that projection, or the memory already used,
 // exceeds the limit (physical memory), it stops the pass with a vpm::Error naming photons.count,
 // the projection and the largest count that fits: a clear error before the real work instead of
-// std::bad_alloc or swapping. Every ~10 s it writes a progress line to the log (which, unlike the
+// std::bad_alloc or swapping. Every ten seconds it writes a progress line to the log (which, unlike the
 // progress bar, also appears when stderr is not a terminal).
 #include <cstdint>
 #include <functional>
@@ -25,7 +25,7 @@ namespace vpm {
 // its walk id in Morton and in leaf order, the tree's permutation entry, ~4 bytes of nodes).
 constexpr double kPeakBytesPerStoredPhoton = double(sizeof(PhotonInput)) + 2.0 * double(sizeof(Photon)) + 4.0 + 4.0 + 4.0 + 4.0;
 
-// Peak bytes per photon beam: its record (reserved 10% over the pilot's projection), its
+// Peak bytes per photon beam: its record (reserved a tenth over the pilot's projection), its
 // sample-point width, and the camera rays' BVH over its pieces (photon/map/photon_beam_bvh.h; the
 // sample-point widths' own BVH of whole beams is freed before that one is built).
 inline double peak_bytes_per_beam() {

@@ -20,7 +20,7 @@
 //                   Fewer than k beams crossing: with photons.max_radius, all beams within it
 //                   (a fixed width); without, the segment has no width (counted: starved) and the
 //                   integrator gathers it as the collision gather does, the camera path going on
-//                   from its free flight (unbiased; it was 0, -36% in a dense cube at 2,000 photons).
+//                   from its free flight (unbiased: an estimate of 0 there would drop that light).
 //   "sample_point"  r_j = u of the k-th nearest other beam of beam j itself (its own segment as
 //                   the query), bounded by photons.max_radius: independent of the camera ray, so
 //                   unbiased for a uniform field for every k and kernel (no k-1 factor). A beam
