@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "core/progress.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "render/plan/map_noise_pilot.h"
 #include "render/plan/no_map_candidate.h"
 #include "render/photon_map/photon_map_integrator.h"

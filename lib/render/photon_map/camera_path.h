@@ -22,7 +22,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/estimate/estimators.h"
 #include "photon/map/photon_map.h"
 #include "photon/map/region_photon_maps.h"

@@ -11,7 +11,7 @@
 
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "photon/estimate/ball_extinction.h"
 #include "photon/estimate/bounded_radius.h"
 #include "render/photon_map/gathers/segment_gather.h"

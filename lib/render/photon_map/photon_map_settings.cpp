@@ -6,7 +6,7 @@
 
 #include "config/params.h"
 #include "photon/estimate/radius_schedule.h"
-#include "core/sampler_registry.h"
+#include "core/sampling/sampler_registry.h"
 #include "render/photon_map/gathers/photon_beams_gather.h"
 
 namespace vpm {

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "core/math.h"
-#include "core/sampler.h"
+#include "core/sampling/sampler.h"
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/walk_estimate.h"
 #include "render/photon_map/gathers/gather_registry.h"
