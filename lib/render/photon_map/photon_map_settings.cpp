@@ -214,6 +214,12 @@ int PhotonMapSettings::k_for_pass(int pass_index) const {
     return leaves_group_out() && kp % 2 ? kp + 1 : kp;
 }
 
+PassEstimators PhotonMapSettings::estimators_for_pass(int pass_index, bool volume, bool surface) const {
+    const PassRadii r = radii_for_pass(pass_index, volume, surface);
+    return {size_t(r.k), search_radius(), estimator.with_radius_scale(r.volume_scale),
+            estimator.with_radius_scale(r.surface_scale), r.beam_scale};
+}
+
 PassRadii PhotonMapSettings::radii_for_pass(int pass_index, bool volume, bool surface) const {
     PassRadii r;
     r.k = k;

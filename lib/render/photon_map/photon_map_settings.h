@@ -30,6 +30,15 @@ struct PassRadii {
     double volume_scale = 1.0, surface_scale = 1.0, beam_scale = 1.0;
 };
 
+// One pass's k, radius bound and estimators with their radius scales, and the beam discs' scale:
+// what the pass's estimates use (PhotonMapSettings::estimators_for_pass).
+struct PassEstimators {
+    size_t k = 32;
+    double max_radius = kInfinity;
+    Estimator volume, surface;
+    double beam_scale = 1.0;
+};
+
 struct PhotonMapSettings {
     int64_t count = 100000;
     bool count_given = false;   // photons.count was set (else count is its default)
@@ -82,6 +91,10 @@ struct PhotonMapSettings {
     double alpha_for(int dim) const;
     // Pass `pass_index`'s k and radius scales; volume, surface: the maps the run queries (the k serves both).
     PassRadii radii_for_pass(int pass_index, bool volume, bool surface) const;
+    // Pass `pass_index`'s estimators: radii_for_pass applied to photons.estimator.
+    PassEstimators estimators_for_pass(int pass_index, bool volume, bool surface) const;
+    // The estimators before any schedule: photons.k and photons.estimator as given.
+    PassEstimators unscheduled_estimators() const { return {size_t(k), search_radius(), estimator, estimator, 1.0}; }
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
     // Whether a time limit's plan may size this run's passes: the gathers the pilot measures
