@@ -37,6 +37,22 @@ Rgb CameraPath::single_scattering(const Vec3& x, const Vec3& dir, double g, bool
     return l;
 }
 
+CameraTotals sum_counters(const CounterSet& counters) {
+    CameraTotals t;
+    for (const CameraCounters& l : counters) {
+        t.estimates.merge(l.estimates);
+        t.surface_stats.merge(l.surface_stats);
+        t.continued += l.continued;
+        t.march_wide += l.march_wide;
+        t.rays += l.rays;
+        t.march_points += l.march_points;
+        t.map_used += l.map_used;
+        t.march_weight_max = std::max(t.march_weight_max, l.march_weight_max);
+        t.march_weight_sum += l.march_weight_sum;
+    }
+    return t;
+}
+
 VolumeEstimator CameraPath::volume_in(RegionMask region) const {
     const VolumeEstimator& v = maps_.volume;
     if (!maps_.volume_regions) return v;

@@ -59,6 +59,15 @@ struct CameraCounters {
 // Every thread's counters.
 using CounterSet = tbb::enumerable_thread_specific<CameraCounters>;
 
+// Every thread's counts summed (maxima for the march weights), in the set's order.
+struct CameraTotals {
+    EstimateCounts estimates;
+    EstimatorStats surface_stats;
+    uint64_t continued = 0, march_wide = 0, rays = 0, march_points = 0, map_used = 0;
+    double march_weight_max = 0.0, march_weight_sum = 0.0;
+};
+CameraTotals sum_counters(const CounterSet& counters);
+
 // What a camera path reads of one pass: its maps, their rules and the gather in force.
 struct PassMaps {
     VolumeEstimator volume;

@@ -1,33 +1,20 @@
 #include "render/photon_map/photon_map_integrator.h"
 
 #include <algorithm>
-#include <array>
+#include <cmath>
 #include <optional>
 #include <ostream>
 #include <sstream>
 
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
-#include "core/henyey_greenstein.h"
 #include "core/progress.h"
-#include "core/sampling/sampling.h"
+#include "core/sampling/rng.h"
 #include "photon/estimate/ball_extinction.h"
-#include "photon/estimate/bounded_radius.h"
 #include "render/photon_map/gathers/segment_gather.h"
 #include "render/plan/pass_plan.h"
 #include "render/plan/work_units.h"
-#include "transport/seen_through.h"
-#include "transport/segment_direct_light.h"
 #include "transport/single_scattering.h"
-#include "transport/specular_step.h"
-#include "scene/media/homogeneous_medium.h"
-#include "config/params.h"
-#include "transport/direct_light.h"
-#include "transport/equiangular.h"
-#include "transport/march_points.h"
-#include "transport/mis.h"
-#include "transport/walk_steps.h"
 
 namespace vpm {
 
@@ -239,105 +226,13 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
 
 void PhotonMapIntegrator::decide_bound_on(const PhotonMap* map, double emitted_ratio) { decision_.use(map, emitted_ratio); }
 
-uint64_t PhotonMapIntegrator::decision_queries() const {
-    uint64_t total = 0;
-    for (const auto& l : threads_->local) total += l.estimates.decisions;
-    return total;
-}
-
+CameraTotals PhotonMapIntegrator::totals() const { return sum_counters(threads_->local); }
+uint64_t PhotonMapIntegrator::decision_queries() const { return totals().estimates.decisions; }
+uint64_t PhotonMapIntegrator::map_estimates() const { return totals().map_used; }
+EstimatorStats PhotonMapIntegrator::stats() const { return totals().estimates.stats; }
+uint64_t PhotonMapIntegrator::continued_paths() const { return totals().continued; }
+EstimatorStats PhotonMapIntegrator::surface_stats() const { return totals().surface_stats; }
 std::string PhotonMapIntegrator::gather_used() const { return choice_.no_map ? "none" : gather_entry(choice_.gather).name; }
-
-uint64_t PhotonMapIntegrator::map_estimates() const {
-    uint64_t total = 0;
-    for (const auto& l : threads_->local) total += l.map_used;
-    return total;
-}
-
-void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
-    stats.integrator_used = integrator_used();
-    stats.gather_used = gather_used();
-    stats.map_estimates = map_estimates();
-    if (maps_.owns) {
-        PhotonLedger l = photons_.ledger;
-        l.estimates = *stats.map_estimates;
-        l.decision_queries = decision_.map() ? decision_queries() : 0;
-        stats.photon_ledger = l;
-        if (log)
-            *log << "photons traced per phase: " << l.pass_maps << " in " << l.passes_traced << " passes' maps ("
-                 << l.estimates << " estimates taken from them), " << l.pilot_only << " for the pilot alone, " << l.probe
-                 << " in the probe that sized the pilot's map, " << l.decision_map << " in the decision map ("
-                 << l.decision_queries << " radius decisions queried it)\n";
-    }
-    stats.volume_estimates = this->stats();
-    if (!radii_log_.radii.empty()) {
-        PassRadiiStats r = radii_log_;
-        r.schedule = settings_.schedule == KSchedule::fixed ? "fixed" : settings_.schedule == KSchedule::shrink ? "shrink" : "progressive";
-        r.alpha_points = settings_.alpha_for(3);
-        r.alpha_surfaces = settings_.alpha_for(2);
-        r.last = settings_.radii_for_pass(r.last_pass, scene_.has_media(), maps_.surface != nullptr || traces_surface_map());
-        stats.pass_radii = r;
-    }
-    if (choice_.pilot) stats.gather_pilot = choice_.pilot;
-    if (choice_.auto_stats) stats.auto_gather = choice_.auto_stats;
-    stats.continued_paths = continued_paths();
-    if (settings_.extinction == ExtinctionNormalisation::linear) {
-        uint64_t fallbacks = 0;
-        for (const auto& l : threads_->local) fallbacks += l.estimates.linear_fallbacks;
-        stats.linear_fallbacks = fallbacks;
-        if (fallbacks && log)
-            *log << "linear: " << fallbacks << " of " << stats.volume_estimates->queries << " estimates fell back to the "
-                 << "ball normalisation (their linear-corrected sum was negative; photon/estimate/linear_estimate.h)\n";
-    }
-    if (decision_.map()) stats.decision_queries = decision_queries();
-    if (log)
-        *log << "estimates: " << stats.volume_estimates->to_string() << "; camera paths continued past a collision "
-             << "(fewer than k photons within photons.max_radius_mfp, or in the map): " << *stats.continued_paths
-             << (decision_.map() ? "; decision map queries: " + std::to_string(*stats.decision_queries) : std::string()) << "\n";
-    if (settings_.gather != GatherMode::collision) {
-        uint64_t wide = 0, points = 0;
-        double wmax = 0.0, wsum = 0.0;
-        for (const auto& l : threads_->local) {
-            wide += l.march_wide;
-            points += l.march_points;
-            wmax = std::max(wmax, l.march_weight_max);
-            wsum += l.march_weight_sum;
-        }
-        stats.march_wide_queries = wide;
-        if (points > 0) {
-            stats.march_weight_max = wmax;
-            stats.march_weight_mean = wsum / double(points);
-        }
-        if (wide > 0 && log)
-            *log << "march: " << wide << " march points took NEE and a continued path instead of an estimate (a kNN "
-                 << "ball wider than photons.max_radius_mfp = " << settings_.max_radius_mfp
-                 << " mean free paths, or fewer than k = " << pass_.k << " photons in the map); "
-                 << stats.volume_estimates->queries << " map queries in all\n";
-    }
-    if (segment_gather_) segment_gather_->add_to(stats, log);
-    const EstimatorStats ss = surface_stats();
-    if (ss.queries) {
-        stats.surface_estimates = ss;
-        if (log) *log << "surface estimates: " << ss.to_string() << "\n";
-    }
-}
-
-EstimatorStats PhotonMapIntegrator::stats() const {
-    EstimatorStats total;
-    for (const auto& l : threads_->local) total.merge(l.estimates.stats);
-    return total;
-}
-
-uint64_t PhotonMapIntegrator::continued_paths() const {
-    uint64_t total = 0;
-    for (const auto& l : threads_->local) total += l.continued;
-    return total;
-}
-
-EstimatorStats PhotonMapIntegrator::surface_stats() const {
-    EstimatorStats total;
-    for (const auto& l : threads_->local) total.merge(l.surface_stats);
-    return total;
-}
 
 Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
     if (choice_.no_map) return continuation_.radiance(camera_ray, rng);
@@ -382,48 +277,6 @@ void PhotonMapIntegrator::retire_segment_gather(RunStats& stats) {
     if (!segment_gather_) return;
     segment_gather_->add_to(stats, nullptr);
     segment_gather_.reset();
-}
-
-namespace {
-
-struct PhotonMapIntegratorSettings : IntegratorSettings {
-    PhotonMapSettings settings;
-    std::unique_ptr<Integrator> create(const Scene& scene) const override {
-        return std::make_unique<PhotonMapIntegrator>(scene, settings);
-    }
-};
-
-}  // namespace
-
-std::unique_ptr<IntegratorSettings> read_photon_map_settings(Params& render, Params& root) {
-    auto s = std::make_unique<PhotonMapIntegratorSettings>();
-    Params photons = root.table("photons");
-    s->settings = PhotonMapSettings::read(render, photons);
-    photons.finish();
-    return s;
-}
-
-std::unique_ptr<IntegratorSettings> read_auto_integrator_settings(Params& render, Params& root) {
-    auto s = std::make_unique<PhotonMapIntegratorSettings>();
-    Params photons = root.table("photons");
-    s->settings = PhotonMapSettings::read(render, photons, true);
-    photons.finish();
-    // The plan chooses between the path tracer and the gathers its pilot measures: a gather that is
-    // chosen otherwise cannot be honoured with it.
-    const GatherMode g = s->settings.gather;
-    if (render.string("integrator", "path") == "auto" && g != GatherMode::automatic && !gather_entry(g).plan_measures) {
-        std::string allowed = "\"auto\"";
-        for (const GatherEntry& e : gather_entries())
-            if (e.plan_measures) allowed += std::string(", \"") + e.name + "\"";
-        photons.fail("gather", "render.integrator = \"auto\" chooses between the path tracer and the photon map's "
-                               "gathers its pilot measures: photons.gather must be " + allowed +
-                               " with it (or set render.integrator = \"photon_map\")");
-    }
-    return s;
-}
-
-const PhotonMapSettings& photon_map_settings(const RunConfig& config) {
-    return static_cast<const PhotonMapIntegratorSettings&>(config.settings_for("photon_map")).settings;
 }
 
 }  // namespace vpm

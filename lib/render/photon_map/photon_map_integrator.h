@@ -161,6 +161,9 @@ private:
     PassMaps pass_maps(const PassEstimators& estimators, GatherMode gather, const PhotonMap& volume, const PhotonMap* surface,
                        const DecisionMap& decision) const;
 
+    // Every thread's camera counts summed.
+    CameraTotals totals() const;
+
     // --- gather = "pilot": this pass's gather by a pilot of its own (gather_pilot.cpp)
     void choose_gather(const PassContext& context);
 
