@@ -262,3 +262,18 @@ TEST(PhotonBeamsGather, EverySamplePointBeamKeepsABoundedWidthOrTheRunIsRefused)
         EXPECT_NE(m.find("balloon"), std::string::npos) << m;
     }
 }
+
+// Sample-point widths where no camera segment crosses a beam (sigma_t 1e4: beams 1e-4 long, widths
+// 2e-4): the image holds single scattering only (-53% here over 3 maps), and the run says so.
+TEST(PhotonBeamsGather, SamplePointWarnsWhereSegmentsCrossAlmostNoBeam) {
+    RunOptions o;
+    o.progress = false;
+    const RunResult r = run(dense_cube({"media.0.sigma_t_scale=1e4", "render.width=8", "render.height=8", "render.spp=1",
+                                        "photons.gather=\"photon_beams\"", "photons.beam_widths=\"sample_point\""}),
+                            o);
+    ASSERT_TRUE(r.stats.photon_beams.has_value());
+    EXPECT_LT(r.stats.photon_beams->crossed, r.stats.photon_beams->queries);
+    size_t warned = 0;
+    for (const std::string& w : r.stats.warnings) warned += w.find("beams each on average (fewer than 1)") != std::string::npos;
+    EXPECT_EQ(warned, 1u);
+}
