@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 
 namespace vpm {
@@ -138,6 +139,22 @@ uint64_t physical_memory_bytes() {
     const long page_size = ::sysconf(_SC_PAGE_SIZE);
     if (pages <= 0 || page_size <= 0) return 0;
     return uint64_t(pages) * uint64_t(page_size);
+}
+
+uint64_t memory_limit_bytes() {
+    uint64_t limit = physical_memory_bytes();
+    if (limit == 0) limit = UINT64_MAX;
+    struct rlimit r {};
+    if (::getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY) limit = std::min<uint64_t>(limit, uint64_t(r.rlim_cur));
+    // cgroup v2: "max" or a byte count.
+    std::ifstream cgroup("/sys/fs/cgroup/memory.max");
+    std::string text;
+    if (cgroup >> text && text != "max") {
+        char* end = nullptr;
+        const unsigned long long bytes = std::strtoull(text.c_str(), &end, 10);
+        if (end && *end == '\0' && bytes > 0) limit = std::min<uint64_t>(limit, uint64_t(bytes));
+    }
+    return limit == UINT64_MAX ? 0 : limit;
 }
 
 }  // namespace vpm

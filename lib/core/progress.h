@@ -53,5 +53,9 @@ private:
 uint64_t peak_rss_bytes();
 // Physical memory of the machine, in bytes.
 uint64_t physical_memory_bytes();
+// The memory this process may use, in bytes: the physical memory, or less where the process's
+// address-space limit (ulimit -v, RLIMIT_AS) or its cgroup's memory.max sets less. The memory
+// guards compare their projections with this, so a run under a limit is refused, not killed.
+uint64_t memory_limit_bytes();
 
 }  // namespace vpm

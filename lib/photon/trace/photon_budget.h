@@ -6,7 +6,8 @@
 // (volume + surface) and photon beams from the per-emitted rates so far, and the peak memory of
 // storing them and building their indices (kPeakBytesPerStoredPhoton per photon: the kd-tree;
 // kPeakBytesPerBeam per beam: the beams' BVH). When that projection, or the memory already used,
-// exceeds the limit (physical memory), it stops the pass with a vpm::Error naming photons.count,
+// exceeds the limit (the memory this process may use, memory_limit_bytes in core/progress.h), it
+// stops the pass with a vpm::Error naming photons.count,
 // the projection and the largest count that fits: a clear error before the real work instead of
 // std::bad_alloc or swapping. Every ten seconds it writes a progress line to the log (which, unlike the
 // progress bar, also appears when stderr is not a terminal).

@@ -75,7 +75,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     std::ostream* log = context.first_of_run ? context.log : nullptr;
     PhotonTraceSettings ts = trace_settings(scene, ps, context, surface, cached);
     // Stops before the real work when the pilot chunk projects a map that cannot fit; progress lines.
-    ts.on_chunk = make_photon_pass_guard(double(physical_memory_bytes()), context.log);
+    ts.on_chunk = make_photon_pass_guard(double(memory_limit_bytes()), context.log);
     const bool importance = ps.allocation == PhotonAllocationRule::importance;
     const LightAllocation& allocation = *cached;
     PhotonTraceResult traced = trace_photons(scene, ts);
@@ -101,13 +101,16 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
         *log << "trace: " << traced.paths << " photon paths, " << traced.collisions << " collisions, " << stored
              << " stored in " << traced.seconds << " s; energy imbalance " << traced.energy.relative_imbalance()
              << ", truncated paths " << traced.truncated_paths << "\n";
-    // Warn before building a map larger than the budget (records + index, measured per photon).
-    p.projected_map_bytes = double(stored + traced.surface_photons.size()) * double(bytes_per_photon() + 4);
-    p.memory_budget_bytes = ps.memory_budget_fraction * double(physical_memory_bytes());
+    // Warn before building a map (and the beams' BVH) larger than the budget (records + index, per
+    // photon and per beam).
+    p.projected_map_bytes = double(stored + traced.surface_photons.size()) * double(bytes_per_photon() + 4) +
+                            double(traced.beams.size()) * peak_bytes_per_beam();
+    p.memory_budget_bytes = ps.memory_budget_fraction * double(memory_limit_bytes());
     p.over_memory_budget = p.projected_map_bytes > p.memory_budget_bytes;
     if (p.over_memory_budget && log)
-        *log << "warning: the photon map will take about " << p.projected_map_bytes / 1e9 << " GB, over the budget of "
-             << p.memory_budget_bytes / 1e9 << " GB (photons.memory_budget_fraction)\n";
+        *log << "warning: the photon map" << (traced.beams.empty() ? "" : " and its photon beams' BVH") << " will take about "
+             << p.projected_map_bytes / 1e9 << " GB, over the budget of " << p.memory_budget_bytes / 1e9
+             << " GB (photons.memory_budget_fraction of the memory this process may use)\n";
 
     PhotonMaps maps;
     if (ts.store_beams) {

@@ -243,6 +243,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.photon_beams.crossed", b->crossed);
         record.set("photons.photon_beams.tested", b->tested);
         record.set("photons.photon_beams.starved", b->starved);
+        record.set("photons.photon_beams.band_zeros", b->band_zeros);
         record.set("photons.photon_beams.widths_bounded", b->widths_bounded);
         record.set("photons.photon_beams.widths_extrapolated", b->widths_extrapolated);
         record.set("photons.photon_beams.widths_typical", b->widths_typical);

@@ -133,7 +133,8 @@ std::unique_ptr<Medium> make_homogeneous_medium(Params& p) {
     if (shape == "box") {
         const Vec3 lo = p.vec3("min", Vec3::Constant(-1.0));
         const Vec3 hi = p.vec3("max", Vec3::Constant(1.0));
-        if ((hi.array() <= lo.array()).any()) p.fail("max", "must exceed min in every axis");
+        if ((hi.array() <= lo.array()).any())
+            p.fail("max", "must exceed " + p.path_of("min") + " (" + p.where("min") + ") in every axis");
         return std::make_unique<HomogeneousMedium>(HomogeneousMedium::box(lo, hi, sigma_t, albedo, g));
     }
     const Vec3 center = p.vec3("center", Vec3::Zero());

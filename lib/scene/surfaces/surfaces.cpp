@@ -191,7 +191,8 @@ Geometry read_shape(Params& p) {
         mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
     } else {
         const Vec3 lo = p.vec3("min"), hi = p.vec3("max");
-        if (!(lo.array() < hi.array()).all()) p.fail("max", "must exceed min in every axis");
+        if (!(lo.array() < hi.array()).all())
+            p.fail("max", "must exceed " + p.path_of("min") + " (" + p.where("min") + ") in every axis");
         for (int i = 0; i < 8; ++i)
             mesh.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
         // Outward winding (normals are recomputed and flipped per query anyway).

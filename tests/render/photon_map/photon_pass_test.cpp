@@ -3,10 +3,13 @@
 // projected size, and the projection and budget go into the run record (sidecar).
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "render/run/run.h"
 #include "scene/scene.h"
 
@@ -14,7 +17,7 @@ using namespace vpm;
 
 namespace {
 
-RunConfig small_scene(const std::string& fraction) {
+RunConfig small_scene(const std::string& fraction, const std::string& photons_extra = "") {
     const std::string text = R"(
 [render]
 width = 8
@@ -28,7 +31,7 @@ fov = 90
 [photons]
 count = 2000
 direct = "photon_map"
-memory_budget_fraction = )" + fraction + R"(
+memory_budget_fraction = )" + fraction + "\n" + photons_extra + R"(
 [[lights]]
 type = "environment"
 radiance = 0.5
@@ -83,4 +86,39 @@ TEST(MemoryBudget, DefaultBudgetDoesNotWarn) {
 TEST(MemoryBudget, FractionOutOfRangeIsAConfigError) {
     EXPECT_THROW(small_scene("0"), Error);
     EXPECT_THROW(small_scene("1.5"), Error);
+}
+
+// Photon beams are in the projection: with photons.gather = "photon_beams" no point photon is
+// stored, and the projection counted only those (0 bytes, never over any budget).
+TEST(MemoryBudget, PhotonBeamsAreInTheProjection) {
+    const RunConfig config = small_scene("1e-12", "gather = \"photon_beams\"");
+    std::string log;
+    const RunResult r = run_logged(config, log);
+    const auto& j = r.record.json();
+    ASSERT_TRUE(r.stats.photon_beams.has_value());
+    ASSERT_GT(r.stats.photon_beams->recorded, 0u);
+    EXPECT_TRUE(j["photons"]["over_memory_budget"].get<bool>());
+    // not below the beams' BVH and records that were built
+    EXPECT_GE(j["photons"]["projected_map_bytes"].get<double>(), double(r.stats.photon_beams->bvh_bytes));
+    EXPECT_NE(log.find("photon beams' BVH will take about"), std::string::npos) << log;
+}
+
+// The memory guards compare with what this process may use: an address-space limit (ulimit -v) below
+// the physical memory is the limit (a 1e7-photon beam run under ulimit -v 10 GB was refused with a
+// count that fits 25 GB, then died of std::bad_alloc).
+TEST(MemoryBudget, AddressSpaceLimitBoundsTheMemoryLimit) {
+    struct rlimit saved {};
+    ASSERT_EQ(::getrlimit(RLIMIT_AS, &saved), 0);
+    const uint64_t physical = physical_memory_bytes();
+    ASSERT_GT(physical, 0u);
+    uint64_t lower = physical / 2;
+    if (saved.rlim_cur != RLIM_INFINITY) lower = std::min<uint64_t>(lower, uint64_t(saved.rlim_cur) / 2);
+    struct rlimit limited = saved;
+    limited.rlim_cur = rlim_t(lower);
+    ASSERT_EQ(::setrlimit(RLIMIT_AS, &limited), 0);
+    const uint64_t limit = memory_limit_bytes();
+    ASSERT_EQ(::setrlimit(RLIMIT_AS, &saved), 0);
+    EXPECT_GT(limit, 0u);
+    EXPECT_LE(limit, lower);
+    EXPECT_LE(memory_limit_bytes(), physical);
 }

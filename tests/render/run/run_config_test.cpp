@@ -144,3 +144,16 @@ TEST(RunConfig, LeaveGroupOutShrinkScheduleKeepsKEven) {
     s.clustering = Clustering::ignore;
     EXPECT_EQ(s.k_for_pass(1), 25);   // round(32 * 2^(-1/3)) = 25, odd where the halves are not used
 }
+
+// A box's max checked against a min from --set names where that min came from (it blamed only the
+// file's max line, whose value was fine).
+TEST(RunConfig, BoxMinFromTheCommandLineIsNamedWhereMaxMustExceedIt) {
+    try {
+        RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml", {"media.0.min=[1,1,1]"});
+        FAIL() << "a box with min = max was accepted";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("media.0.max"), std::string::npos) << m;
+        EXPECT_NE(m.find("--set media.0.min"), std::string::npos) << m;
+    }
+}

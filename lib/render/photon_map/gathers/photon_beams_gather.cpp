@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
+#include "photon/estimate/bounded_radius.h"
 #include "render/photon_map/photon_map_settings.h"
 #include "render/run/run_stats.h"
 #include "transport/transmittance_at_points.h"
@@ -20,44 +21,51 @@ namespace vpm {
 const char* beam_widths_name(BeamWidths w) { return w == BeamWidths::balloon ? "balloon" : "sample_point"; }
 
 PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k,
-                                   bool keep_kth, const Kernel& kernel, double max_width)
+                                   bool keep_kth, const Kernel& kernel, double max_width, double max_width_mfp)
     : scene_(scene), beams_(std::move(beams)), widths_(widths), k_(k), keep_kth_(keep_kth), kernel_(kernel),
-      max_width_(max_width), exact_(homogeneous_media(scene)) {
+      max_width_(max_width), max_width_mfp_(max_width_mfp), exact_(homogeneous_media(scene)) {
     built_.widths = beam_widths_name(widths);
     built_.k = k;
     // Long beams as pieces in the camera rays' BVH (photon/map/photon_beam_bvh.h): the same answers,
     // fewer tests. The sample-point widths' queries (each beam's own segment) keep whole beams: where
-    // most own segments are crossed by fewer than k beams (dense media) a query searches every item,
-    // and pieces multiply the items (docs/photon_beams.md, "Cost").
+    // most own segments are crossed by fewer than k beams (dense media) a query searches every item
+    // within its bound, and pieces multiply the items (docs/photon_beams.md, "Cost").
     const double piece = PhotonBeamBvh::automatic_piece_length(beams_);
     built_.piece_length = piece;
     std::vector<double> radii;
     if (widths == BeamWidths::sample_point) {
         // Each beam's width from its own k nearest other beams (its segment as the query), found in
-        // a BVH of widths 0; independent of any camera ray, so any width kept here leaves the
-        // estimate unbiased for the blurred field, and every beam gets one (none is left out).
+        // a BVH of widths 0 within the beam's bound; independent of any camera ray, so any width kept
+        // here leaves the estimate unbiased for the blurred field, and every beam gets one (none is
+        // left out).
         const Timer timer;
         const PhotonBeamBvh plain(beams_, {});
         radii.assign(beams_.size(), kInfinity);
         std::vector<uint32_t> found(beams_.size(), 0);
+        std::vector<double> bounds(beams_.size(), max_width);
         tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
         tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
             std::vector<BeamCrossing>& near = scratch.local();
             for (size_t j = range.begin(); j != range.end(); ++j) {
                 const PhotonBeam& b = beams_[j];
-                plain.nearest(b.origin, b.dir, b.length, k, max_width, near, uint32_t(j));
+                // max_radius_mfp mean free paths at the beam's middle (as the point gathers' balls).
+                double sigma_t = 0.0;
+                for (const auto& m : scene_.media) sigma_t += m->sigma_t(b.origin + 0.5 * b.length * b.dir);
+                const double bound = bounded_radius(max_width, max_width_mfp, sigma_t);
+                bounds[j] = bound;
+                plain.nearest(b.origin, b.dir, b.length, k, bound, near, uint32_t(j));
                 found[j] = uint32_t(near.size());
                 // Fewer than k within a bound: the bound itself (a fixed width). Without one, the m < k
                 // found extrapolated: crossings within u grow as u (a field of lines), so the k-th
                 // would lie near u_m k / m.
                 if (near.size() == k) radii[j] = near.back().u;
-                else if (std::isfinite(max_width)) radii[j] = max_width;
+                else if (std::isfinite(bound)) radii[j] = bound;
                 else if (!near.empty()) radii[j] = near.back().u * double(k) / double(near.size());
             }
         });
-        // A beam no other one crosses: the median of the widths measured with all k neighbours (or,
-        // where no beam has k, of the extrapolated ones); with no crossing at all there is no width
-        // to take, and the run is refused.
+        // A beam no other one crosses and with no bound: the median of the widths measured with all k
+        // neighbours (or, where no beam has k, of the extrapolated ones); with no crossing at all
+        // there is no width to take, and the run is refused.
         std::vector<double> measured;
         for (size_t j = 0; j < beams_.size(); ++j)
             if (found[j] == k && std::isfinite(radii[j]) && radii[j] > 0.0) measured.push_back(radii[j]);
@@ -70,22 +78,26 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
             typical = measured[measured.size() / 2];
         }
         for (size_t j = 0; j < beams_.size(); ++j) {
-            if (found[j] == k || std::isfinite(max_width)) continue;
-            if (found[j] > 0) {
+            if (found[j] == k) continue;
+            if (std::isfinite(bounds[j])) {
+                ++built_.widths_bounded;
+            } else if (found[j] > 0) {
                 ++built_.widths_extrapolated;
             } else {
                 ++built_.widths_typical;
                 radii[j] = typical;
             }
         }
-        if (!std::isfinite(typical) && built_.widths_typical > 0)
-            throw Error("photons.beam_widths = \"sample_point\": none of the " + std::to_string(beams_.size()) +
-                        " photon beams is crossed by another within its own segment, so no beam has a width to "
-                        "measure; set photons.max_radius (every beam then takes at most it), trace more photons, or use "
-                        "beam_widths = \"balloon\"");
-        built_.widths_bounded = 0;
-        if (std::isfinite(max_width))
-            for (size_t j = 0; j < beams_.size(); ++j) built_.widths_bounded += found[j] < k;
+        // Guessed widths (no bound) blur a beam's light as far as the guess goes: a dense cube read -50%
+        // with most widths guessed. Where most would be, the run is refused.
+        const uint64_t guessed = built_.widths_extrapolated + built_.widths_typical;
+        if (2 * guessed > beams_.size())
+            throw Error("photons.beam_widths = \"sample_point\": " + std::to_string(guessed) + " of the " +
+                        std::to_string(beams_.size()) +
+                        " photon beams are crossed by fewer than photons.k = " + std::to_string(k) +
+                        " others within their own segments and no bound is set, so most widths would be guessed; "
+                        "set photons.max_radius_mfp > 0 (mean free paths; default 2) or photons.max_radius > 0, a "
+                        "smaller photons.k, more photons, or photons.beam_widths = \"balloon\"");
         built_.widths_seconds = timer.seconds();
     }
     const Timer bvh_timer;
@@ -108,6 +120,17 @@ Rgb PhotonBeamsGather::scattering(const Vec3& x, double cos_theta) const {
     return sum;
 }
 
+double PhotonBeamsGather::segment_bound(const Ray& ray, double t_end) const {
+    if (!(max_width_mfp_ > 0.0)) return max_width_;
+    double majorant = 0.0;
+    for (const auto& m : scene_.media)
+        m->majorant_pieces(ray, t_end, [&](double, double, double sigma) {
+            majorant = std::max(majorant, sigma);
+            return true;
+        });
+    return bounded_radius(max_width_, max_width_mfp_, majorant);
+}
+
 Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved) const {
     if (starved) *starved = false;
     Local& local = local_.local();
@@ -117,13 +140,19 @@ Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng, boo
     widths.clear();
     ++local.queries;
     if (widths_ == BeamWidths::balloon) {
-        bvh_.nearest(ray.origin, ray.dir, t_end, k_, max_width_, hits, UINT32_MAX, &local.tested);
+        const double bound = segment_bound(ray, t_end);
+        bvh_.nearest(ray.origin, ray.dir, t_end, k_, bound, hits, UINT32_MAX, &local.tested);
         double r;
         if (hits.size() == k_) {
             r = hits.back().u;
             if (!keep_kth_) hits.pop_back();   // corrected: the k-th beam sets the width only
-        } else if (std::isfinite(max_width_)) {
-            r = max_width_;   // the bound: a fixed-width estimate over every beam within it
+        } else if (bound == max_width_ && std::isfinite(max_width_)) {
+            r = max_width_;   // the fixed bound: a fixed-width estimate over every beam within it
+        } else if (hits.size() + 1 == k_) {
+            // k - 1 within the mfp bound (or in all): 0, the mass the corrected estimate's k - 1
+            // already holds (photon/estimate/bounded_radius.h).
+            ++local.band_zeros;
+            return Rgb::Zero();
         } else {   // no width: the caller gathers this segment otherwise (it is not 0)
             ++local.starved;
             if (starved) *starved = true;
@@ -171,6 +200,7 @@ PhotonBeamsGatherStats PhotonBeamsGather::stats() const {
         s.crossed += l.crossed;
         s.tested += l.tested;
         s.starved += l.starved;
+        s.band_zeros += l.band_zeros;
         s.tracking_lookups += l.tracking_lookups;
     }
     return s;
@@ -204,6 +234,7 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
         total.crossed += before.crossed;
         total.tested += before.tested;
         total.starved += before.starved;
+        total.band_zeros += before.band_zeros;
         total.tracking_lookups += before.tracking_lookups;
     }
     run.photon_beams = total;
@@ -212,24 +243,51 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
         *log << "photon_beams: " << total.queries << " segment queries weighed " << total.crossed << " beams ("
              << (total.queries ? double(total.crossed) / q : 0.0) << " per query, "
              << (total.queries ? double(total.tested) / q : 0.0) << " crossing tests per query); " << total.starved
-             << " found fewer than k beams (the path went on there, as the collision gather's)\n";
+             << " found fewer than k - 1 beams within the width's bound (the path went on there, as the collision gather's), "
+             << total.band_zeros << " exactly k - 1 (0, the corrected estimate's k - 1 split)\n";
     }
     if (const uint64_t guessed = total.widths_extrapolated + total.widths_typical) {
         std::ostringstream w;
         w << "photons.beam_widths = \"sample_point\": " << guessed << " of " << total.recorded
-          << " beams are crossed by fewer than photons.k others (short flights: a dense medium, or few photons); their "
-             "widths are extrapolated ("
+          << " beams are crossed by fewer than photons.k others and no bound is set; their widths are extrapolated ("
           << total.widths_extrapolated << ") or the median (" << total.widths_typical
-          << "), and such wide beams blur their light beyond the medium's features (a dense cube read -50% at 20,000 "
-             "photons); balloon widths, a smaller photons.k or photons.max_radius bound it";
+          << "), and such wide beams blur their light beyond the medium's features; photons.max_radius_mfp or "
+             "photons.max_radius bound them";
         if (std::find(run.warnings.begin(), run.warnings.end(), w.str()) == run.warnings.end()) run.warn(w.str(), log);
+    }
+    if (2 * total.widths_bounded > total.recorded) {
+        std::ostringstream w;
+        w << "photons.beam_widths = \"sample_point\": " << total.widths_bounded << " of " << total.recorded
+          << " beams are crossed by fewer than photons.k others within their bound (photons.max_radius_mfp mean free "
+             "paths, or photons.max_radius), so they take the bound as a fixed width: a blur of the bound's size, "
+             "unbiased only as it shrinks (a dense cube read -4% at 2 mean free paths); a smaller "
+             "photons.max_radius_mfp, more photons, or beam_widths = \"balloon\" (which continues the camera path "
+             "there) reduce it";
+        if (std::find(run.warnings.begin(), run.warnings.end(), w.str()) == run.warnings.end()) run.warn(w.str(), log);
+    }
+    // Sample-point widths have no starved segment: where few beams cross a camera segment the
+    // estimate is mostly 0 with rare large values (unbiased over maps, but one image reads low:
+    // the dense cube at sigma_t 1e4 read -53% over 3 maps, docs/photon_beams.md).
+    if (widths_ == BeamWidths::sample_point && total.queries > 0 && total.crossed < total.queries) {
+        const std::string prefix = "photons.beam_widths = \"sample_point\": the camera segments crossed ";
+        // One warning with the run's totals: the earlier passes' is replaced.
+        run.warnings.erase(std::remove_if(run.warnings.begin(), run.warnings.end(),
+                                          [&](const std::string& w) { return w.rfind(prefix, 0) == 0; }),
+                           run.warnings.end());
+        std::ostringstream w;
+        w.precision(3);
+        w << prefix << double(total.crossed) / double(total.queries)
+          << " beams each on average (fewer than 1), so the beams' light comes from rare segments and one image most "
+             "likely reads low; more photons or beam_widths = \"balloon\" (which continues the camera path where few "
+             "beams are) give a usable image";
+        run.warn(w.str(), log);
     }
 }
 
 std::unique_ptr<SegmentGather> build_photon_beams_gather(SegmentGatherInputs& in) {
     auto gather = std::make_unique<PhotonBeamsGather>(in.scene, std::move(in.beams), in.settings.beam_widths, in.k,
                                                       in.settings.estimator.traits().keeps_kth, in.settings.estimator.kernel(),
-                                                      in.max_radius);
+                                                      in.max_radius, in.settings.max_radius_mfp);
     in.beams.clear();
     return gather;
 }

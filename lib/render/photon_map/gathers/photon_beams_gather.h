@@ -17,15 +17,21 @@
 //   "balloon"       r = u of the k-th nearest beam of the segment; photons.estimator "classic"
 //                   weighs the k nearest (E = k/(k-1) x truth for a uniform field of lines, constant
 //                   kernel), "corrected" the k-1 nearer ones (unbiased for every normalised kernel).
-//                   Fewer than k beams crossing: with photons.max_radius, all beams within it
-//                   (a fixed width); without, the segment has no width (counted: starved) and the
-//                   integrator gathers it as the collision gather does, the camera path going on
-//                   from its free flight (unbiased: an estimate of 0 there would drop that light).
+//                   The width is bounded by photons.max_radius_mfp mean free paths of the densest
+//                   medium the segment crosses (R = c / majorant), as the point gathers' balls are
+//                   (photon/estimate/bounded_radius.h, the same split): N beams within R, N >= k
+//                   the estimate, N = k - 1 zero (counted: band_zeros; that mass is in the first
+//                   line's k-1 correction), N <= k - 2 no width (counted: starved) and the
+//                   integrator gathers the segment as the collision gather does, the camera path
+//                   going on from its free flight. For a Poisson field of lines the three sum to the
+//                   truth exactly. Without the mfp bound, photons.max_radius bounds the width with a
+//                   fixed-width estimate over the beams within it where fewer than k are.
 //   "sample_point"  r_j = u of the k-th nearest other beam of beam j itself (its own segment as
-//                   the query), bounded by photons.max_radius: independent of the camera ray, so
-//                   unbiased for a uniform field for every k and kernel (no k-1 factor). A beam
-//                   crossed by m < k others takes the bound, else u_m k / m, else (m = 0) the
-//                   median width: every beam keeps its light (counted in the stats).
+//                   the query), bounded by photons.max_radius and by max_radius_mfp mean free paths
+//                   at the beam's middle: independent of the camera ray, so unbiased for the blurred
+//                   field for every k and kernel (no k-1 factor). A beam crossed by m < k others
+//                   within its bound takes the bound (a fixed width); with no bound at all, u_m k / m,
+//                   else (m = 0) the median width: every beam keeps its light (counted in the stats).
 #include <cstdint>
 #include <vector>
 
@@ -49,8 +55,9 @@ class PhotonBeamsGather : public SegmentGather {
 public:
     // keep_kth: the classic numerator (the k-th beam weighed) rather than the corrected's (balloon
     // only). max_width: kInfinity for none.
+    // max_width_mfp: photons.max_radius_mfp (0: off).
     PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k, bool keep_kth,
-                     const Kernel& kernel, double max_width);
+                     const Kernel& kernel, double max_width, double max_width_mfp);
 
     // Whether any beam is in the BVH.
     bool usable() const override { return bvh_.size() > 0; }
@@ -68,7 +75,7 @@ private:
         std::vector<BeamCrossing> hits;
         std::vector<double> widths, ts, transmittance;
         std::vector<uint32_t> order;
-        uint64_t queries = 0, crossed = 0, tested = 0, starved = 0, tracking_lookups = 0;
+        uint64_t queries = 0, crossed = 0, tested = 0, starved = 0, band_zeros = 0, tracking_lookups = 0;
     };
     const Scene& scene_;
     std::vector<PhotonBeam> beams_;
@@ -77,12 +84,16 @@ private:
     bool keep_kth_;
     Kernel kernel_;
     double max_width_;
+    double max_width_mfp_;
     std::vector<bool> exact_;
     PhotonBeamBvh bvh_;
     PhotonBeamsGatherStats built_;
     mutable tbb::enumerable_thread_specific<Local> local_;
 
     Rgb scattering(const Vec3& x, double cos_theta) const;
+    // The balloon width's bound for a segment: max_width_mfp over the largest majorant of the media
+    // along it, at most max_width_ (max_width_ where the mfp bound is off or no medium is crossed).
+    double segment_bound(const Ray& ray, double t_end) const;
 };
 
 }  // namespace vpm

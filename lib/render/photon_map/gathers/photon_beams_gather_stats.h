@@ -19,7 +19,8 @@ struct PhotonBeamsGatherStats {
     uint64_t queries = 0;            // camera segments answered by one BVH query
     uint64_t crossed = 0;            // beams weighed (within the width, feet inside both segments)
     uint64_t tested = 0;             // beam-segment crossing tests in the BVH's leaves (cost)
-    uint64_t starved = 0;            // balloon: segments crossed by fewer than k beams (the camera path goes on there)
+    uint64_t starved = 0;            // balloon: segments crossed by fewer than k - 1 beams within the bound (the camera path goes on there)
+    uint64_t band_zeros = 0;         // balloon: segments crossed by exactly k - 1 within the mfp bound (0: bounded_radius.h's split)
     // Rules that would leave light out, counted (last pass). sample_point widths of beams crossed by
     // fewer than k others: bounded (photons.max_radius), extrapolated (u_m k / m from the m < k
     // found) or typical (none found: the median width); beams_left_out: non-finite or empty flights.

@@ -8,7 +8,6 @@
 
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
-#include "photon/estimate/ball_extinction.h"
 #include "photon/map/photon_radii.h"
 #include "render/photon_map/photon_map_settings.h"
 #include "render/run/run_stats.h"
@@ -35,27 +34,29 @@ PointBeamGather::PointBeamGather(const Scene& scene, const PhotonMap& map, size_
         }
         radii[i] = radius_scale < 1.0 ? r * radius_scale : r;
     }
-    // Per photon 1 / (mean sigma_t over its ball): query-independent like the radius (photon/estimate/ball_extinction.h).
-    // Only media with a jump need it; where every medium is continuous the plain estimate is kept.
+    // Only media with a jump need the disc's mean sigma_t; where every medium is continuous the plain
+    // estimate is kept. The quadrature: a sunflower of points, even in area, weighed by the kernel.
     for (const auto& m : scene.media) foot_point_ = foot_point_ || !m->continuous();
-    inv_ball_sigma_t_.assign(foot_point_ ? map.size() : 0, 0.0f);
-    const BallExtinction ball(scene.media);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, inv_ball_sigma_t_.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t i = range.begin(); i != range.end(); ++i) {
-            if (!std::isfinite(radii[i]) || !(radii[i] > 0.0)) continue;
-            double mean = ball.mean(centres[i], radii[i]);
-            if (!(mean > 0.0))   // a ball too small for the quadrature to meet the medium: the point's
-                for (const auto& m : scene.media) mean += m->sigma_t(centres[i]);
-            if (mean > 0.0) inv_ball_sigma_t_[i] = float(1.0 / mean);
+    if (foot_point_) {
+        constexpr int kDiscPoints = 64;
+        const double golden = kPi * (3.0 - std::sqrt(5.0));
+        double total = 0.0;
+        for (int j = 0; j < kDiscPoints; ++j) {
+            const double s2 = (double(j) + 0.5) / double(kDiscPoints);   // squared radius, even in area
+            const double s = std::sqrt(s2), phi = golden * double(j);
+            const double w = kernel_.weight(s2, 2);
+            if (w > 0.0) disc_points_.emplace_back(s * std::cos(phi), s * std::sin(phi), w);
+            total += w;
         }
-    });
+        for (Vec3& q : disc_points_) q.z() /= total;
+    }
     built_.radii_seconds = radii_timer.seconds();
     const Timer bvh_timer;
     bvh_ = PhotonDiscBvh(centres, radii);
     built_.bvh_seconds = bvh_timer.seconds();
     built_.k = k;
     built_.photons = bvh_.size();
-    built_.bvh_bytes = bvh_.memory_bytes() + inv_ball_sigma_t_.capacity() * sizeof(float);
+    built_.bvh_bytes = bvh_.memory_bytes();
     const double n = double(std::max<size_t>(map.size(), 1));
     built_.bvh_bytes_per_photon = double(built_.bvh_bytes) / n;
     built_.map_bytes_per_photon = double(map.memory_bytes()) / n;
@@ -69,6 +70,18 @@ Rgb PointBeamGather::scattering(const Vec3& x, double cos_theta) const {
         if (s > 0.0) sum += s * m->albedo() * hg_eval(cos_theta, m->g());
     }
     return sum;
+}
+
+double PointBeamGather::disc_sigma_t(const Vec3& y, const Vec3& dir, double r) const {
+    const Frame frame(dir);
+    double mean = 0.0;
+    for (const Vec3& q : disc_points_) {
+        const Vec3 x = y + r * (q.x() * frame.s + q.y() * frame.t);
+        for (const auto& m : scene_.media) mean += q.z() * m->sigma_t(x);
+    }
+    if (mean > 0.0) return mean;
+    for (const auto& m : scene_.media) mean += m->sigma_t(y);   // a disc whose points all miss: the foot's
+    return mean;
 }
 
 Rgb PointBeamGather::albedo_phase(const Vec3& x, double cos_theta) const {
@@ -146,8 +159,15 @@ Rgb PointBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng, bool*
         const double w = local.transmittance[i] * kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
         if (w == 0.0) continue;
         const double cos_theta = map_.direction(h.index).dot(-ray.dir);
-        const Rgb f = foot_point_ ? scattering(ray.at(h.t), cos_theta) * double(inv_ball_sigma_t_[h.index])
-                                  : albedo_phase(map_.position(h.index), cos_theta);
+        Rgb f;
+        if (foot_point_) {
+            const Vec3 y = ray.at(h.t);
+            f = scattering(y, cos_theta);
+            if ((f == 0.0).all()) continue;
+            f /= disc_sigma_t(y, ray.dir, h.r);   // positive: the foot is in a medium
+        } else {
+            f = albedo_phase(map_.position(h.index), cos_theta);
+        }
         if ((f == 0.0).all()) continue;
         sum += w * map_.power(h.index) * f;
     }

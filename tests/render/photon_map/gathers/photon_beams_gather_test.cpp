@@ -189,16 +189,51 @@ TEST(PhotonBeamsGather, StarvedSegmentsGoOnAsTheCollisionGathersDo) {
     EXPECT_EQ(r.record.json()["photons"]["photon_beams"]["starved"].get<uint64_t>(), r.stats.photon_beams->starved);
 }
 
-// Sample-point widths in a dense cube (sigma_t 100, albedo 0.9) at 2,000 photons: every beam keeps a
-// width (beams crossed by fewer than k others were left out: all of them here, and the log said no
-// beam was recorded; 95% at 20,000 photons), each rule counted in the sidecar.
-TEST(PhotonBeamsGather, EverySamplePointBeamKeepsAWidth) {
+namespace {
+
+RunConfig dense_cube(const std::vector<std::string>& more) {
+    std::vector<std::string> sets = {"media.0.sigma_t_scale=100", "media.0.albedo=0.9", "render.width=16",
+                                     "render.height=16", "photons.count=2000"};
+    sets.insert(sets.end(), more.begin(), more.end());
+    return RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml", sets);
+}
+
+}  // namespace
+
+// Balloon widths in a dense cube (sigma_t 100, albedo 0.9) at 2,000 photons: the widths are bounded
+// by photons.max_radius_mfp as the point gathers' balls are, a segment with fewer than k - 1 beams
+// within the bound continues the camera path, exactly k - 1 gives 0 (counted). It read -29% with
+// unbounded widths (tens of mean free paths: the blur left the lit layer).
+TEST(PhotonBeamsGather, DenseCubeBalloonMatchesThePathTracer) {
+    const test::Sample path = test::repeated_run_brightness(dense_cube({"render.integrator=\"path\"", "render.spp=64"}), 4);
+    const RunConfig config = dense_cube({"render.integrator=\"photon_map\"", "render.spp=2", "photons.gather=\"photon_beams\""});
+    const test::Sample beams = test::repeated_run_brightness(config, 10);
+    const double se = std::hypot(beams.se(), path.se());
+    std::printf("dense cube balloon: photon_beams %.5f +- %.5f, path %.5f +- %.5f\n", beams.mean(), beams.se(), path.mean(),
+                path.se());
+    EXPECT_NEAR(beams.mean(), path.mean(), 3.0 * se);
+    EXPECT_LT(se, 0.05 * path.mean());   // decisive against the 29% lost
     RunOptions o;
     o.progress = false;
-    const RunResult r = run(RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml",
-                                            {"media.0.sigma_t_scale=100", "media.0.albedo=0.9", "render.width=8",
-                                             "render.height=8", "render.spp=1", "photons.count=2000",
-                                             "photons.gather=\"photon_beams\"", "photons.beam_widths=\"sample_point\""}),
+    const RunResult r = run(config, o);
+    ASSERT_TRUE(r.stats.photon_beams.has_value());
+    const auto& b = *r.stats.photon_beams;
+    EXPECT_GT(b.starved, b.queries / 2);   // most segments go on: the map is too coarse for the medium
+    EXPECT_LT(b.starved, b.queries);
+    const nlohmann::json j = r.record.json()["photons"]["photon_beams"];
+    EXPECT_EQ(j["band_zeros"].get<uint64_t>(), b.band_zeros);
+    EXPECT_EQ(j["starved"].get<uint64_t>(), b.starved);
+}
+
+// Sample-point widths in the same cube: every beam keeps a width, bounded by max_radius_mfp (here
+// all of them: fewer than k cross any beam within 2 mean free paths), counted and warned. Without
+// any bound most widths would be guessed (extrapolated or the median: -47% here), and the run is
+// refused, naming the keys.
+TEST(PhotonBeamsGather, EverySamplePointBeamKeepsABoundedWidthOrTheRunIsRefused) {
+    RunOptions o;
+    o.progress = false;
+    const RunResult r = run(dense_cube({"render.width=8", "render.height=8", "render.spp=1",
+                                        "photons.gather=\"photon_beams\"", "photons.beam_widths=\"sample_point\""}),
                             o);
     ASSERT_TRUE(r.stats.photon_beams.has_value());
     const auto& b = *r.stats.photon_beams;
@@ -207,10 +242,38 @@ TEST(PhotonBeamsGather, EverySamplePointBeamKeepsAWidth) {
     EXPECT_GT(b.recorded, 1000u);
     EXPECT_EQ(b.beams + b.beams_left_out, b.recorded);
     EXPECT_LT(b.beams_left_out, b.recorded / 100);   // empty flights only
-    EXPECT_GT(b.widths_extrapolated + b.widths_typical, b.recorded / 2);   // the rules were exercised
+    EXPECT_GT(b.widths_bounded, b.recorded / 2);
+    EXPECT_EQ(b.widths_extrapolated + b.widths_typical, 0u);
     const nlohmann::json j = r.record.json()["photons"]["photon_beams"];
     EXPECT_EQ(j["recorded"].get<uint64_t>(), b.recorded);
-    EXPECT_EQ(j["widths_extrapolated"].get<uint64_t>(), b.widths_extrapolated);
-    EXPECT_EQ(j["widths_typical"].get<uint64_t>(), b.widths_typical);
-    EXPECT_EQ(j["beams_left_out"].get<uint64_t>(), b.beams_left_out);
+    EXPECT_EQ(j["widths_bounded"].get<uint64_t>(), b.widths_bounded);
+    bool warned = false;
+    for (const std::string& w : r.stats.warnings) warned = warned || w.find("take the bound as a fixed width") != std::string::npos;
+    EXPECT_TRUE(warned);
+    try {
+        run(dense_cube({"render.width=8", "render.height=8", "render.spp=1", "photons.gather=\"photon_beams\"",
+                        "photons.beam_widths=\"sample_point\"", "photons.max_radius_mfp=0"}),
+            o);
+        FAIL() << "sample_point widths with most of them guessed were accepted";
+    } catch (const std::exception& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("beam_widths"), std::string::npos) << m;
+        EXPECT_NE(m.find("max_radius_mfp"), std::string::npos) << m;
+        EXPECT_NE(m.find("balloon"), std::string::npos) << m;
+    }
+}
+
+// Sample-point widths where no camera segment crosses a beam (sigma_t 1e4: beams 1e-4 long, widths
+// 2e-4): the image holds single scattering only (-53% here over 3 maps), and the run says so.
+TEST(PhotonBeamsGather, SamplePointWarnsWhereSegmentsCrossAlmostNoBeam) {
+    RunOptions o;
+    o.progress = false;
+    const RunResult r = run(dense_cube({"media.0.sigma_t_scale=1e4", "render.width=8", "render.height=8", "render.spp=1",
+                                        "photons.gather=\"photon_beams\"", "photons.beam_widths=\"sample_point\""}),
+                            o);
+    ASSERT_TRUE(r.stats.photon_beams.has_value());
+    EXPECT_LT(r.stats.photon_beams->crossed, r.stats.photon_beams->queries);
+    size_t warned = 0;
+    for (const std::string& w : r.stats.warnings) warned += w.find("beams each on average (fewer than 1)") != std::string::npos;
+    EXPECT_EQ(warned, 1u);
 }
