@@ -19,6 +19,7 @@ int PhotonMapIntegrator::samples_per_pass(int configured) const {
     // The "auto" integrator's path tracer under a limit takes passes of one sample per pixel, as
     // render.integrator = "path" does (render/path/path_tracer.h), unless render.passes pins them.
     if (no_map_ && path_tracer_sized_passes()) return 1;
+    if (beam_pass_ && settings_.size_beam_samples) return beam_pass_->spp;
     return plan_ && settings_.size_samples ? plan_->spp : configured;
 }
 

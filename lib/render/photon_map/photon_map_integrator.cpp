@@ -149,6 +149,11 @@ int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context, RunSt
                          << ": a probe of " << p.probe_photons << " stored " << p.stored_per_photon << " per photon, and "
                          << kPilotStoredPhotons << " stored are what the pilot needs (render/photon_map/photon_pass.h)\n";
     }
+    if (owns_maps_ && settings_.sizes_beam_pass() && scene_.has_media()) {
+        if (!beam_pass_) plan_beam_pass(context, stats);
+        first_map_photons_ = beam_pass_->count;
+        return first_map_photons_;   // the pilots' counted work also judged a pinned count
+    }
     if (owns_maps_ && !settings_.size_photons && settings_.time_limit > 0.0 && scene_.has_media())
         check_pinned_count_fits(context, stats);
     return first_map_photons_;

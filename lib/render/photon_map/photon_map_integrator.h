@@ -13,6 +13,7 @@
 #include "photon/map/photon_cell_counts.h"
 #include "photon/map/photon_map.h"
 #include "render/integrator.h"
+#include "render/photon_map/beam_pass_size.h"
 #include "render/photon_map/photon_map_settings.h"
 #include "render/plan/pass_plan.h"
 #include "render/path/path_tracer.h"
@@ -170,6 +171,13 @@ private:
     PathTracer continuation_;
     PhotonMap empty_map_;   // the "continue" candidate's map in the pilot
     void plan_auto(const PassContext& context, RunStats& stats);
+
+    // photons.gather = "photon_beams" under render.time_limit (render/photon_map/beam_pass_size.h):
+    // the photons and samples per pass, decided once per run from two pilot maps' counted work.
+    std::optional<BeamPassSize> beam_pass_;
+    void plan_beam_pass(const PassContext& context, RunStats& stats);
+    // One pilot: a map of `photons` photons on streams of its own, built, and a probe of camera samples.
+    BeamPilotCounts beam_pilot(const PassContext& context, int64_t photons, uint64_t salt);
     void warn_if_pinned_samples_overrun(const PassContext& context, const PlanInputs& in, const GatherMeasurement& chosen,
                                         RunStats& stats) const;
 };

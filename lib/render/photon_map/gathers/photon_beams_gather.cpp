@@ -41,11 +41,13 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
         radii.assign(beams_.size(), kInfinity);
         std::vector<uint32_t> found(beams_.size(), 0);
         tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
+        tbb::enumerable_thread_specific<uint64_t> tested(0);
         tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
             std::vector<BeamCrossing>& near = scratch.local();
+            uint64_t& tests = tested.local();
             for (size_t j = range.begin(); j != range.end(); ++j) {
                 const PhotonBeam& b = beams_[j];
-                plain.nearest(b.origin, b.dir, b.length, k, max_width, near, uint32_t(j));
+                plain.nearest(b.origin, b.dir, b.length, k, max_width, near, uint32_t(j), &tests);
                 found[j] = uint32_t(near.size());
                 // Fewer than k within a bound: the bound itself (a fixed width). Without one, the m < k
                 // found extrapolated: crossings within u grow as u (a field of lines), so the k-th
@@ -86,6 +88,7 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
         built_.widths_bounded = 0;
         if (std::isfinite(max_width))
             for (size_t j = 0; j < beams_.size(); ++j) built_.widths_bounded += found[j] < k;
+        for (uint64_t t : tested) built_.widths_tested += t;
         built_.widths_seconds = timer.seconds();
     }
     const Timer bvh_timer;
@@ -199,6 +202,7 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
     if (run.photon_beams) {
         const PhotonBeamsGatherStats& before = *run.photon_beams;
         total.widths_seconds += before.widths_seconds;
+        total.widths_tested += before.widths_tested;
         total.bvh_seconds += before.bvh_seconds;
         total.queries += before.queries;
         total.crossed += before.crossed;
