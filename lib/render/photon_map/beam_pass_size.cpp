@@ -85,7 +85,7 @@ BeamPassSize size_beam_pass(const BeamPassInputs& in) {
     out.width_growth =
         std::max(kLeastWidthGrowth, growth(per(S.width_tests, S.beams), per(L.width_tests, L.beams), S.photons, L.photons));
     out.pilot_units = beam_pilot_units(S, in.units, in.beam_units) + beam_pilot_units(L, in.units, in.beam_units);
-    out.pass_budget = std::max(0.0, in.budget - out.pilot_units) / kPlanMinPasses;
+    out.pass_budget = std::max(0.0, in.budget - out.pilot_units) / kBeamPlanMinPasses;
     auto fits = [&](double n, double s) { return beam_pass_units(in, n, s) <= out.pass_budget; };
     int64_t n = in.count;
     int s = in.size_samples ? 1 : in.spp;

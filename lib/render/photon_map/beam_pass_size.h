@@ -7,14 +7,20 @@
 // sized from counted work, never from the clock: two pilot maps at N_L / 4 and N_L photons are traced,
 // built and queried by a probe of camera paths, each count per photon or per sample read at both
 // sizes, and its growth with the photons fitted as a power (within [0, 1] per photon or query) and
-// extrapolated. The chosen pass costs at most (budget - pilots) / kPlanMinPasses work units; the clock
-// then decides only how many such passes fit (render/run/run.cpp).
+// extrapolated. The chosen pass costs at most (budget - pilots) / kBeamPlanMinPasses work units; the
+// clock then decides only how many such passes fit (render/run/run.cpp).
 #include <cstdint>
 
 #include "render/plan/pass_plan.h"
 #include "render/plan/work_units.h"
 
 namespace vpm {
+
+// Passes a limit holds at least, counted on one core. 4, not the point gathers' kPlanMinPasses = 2:
+// the counted units matched the user CPU time of glass_sphere_fog, plume_glass_prism and thin_cube
+// (0.7-1.1x), but a loaded machine gives a 2-thread run a fraction of a core, and at 2 the first pass
+// ran 1.3-1.6x past an 8-s limit at load 15-19 on 2 cores (docs/photon_beams.md, "Time limits").
+constexpr double kBeamPlanMinPasses = 4.0;
 
 // Counts of one pilot: a map of `photons` emitted photons, built, and a probe of camera samples.
 struct BeamPilotCounts {
@@ -58,7 +64,7 @@ struct BeamPassSize {
     double pass_units = 0.0;       // the projected work of one pass of (N, S)
     double map_units = 0.0;        // of which the photon pass, BVH and widths
     double pilot_units = 0.0;      // the pilots' own work
-    double pass_budget = 0.0;      // what a pass may cost: (budget - pilots) / kPlanMinPasses
+    double pass_budget = 0.0;      // what a pass may cost: (budget - pilots) / kBeamPlanMinPasses
     double test_growth = 0.0;      // fitted exponent: camera crossing tests per query ~ N^test_growth
     double width_growth = 0.0;     // width tests per beam ~ N^width_growth
     bool fits = true;              // pass_units <= pass_budget
