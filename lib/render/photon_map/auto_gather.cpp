@@ -20,6 +20,7 @@ int PhotonMapIntegrator::samples_per_pass(int configured) const {
     // The "auto" integrator's path tracer under a limit takes passes of one sample per pixel, as
     // render.integrator = "path" does (render/path/path_tracer.h), unless render.passes pins them.
     if (choice_.no_map && path_tracer_sized_passes()) return 1;
+    if (choice_.beam_pass && settings_.size_beam_samples) return choice_.beam_pass->spp;
     return choice_.plan && settings_.size_samples ? choice_.plan->spp : configured;
 }
 

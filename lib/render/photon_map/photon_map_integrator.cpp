@@ -132,6 +132,11 @@ int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context, size_
                          << ": a probe of " << p.probe_photons << " stored " << p.stored_per_photon << " per photon, and "
                          << kPilotStoredPhotons << " stored are what the pilot needs (render/photon_map/photon_pass.h)\n";
     }
+    if (maps_.owns && settings_.sizes_beam_pass() && scene_.has_media()) {
+        if (!choice_.beam_pass) plan_beam_pass(context, stats);
+        photons_.first_map = choice_.beam_pass->count;
+        return photons_.first_map;   // the pilots' counted work also judged a pinned count
+    }
     if (maps_.owns && !settings_.size_photons && settings_.time_limit > 0.0 && scene_.has_media())
         check_pinned_count_fits(context, k, stats);
     return photons_.first_map;

@@ -165,6 +165,10 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
         s.size_photons = !s.count_given;
         s.size_samples = !s.passes_given && !render.has("spp");
     }
+    if (s.sizes_beam_pass()) {
+        s.size_beam_photons = !s.count_given;
+        s.size_beam_samples = !s.passes_given && !render.has("spp");
+    }
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
     s.march_points = p.choice("march_points", s.march_points,
                               {{"fixed", MarchCount::fixed}, {"mass", MarchCount::mass}, {"free_flight", MarchCount::free_flight}});

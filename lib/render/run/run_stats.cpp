@@ -238,6 +238,7 @@ void write_run_stats(const RunStats& stats, RunRecord& record) {
         record.set("photons.photon_beams.bvh_bytes", b->bvh_bytes);
         record.set("photons.photon_beams.bytes_per_beam", b->bytes_per_beam);
         record.set("photons.photon_beams.widths_seconds", b->widths_seconds);
+        record.set("photons.photon_beams.widths_tested", b->widths_tested);
         record.set("photons.photon_beams.bvh_seconds", b->bvh_seconds);
         record.set("photons.photon_beams.queries", b->queries);
         record.set("photons.photon_beams.crossed", b->crossed);

@@ -44,8 +44,10 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
         std::vector<uint32_t> found(beams_.size(), 0);
         std::vector<double> bounds(beams_.size(), max_width);
         tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
+        tbb::enumerable_thread_specific<uint64_t> tested(0);
         tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
             std::vector<BeamCrossing>& near = scratch.local();
+            uint64_t& tests = tested.local();
             for (size_t j = range.begin(); j != range.end(); ++j) {
                 const PhotonBeam& b = beams_[j];
                 // max_radius_mfp mean free paths at the beam's middle (as the point gathers' balls).
@@ -53,7 +55,7 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
                 for (const auto& m : scene_.media) sigma_t += m->sigma_t(b.origin + 0.5 * b.length * b.dir);
                 const double bound = bounded_radius(max_width, max_width_mfp, sigma_t);
                 bounds[j] = bound;
-                plain.nearest(b.origin, b.dir, b.length, k, bound, near, uint32_t(j));
+                plain.nearest(b.origin, b.dir, b.length, k, bound, near, uint32_t(j), &tests);
                 found[j] = uint32_t(near.size());
                 // Fewer than k within a bound: the bound itself (a fixed width). Without one, the m < k
                 // found extrapolated: crossings within u grow as u (a field of lines), so the k-th
@@ -98,6 +100,7 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
                         " others within their own segments and no bound is set, so most widths would be guessed; "
                         "set photons.max_radius_mfp > 0 (mean free paths; default 2) or photons.max_radius > 0, a "
                         "smaller photons.k, more photons, or photons.beam_widths = \"balloon\"");
+        for (uint64_t t : tested) built_.widths_tested += t;
         built_.widths_seconds = timer.seconds();
     }
     const Timer bvh_timer;
@@ -229,6 +232,7 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
     if (run.photon_beams) {
         const PhotonBeamsGatherStats& before = *run.photon_beams;
         total.widths_seconds += before.widths_seconds;
+        total.widths_tested += before.widths_tested;
         total.bvh_seconds += before.bvh_seconds;
         total.queries += before.queries;
         total.crossed += before.crossed;

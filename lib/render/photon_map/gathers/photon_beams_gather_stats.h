@@ -15,6 +15,7 @@ struct PhotonBeamsGatherStats {
     uint64_t bvh_bytes = 0;          // BVH items + nodes + the beams' records (last pass)
     double bytes_per_beam = 0.0;
     double widths_seconds = 0.0;     // sample_point: each beam's k nearest (summed over passes)
+    uint64_t widths_tested = 0;      // sample_point: crossing tests of those queries (summed over passes)
     double bvh_seconds = 0.0;        // summed over passes
     uint64_t queries = 0;            // camera segments answered by one BVH query
     uint64_t crossed = 0;            // beams weighed (within the width, feet inside both segments)

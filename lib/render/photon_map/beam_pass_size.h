@@ -1,0 +1,83 @@
+#pragma once
+// Photons and camera samples per pass for photons.gather = "photon_beams" under render.time_limit
+// (docs/photon_beams.md, "Time limits"). A pass cannot be cut short, and a photon-beams pass is
+// dominated by two costs that grow faster than its photons: the k-nearest beam query of every camera
+// segment (its crossing tests grow with the beams: the k-th width shrinks, and a long segment opens
+// every box it pierces) and, for sample-point widths, each beam's own k-nearest query. So the pass is
+// sized from counted work, never from the clock: two pilot maps at N_L / 4 and N_L photons are traced,
+// built and queried by a probe of camera paths, each count per photon or per sample read at both
+// sizes, and its growth with the photons fitted as a power (within [0, 1] per photon or query) and
+// extrapolated. The chosen pass costs at most (budget - pilots) / kBeamPlanMinPasses work units; the
+// clock then decides only how many such passes fit (render/run/run.cpp).
+#include <cstdint>
+
+#include "render/plan/pass_plan.h"
+#include "render/plan/work_units.h"
+
+namespace vpm {
+
+// Passes a limit holds at least, counted on one core. 4, not the point gathers' kPlanMinPasses = 2:
+// the counted units matched the user CPU time of glass_sphere_fog, plume_glass_prism and thin_cube
+// (0.7-1.1x), but a loaded machine gives a 2-thread run a fraction of a core, and at 2 the first pass
+// ran 1.3-1.6x past an 8-s limit at load 15-19 on 2 cores (docs/photon_beams.md, "Time limits").
+constexpr double kBeamPlanMinPasses = 4.0;
+
+// Counts of one pilot: a map of `photons` emitted photons, built, and a probe of camera samples.
+struct BeamPilotCounts {
+    double photons = 0.0;          // emitted
+    double beams = 0.0;            // beams in the BVH
+    double pieces = 0.0;           // the camera BVH's items (long beams as pieces)
+    double width_tests = 0.0;      // sample_point: crossing tests of the widths' queries (0: balloon)
+    double collisions = 0.0;       // real medium collisions of the photon walks
+    double surface_stored = 0.0;   // surface photons stored (kd-tree build)
+    double samples = 0.0;          // the probe's camera samples
+    double beam_queries = 0.0;     // the probe's segment queries of the beams
+    double beam_tests = 0.0;       // and their crossing tests
+    CountedOperations camera;      // the probe's other camera operations (kNN queries, rays, lookups)
+};
+
+// Work units (nanoseconds of one core, as render/plan/work_units.h) of the beams' own operations.
+struct BeamWorkUnits {
+    double query = 0.0;        // a camera segment's beam query: traversal set-up, sort, transmittance walk
+    double test = 0.0;         // a crossing test of a camera segment's query (with its share of the traversal)
+    double width_test = 0.0;   // a crossing test of a sample-point width's query
+    double beam = 0.0;         // a beam recorded and its width kept
+    double piece = 0.0;        // a BVH item built
+};
+BeamWorkUnits beam_work_units();
+
+struct BeamPassInputs {
+    BeamPilotCounts small, large;   // the pilots, small.photons < large.photons
+    WorkUnits units;
+    BeamWorkUnits beam_units;
+    double pixels = 0.0;
+    int64_t count = 0;              // photons.count (or its default): the largest N considered
+    int spp = 1;                    // samples per pass as configured: the largest S considered
+    bool size_photons = false;      // false: N stays count
+    bool size_samples = false;      // false: S stays spp
+    double budget = 0.0;            // render.time_limit in work units (kWorkUnitsPerSecond per second)
+};
+
+struct BeamPassSize {
+    int64_t count = 0;             // N
+    int spp = 1;                   // S
+    double pass_units = 0.0;       // the projected work of one pass of (N, S)
+    double map_units = 0.0;        // of which the photon pass, BVH and widths
+    double pilot_units = 0.0;      // the pilots' own work
+    double pass_budget = 0.0;      // what a pass may cost: (budget - pilots) / kBeamPlanMinPasses
+    double test_growth = 0.0;      // fitted exponent: camera crossing tests per query ~ N^test_growth
+    double width_growth = 0.0;     // width tests per beam ~ N^width_growth
+    bool fits = true;              // pass_units <= pass_budget
+};
+
+// Work units of one pilot (its map, build and probe).
+double beam_pilot_units(const BeamPilotCounts& c, const WorkUnits& w, const BeamWorkUnits& b);
+
+// The projected work units of a pass of N photons and S samples per pixel.
+double beam_pass_units(const BeamPassInputs& in, double n, double s, double* map_units = nullptr);
+
+// The largest N (count / 2^i, down to the small pilot's photons) with S = 1 (or the pinned S) that
+// fits, then the largest S (powers of two up to spp) that still fits at that N; pinned sizes stay.
+BeamPassSize size_beam_pass(const BeamPassInputs& in);
+
+}  // namespace vpm
