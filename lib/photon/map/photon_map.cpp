@@ -420,9 +420,10 @@ size_t PhotonMap::knn_walks(const Vec3& query, size_t k, double max_radius, Neig
     // met strictly before the m-th photon (every photon at or inside R is then among them), or when
     // they are every photon within the bound; otherwise m grows by half and the search runs again.
     // m is the photons per walk the earlier queries of this list needed (a running mean) times k,
-    // plus about 2.5 standard deviations of a Poisson count of the siblings: one search in ~98%
-    // of queries (bench_walk_query). R (float) is the k-th smallest of the walks' nearest-photon
-    // distances: the same whatever order ties come in, so m changes the cost, never the result.
+    // plus about 2.5 standard deviations of a Poisson count of the siblings, so that one search
+    // mostly suffices (docs/walk_correlation.md, Cost). R (float) is the k-th smallest of the walks'
+    // nearest-photon distances: the same whatever order ties come in, so m changes the cost, never
+    // the result.
     auto& cand = out.scratch_candidates;
     const double expected = double(k) * out.walk_gather_ratio;
     size_t m = std::min(photons_.size(),
