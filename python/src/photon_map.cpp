@@ -19,6 +19,7 @@
 #include "native_call.h"
 #include "core/progress.h"
 #include "photon/estimate/estimators.h"
+#include "photon/estimate/walk_estimate.h"
 #include "photon/map/photon_map.h"
 #include "photon/trace/photon_budget.h"
 #include "render/photon_map/photon_map_integrator.h"
@@ -83,6 +84,42 @@ void check_photon_map_memory(size_t n) {
     throw Error(s.str());
 }
 
+// The walk label of every row: `walks` (n,) non-negative integers, photons with equal labels one walk;
+// None: every photon its own walk (independent points). The walk group is label mod kWalkGroups, as
+// the tracer's.
+void set_walks(std::vector<PhotonInput>& photons, const py::handle& walks) {
+    if (walks.is_none()) {
+        for (size_t i = 0; i < photons.size(); ++i) {
+            photons[i].walk = i;
+            photons[i].group = uint8_t(i % kWalkGroups);
+        }
+        return;
+    }
+    const py::array given = py::array::ensure(walks);
+    if (!given || given.ndim() != 1 || size_t(given.shape(0)) != photons.size())
+        throw Error("PhotonMap: walks: expected an integer array of shape (" + std::to_string(photons.size()) +
+                    ",) (one walk label per photon) or None");
+    const char kind = given.dtype().kind();
+    if (kind != 'i' && kind != 'u')
+        throw Error("PhotonMap: walks: expected integer labels, got dtype " + std::string(py::str(given.dtype())));
+    const auto labels = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(given);
+    if (kind == 'u' && given.dtype().itemsize() == 8) {   // uint64 above 2^63 would wrap to negative int64
+        const auto raw = py::array_t<uint64_t, py::array::c_style>::ensure(given);
+        for (size_t i = 0; i < photons.size(); ++i)
+            if (raw.data()[i] > uint64_t(std::numeric_limits<int64_t>::max()))
+                throw Error("PhotonMap: walks[" + std::to_string(i) + "] = " + std::to_string(raw.data()[i]) +
+                            " is above 2^63 - 1");
+    }
+    for (size_t i = 0; i < photons.size(); ++i) {
+        const int64_t label = labels.data()[i];
+        if (label < 0)
+            throw Error("PhotonMap: walks[" + std::to_string(i) + "] = " + std::to_string(label) +
+                        " is negative (walk labels are non-negative integers)");
+        photons[i].walk = uint64_t(label);
+        photons[i].group = uint8_t(uint64_t(label) % kWalkGroups);
+    }
+}
+
 std::vector<PhotonInput> photons_from_arrays(const py::handle& positions, const py::handle& powers,
                                              const py::handle& directions) {
     // Checked on the caller's array before the float64 copies below, which could not be made either.
@@ -136,9 +173,10 @@ int64_t checked_int(int64_t v, int64_t lo, int64_t hi, const char* what) {
 constexpr int64_t kMaxK = int64_t(1) << 20;
 
 PyPhotonMap from_arrays(const py::handle& positions, const py::handle& powers, const py::handle& directions,
-                        int64_t leaf_size) {
+                        int64_t leaf_size, const py::handle& walks) {
     checked_int(leaf_size, 1, int64_t(1) << 30, "PhotonMap: leaf_size");
-    const std::vector<PhotonInput> photons = photons_from_arrays(positions, powers, directions);
+    std::vector<PhotonInput> photons = photons_from_arrays(positions, powers, directions);
+    set_walks(photons, walks);
     PyPhotonMap m;
     call_native([&](const std::atomic<bool>&) { m.map = std::make_shared<const PhotonMap>(photons, size_t(leaf_size)); });
     return m;
@@ -247,7 +285,7 @@ double scene_g(const PyPhotonMap& m) {
 py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::handle& directions,
                    std::optional<std::string> estimator, std::optional<int64_t> k, std::optional<std::string> kernel,
                    std::optional<double> g, std::optional<double> max_radius, bool return_radius,
-                   std::optional<int64_t> pass_index) {
+                   std::optional<int64_t> pass_index, std::optional<std::string> neighbours) {
     if (k) checked_int(*k, 1, kMaxK, "estimate: k");
     if (pass_index) checked_int(*pass_index, 0, std::numeric_limits<int>::max(), "estimate: pass_index");
     if (m.kind != "volume") throw Error("estimate: only the volume photon map has an in-scattering estimate");
@@ -267,6 +305,8 @@ py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::ha
         e = e.with_radius_scale(r.volume_scale);
     }
     e.validate_k(kk);
+    const Neighbourhood hood = neighbours ? parse_neighbourhood(*neighbours, "estimate: neighbours") : s.neighbourhood;
+    if (hood == Neighbourhood::walks) validate_walk_estimator(e);
     // Fewer photons than k: every estimate would use them all, silently a smaller k.
     if (kk > m.map->size())
         throw Error("estimate: k = " + std::to_string(kk) + (k ? "" : " (photons.k of the config)") + " but the map holds " +
@@ -292,7 +332,9 @@ py::object estimate(const PyPhotonMap& m, const py::handle& points, const py::ha
             for (size_t i = range.begin(); i != range.end(); ++i) {
                 const Vec3 x(qp[3 * i], qp[3 * i + 1], qp[3 * i + 2]);
                 const Vec3 w_o(wp[3 * i], wp[3 * i + 1], wp[3 * i + 2]);
-                const Estimate<Rgb> est = estimate_in_scattering(map, x, w_o, gg, e, kk, radius, buffers);
+                const Estimate<Rgb> est = hood == Neighbourhood::walks
+                                              ? estimate_in_scattering_walks(map, x, w_o, gg, e, kk, radius, buffers)
+                                              : estimate_in_scattering(map, x, w_o, gg, e, kk, radius, buffers);
                 for (int c = 0; c < 3; ++c) vp[3 * i + size_t(c)] = est.value[c];
                 rp[i] = est.radius;
             }
@@ -310,7 +352,9 @@ void bind_photon_map(py::module_& m) {
         "A photon map: compressed photon records in Morton order and a kd-tree (lib/photon/map/photon_map.h). "
         "From vpm.trace_photons(config), or PhotonMap(positions, powers, directions) from (n, 3) arrays.")
         .def(py::init(&from_arrays), py::arg("positions"), py::arg("powers"), py::arg("directions"),
-             py::arg("leaf_size") = 32)
+             py::arg("leaf_size") = 32, py::arg("walks") = py::none(),
+             "walks: (n,) non-negative integer labels, photons with equal labels from one random walk (for "
+             "neighbours=\"walks\"); None: every photon its own walk.")
         .def("__len__", [](const PyPhotonMap& p) { return p.map->size(); })
         .def_property_readonly("kind", [](const PyPhotonMap& p) { return p.kind; }, "\"volume\" or \"surface\".")
         .def_property_readonly("positions", [](const PyPhotonMap& p) {
@@ -322,6 +366,13 @@ void bind_photon_map(py::module_& m) {
         .def_property_readonly("directions", [](const PyPhotonMap& p) {
             return attribute(*p.map, [&](size_t i) { return p.map->direction(i); });
         }, "(n, 3) float64 unit incoming travel directions.")
+        .def_property_readonly("walks", [](const PyPhotonMap& p) {
+            py::array_t<int64_t> a(py::ssize_t(p.map->size()));
+            int64_t* out = a.mutable_data();
+            for (size_t i = 0; i < p.map->size(); ++i) out[i] = int64_t(p.map->walk(i));
+            return a;
+        }, "(n,) int64 walk of every photon in stored order: a dense id per distinct walk (a traced map: the "
+           "emitted path that stored it; a map from arrays: its walks labels, numbered in their order).")
         .def_property_readonly("surface", [](const PyPhotonMap& p) { return p.surface; },
                                "The surface photon map of the same pass, or None.")
         .def_property_readonly("_stats_json", [](const PyPhotonMap& p) { return p.stats_json; })
@@ -331,12 +382,14 @@ void bind_photon_map(py::module_& m) {
         .def("estimate", &estimate, py::arg("points"), py::arg("directions"), py::arg("estimator") = py::none(),
              py::arg("k") = py::none(), py::arg("kernel") = py::none(), py::arg("g") = py::none(),
              py::arg("max_radius") = py::none(), py::arg("return_radius") = false, py::arg("pass_index") = py::none(),
+             py::arg("neighbours") = py::none(),
              "The in-scattering estimate S(x, w_o) (RGB, (m, 3) float64) at each point for the outgoing travel "
              "direction w_o (towards the viewer), as the renderer computes it (estimate_in_scattering in "
              "lib/photon/estimate/estimators.h, rules (a)-(c) included). Unset arguments come from the config's [photons] "
              "(estimator, k, kernel, max_radius) and its media (g). return_radius: also the radius of each ball (the "
              "one counted in). pass_index: the estimate of that pass under photons.schedule starting from k (the pass's own k "
-             "and radius scale: docs/progressive.md). Points must be finite and directions unit vectors (vpm.Error naming "
+             "and radius scale: docs/progressive.md). neighbours: \"photons\" or \"walks\" (the k nearest independent "
+             "walks: docs/walk_correlation.md; classic and corrected only), unset: the config's photons.neighbours. Points must be finite and directions unit vectors (vpm.Error naming "
              "the row otherwise).");
     m.def("_trace_photons", &trace, py::arg("config"), py::arg("stream_offset") = 0, py::arg("threads") = py::none(),
           py::arg("progress") = false, py::arg("log") = false);

@@ -178,3 +178,72 @@ def test_threads_beyond_the_tools_range_are_refused():
             vpm.trace_photons(config, threads=threads)
         with pytest.raises(vpm.Error, match="threads: expected 0 .* to 4096"):
             vpm.render(config, threads=threads)
+
+
+def test_walk_labels_of_a_map_from_arrays():
+    rng = np.random.default_rng(56)
+    n = 600
+    positions, directions = rng.uniform(0, 1, size=(n, 3)), np.tile([0.0, 0.0, 1.0], (n, 1))
+    # None: every photon its own walk
+    assert len(set(vpm.PhotonMap(positions, np.ones((n, 3)), directions).walks.tolist())) == n
+    labels = 5 * (np.arange(n) // 3) + 11   # walks of three photons, labels with gaps
+    m = vpm.PhotonMap(positions, np.ones((n, 3)), directions, walks=labels)
+    walks = m.walks
+    assert walks.shape == (n,) and walks.dtype == np.int64 and sorted(set(walks.tolist())) == list(range(n // 3))
+    # stored order: each stored photon's input row is the nearest input position
+    rows = np.argmin(((m.positions[:, None, :] - positions[None, :, :]) ** 2).sum(axis=2), axis=1)
+    assert len(set(rows.tolist())) == n
+    for a in range(0, n, 7):
+        for b in range(0, n, 11):
+            assert (walks[a] == walks[b]) == (labels[rows[a]] == labels[rows[b]])
+    for bad, message in (([1] * (n - 1), r"shape \(600,\)"), (np.full(n, 1.5), "integer"),
+                         (np.arange(n) - 1, r"walks\[0\] = -1")):
+        with pytest.raises(vpm.Error, match=message):
+            vpm.PhotonMap(positions, np.ones((n, 3)), directions, walks=bad)
+
+
+def test_walk_neighbours_from_python():
+    # Walks of two photons 1e-3 apart: the walk-corrected estimate is unbiased for the photon density
+    # (docs/walk_correlation.md), the photon-neighbour one reads high; with every photon its own walk
+    # the walk form is the photon form.
+    n, k, maps = 20000, 16, 20
+    grid = np.stack(np.meshgrid(*[[0.25, 0.5, 0.75]] * 3, indexing="ij"), axis=-1).reshape(-1, 3)
+    wo = np.tile([0.0, 0.0, 1.0], (len(grid), 1))
+    rng = np.random.default_rng(5656)
+    walk_form, photon_form = [], []
+    for _ in range(maps):
+        first = rng.uniform(0, 1, size=(n // 2, 3))
+        step = rng.normal(size=(n // 2, 3))
+        step *= 1e-3 / np.linalg.norm(step, axis=1, keepdims=True)
+        positions = np.concatenate([first, first + step])
+        directions = rng.normal(size=(n, 3))
+        directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+        labels = np.concatenate([np.arange(n // 2), np.arange(n // 2)])
+        m = vpm.PhotonMap(positions, np.ones((n, 3)), directions, walks=labels)
+        walk_form.append(m.estimate(grid, wo, estimator="corrected", k=k, g=0.0, neighbours="walks")[:, 0])
+        photon_form.append(m.estimate(grid, wo, estimator="corrected", k=k, g=0.0, neighbours="photons")[:, 0])
+    truth = n / (4 * math.pi)
+    w, p = np.concatenate(walk_form) / truth, np.concatenate(photon_form) / truth
+    se_w, se_p = w.std(ddof=1) / math.sqrt(len(w)), p.std(ddof=1) / math.sqrt(len(p))
+    assert abs(w.mean() - 1.0) < 4 * se_w, (w.mean(), se_w)
+    assert p.mean() - 1.0 > 4 * se_p, (p.mean(), se_p)
+    single = uniform_map(2000, rng)
+    points = rng.uniform(0.2, 0.8, size=(50, 3))
+    wo = np.tile([0.0, 0.0, 1.0], (50, 1))
+    assert np.array_equal(single.estimate(points, wo, estimator="corrected", k=8, g=0.0, neighbours="walks"),
+                          single.estimate(points, wo, estimator="corrected", k=8, g=0.0))
+    with pytest.raises(vpm.Error, match="allowed"):
+        single.estimate(points, wo, k=8, g=0.0, neighbours="paths")
+    with pytest.raises(vpm.Error, match="no walk form"):
+        single.estimate(points, wo, estimator="mse_optimal", k=8, g=0.0, neighbours="walks")
+
+
+def test_estimate_honours_the_configs_neighbours():
+    config = vpm.load_config(FURNACE, overrides=dict(SMALL, **{"photons.k": 8, "photons.neighbours": "walks"}))
+    photons = vpm.trace_photons(config)
+    assert len(set(photons.walks.tolist())) < len(photons)   # the tracer's walks: several photons each
+    points = np.zeros((4, 3))
+    wo = np.tile([0.0, 0.0, 1.0], (4, 1))
+    walks = photons.estimate(points, wo, neighbours="walks")
+    assert np.array_equal(photons.estimate(points, wo), walks)
+    assert not np.array_equal(photons.estimate(points, wo, neighbours="photons"), walks)

@@ -8,7 +8,6 @@
 #include <nanoflann.hpp>
 #include <numeric>
 #include <string>
-#include <type_traits>
 #include <utility>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -111,52 +110,6 @@ private:
     size_t count_ = 0;
     float radius2_;
     bool heap_;
-};
-
-// The k nearest distinct walks (PhotonMap::knn_walks): every photon met with d2 <= the current
-// bound is kept as a candidate; `top` holds the k walks with the smallest nearest-photon distance
-// so far, sorted by it. The bound is the k-th walk's nearest distance once k walks are known
-// (radius2 before): a photon beyond it is farther than the nearest photon of k other walks.
-class WalkResultSet {
-public:
-    using Entry = std::pair<float, uint32_t>;   // (d2, stored index) for candidates, (d2, walk) for top
-    WalkResultSet(const uint32_t* walks, size_t k, float radius2, std::vector<Entry>& candidates, std::vector<Entry>& top)
-        : walks_(walks), k_(k), radius2_(radius2), candidates_(candidates), top_(top) {
-        candidates_.clear();
-        top_.clear();
-    }
-    float worstDist() const { return top_.size() < k_ ? radius2_ : top_[k_ - 1].first; }
-    void addPoint(float dist, uint32_t index) {
-        const uint32_t walk = walks_[index];
-        size_t p = 0;
-        while (p < top_.size() && top_[p].second != walk) ++p;
-        if (p < top_.size()) {   // a known walk: it may come nearer
-            if (dist < top_[p].first) {
-                for (; p > 0 && top_[p - 1].first > dist; --p) top_[p] = top_[p - 1];
-                top_[p] = Entry{dist, walk};
-            }
-        } else {   // a new walk: insert it, keep the nearest k
-            if (top_.size() < k_) top_.push_back(Entry{dist, walk});
-            else top_.back() = Entry{dist, walk};
-            for (p = top_.size() - 1; p > 0 && top_[p - 1].first > dist; --p) std::swap(top_[p], top_[p - 1]);
-        }
-        candidates_.push_back(Entry{dist, index});
-        if (candidates_.size() >= compact_at_) {   // drop what the bound has passed
-            const float bound = worstDist();
-            candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(),
-                                             [bound](const Entry& c) { return c.first > bound; }),
-                              candidates_.end());
-            compact_at_ = std::max(compact_at_, 2 * candidates_.size());
-        }
-    }
-
-private:
-    const uint32_t* walks_;
-    size_t k_;
-    float radius2_;
-    std::vector<Entry>& candidates_;
-    std::vector<Entry>& top_;
-    size_t compact_at_ = 64;
 };
 
 }  // namespace
@@ -272,11 +225,9 @@ size_t dense_walk_ids(const std::vector<PhotonInput>& in, std::vector<uint32_t>&
 }
 
 // nanoflann's searchLevel over leaf ranges that are record ranges (no permutation array), with
-// nanoflann's float metric (L2_Simple_Adaptor) and its pruning (eps = 0). `inclusive`: offer
-// points at exactly the current bound too (the walk search keeps ties with the k-th walk's photon).
+// nanoflann's float metric (L2_Simple_Adaptor) and its pruning (eps = 0).
 template <class ResultSet, class NodePtr>
-void search_level(ResultSet& rs, const Photon* data, const float* q, NodePtr node, float mindist, float* dists,
-                  bool inclusive) {
+void search_level(ResultSet& rs, const Photon* data, const float* q, NodePtr node, float mindist, float* dists) {
     if (!node->child1 && !node->child2) {
         const float worst = rs.worstDist();
         for (size_t i = node->node_type.lr.left; i < node->node_type.lr.right; ++i) {
@@ -286,7 +237,7 @@ void search_level(ResultSet& rs, const Photon* data, const float* q, NodePtr nod
                 const float diff = q[a] - p[a];
                 d += diff * diff;
             }
-            if (d < worst || (inclusive && d == worst)) rs.addPoint(d, uint32_t(i));
+            if (d < worst) rs.addPoint(d, uint32_t(i));
         }
         return;
     }
@@ -304,11 +255,11 @@ void search_level(ResultSet& rs, const Photon* data, const float* q, NodePtr nod
         other = node->child1;
         cut = (v - node->node_type.sub.divlow) * (v - node->node_type.sub.divlow);
     }
-    search_level(rs, data, q, best, mindist, dists, inclusive);
+    search_level(rs, data, q, best, mindist, dists);
     const float saved = dists[axis];
     mindist = mindist + cut - saved;
     dists[axis] = cut;
-    if (mindist <= rs.worstDist()) search_level(rs, data, q, other, mindist, dists, inclusive);
+    if (mindist <= rs.worstDist()) search_level(rs, data, q, other, mindist, dists);
     dists[axis] = saved;
 }
 
@@ -329,7 +280,7 @@ void PhotonMap::search(ResultSet& rs, const float q[3]) const {
             mindist += dists[a];
         }
     }
-    search_level(rs, photons_.data(), q, tree.root_node, mindist, dists, std::is_same<ResultSet, WalkResultSet>::value);
+    search_level(rs, photons_.data(), q, tree.root_node, mindist, dists);
 }
 
 PhotonMap::PhotonMap() = default;
@@ -464,12 +415,53 @@ size_t PhotonMap::knn_walks(const Vec3& query, size_t k, double max_radius, Neig
     const float q[3] = {static_cast<float>(rel[0]), static_cast<float>(rel[1]), static_cast<float>(rel[2])};
     const bool limited = std::isfinite(max_radius);
     const double max_r2 = max_radius * max_radius;
-    WalkResultSet rs(walks_.data(), k, search_bound(rel, max_radius), out.scratch_candidates, out.scratch_walks);
-    search(rs, q);
-    const float last = rs.worstDist();
-    for (const auto& c : out.scratch_candidates) {
-        if (c.first > last) continue;
-        const uint32_t idx = c.second;
+    const float bound = search_bound(rel, max_radius);
+    // The m nearest photons (float distances); they hold the walk neighbourhood when its k-th walk is
+    // met strictly before the m-th photon (every photon at or inside R is then among them), or when
+    // they are every photon within the bound; otherwise m grows by half and the search runs again.
+    // m is the photons per walk the earlier queries of this list needed (a running mean) times k,
+    // plus about 2.5 standard deviations of a Poisson count of the siblings, so that one search
+    // mostly suffices (docs/walk_correlation.md, Cost). R (float) is the k-th smallest of the walks'
+    // nearest-photon distances: the same whatever order ties come in, so m changes the cost, never
+    // the result.
+    auto& cand = out.scratch_candidates;
+    const double expected = double(k) * out.walk_gather_ratio;
+    size_t m = std::min(photons_.size(),
+                        std::max(k + 1, size_t(std::ceil(expected + 1.0 + 2.5 * std::sqrt(expected - double(k) + 1.0)))));
+    float r_walk = bound;
+    size_t inside = 0;   // candidates with d <= r_walk
+    for (;;) {
+        if (out.scratch_index.size() < m) {
+            out.scratch_index.resize(m);
+            out.scratch_d2.resize(m);
+        }
+        KnnRadiusResultSet rs(out.scratch_index.data(), out.scratch_d2.data(), m, bound);
+        search(rs, q);
+        const size_t found = rs.size();
+        cand.resize(found);
+        for (size_t i = 0; i < found; ++i) cand[i] = {out.scratch_d2[i], out.scratch_index[i]};
+        if (m >= KnnRadiusResultSet::kHeapFrom) std::sort(cand.begin(), cand.end());   // a heap, not sorted
+        const bool all_within_bound = found < m || m == photons_.size();
+        size_t seen = 0;
+        WalkSet set(out.scratch_set, found);
+        size_t i = 0;
+        for (; i < found; ++i)
+            if (set.insert(walks_[cand[i].second]) && ++seen == k) break;
+        if (seen == k && (all_within_bound || cand[i].first < cand[found - 1].first)) {
+            r_walk = cand[i].first;
+            inside = i + 1;
+            while (inside < found && cand[inside].first <= r_walk) ++inside;
+            break;
+        }
+        if (all_within_bound) {   // fewer than k walks within the bound: every photon found
+            inside = found;
+            break;
+        }
+        m = std::min(photons_.size(), m + m / 2 + 1);
+    }
+    out.walk_gather_ratio = 0.9 * out.walk_gather_ratio + 0.1 * std::max(1.0, double(inside) / double(k));
+    for (size_t i = 0; i < inside; ++i) {
+        const uint32_t idx = cand[i].second;
         const Photon& p = photons_[idx];
         const double d2 = (rel - Vec3(p.p[0], p.p[1], p.p[2])).squaredNorm();
         if (limited && d2 > max_r2) continue;

@@ -35,9 +35,12 @@ struct NeighbourList {
     // scratch for the tree search (float distances, uint32 indices)
     std::vector<uint32_t> scratch_index;
     std::vector<float> scratch_d2;
-    // scratch for knn_walks: (float d2, index) candidates, (float d2, walk) nearest walks, a walk set
-    std::vector<std::pair<float, uint32_t>> scratch_candidates, scratch_walks;
+    // scratch for knn_walks: (float d2, index) candidates sorted by distance, a walk set
+    std::vector<std::pair<float, uint32_t>> scratch_candidates;
     std::vector<uint32_t> scratch_set;
+    // knn_walks' running mean of the photons per walk its queries needed: sizes the first photon
+    // gather of the next query; changes the cost of a query, never its result.
+    double walk_gather_ratio = 2.0;
 
     size_t size() const { return items.size(); }
     bool empty() const { return items.empty(); }

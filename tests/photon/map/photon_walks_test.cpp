@@ -137,6 +137,44 @@ TEST(PhotonWalks, KnnWalksMatchesBruteForce) {
     }
 }
 
+// knn_walks sizes its first photon gather from the earlier queries of the list (walk_gather_ratio)
+// and gathers again when that held fewer than k walks: the guess changes the cost, never the list.
+// Long walks of 40 photons at 0.002 apart pile many siblings into one ball, so a guess of one
+// photon per walk must gather again (several times), and one of 50 over-gathers.
+TEST(PhotonWalks, KnnWalksDoesNotDependOnTheGatherGuess) {
+    Rng rng(12, 0);
+    std::vector<PhotonInput> in;
+    for (uint64_t w = 0; w < 200; ++w) {
+        Vec3 x(rng.uniform(), rng.uniform(), rng.uniform());
+        for (int j = 0; j < 40; ++j) {
+            PhotonInput p;
+            p.position = x;
+            p.direction = Vec3::UnitZ();
+            p.power = Rgb::Constant(1.0);
+            p.walk = w;
+            in.push_back(p);
+            x += 0.002 * sample_uniform_sphere(rng.uniform(), rng.uniform());
+        }
+    }
+    const PhotonMap map(in);
+    NeighbourList list;
+    for (size_t k : {1u, 4u, 16u, 64u}) {
+        for (int q = 0; q < 20; ++q) {
+            // half the queries on a stored photon: its walk's siblings crowd the ball
+            const Vec3 x = q % 2 ? map.position(rng.uniform_index(uint32_t(map.size())))
+                                 : Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+            const std::vector<uint32_t> ref = brute_walks(map, x, k, kInfinity);
+            for (double guess : {1.0, 50.0}) {
+                list.walk_gather_ratio = guess;
+                size_t walks = 0;
+                ASSERT_EQ(map.knn_walks(x, k, kInfinity, list, walks), ref.size()) << "k " << k << " guess " << guess;
+                EXPECT_EQ(walks, k);
+                for (size_t i = 0; i < ref.size(); ++i) EXPECT_EQ(list[i].index, ref[i]);
+            }
+        }
+    }
+}
+
 TEST(PhotonWalks, AtMost32BytesPerPhotonWithTheWalks) {
     Rng rng(7, 0);
     std::vector<PhotonInput> in(1000000);
