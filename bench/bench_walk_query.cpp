@@ -14,8 +14,8 @@
 #include <cmath>
 #include <vector>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/walk_estimate.h"
 #include "photon/map/photon_map.h"
