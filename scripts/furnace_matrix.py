@@ -10,7 +10,7 @@ Geometries (all non-absorbing, under a constant sky):
   glass  a fog sphere (radius 1.5, g 0.5) around a clear glass sphere (radius 1, photons.ior), sky 1,
          the camera outside at fov 20 so every pixel looks through the glass: exact 1 (corrected).
 
-Usage: scripts/furnace_matrix.py --vpm build/vpm [--passes 64] [--only SUBSTRING ...] [--out FILE.md]
+Usage: scripts/furnace_matrix.py --vpm build/vpm [--passes 64] [--only SUBSTRING ...] [--out PATH]
 Each cell prints a line as it finishes; the table goes to --out (markdown) and stdout.
 """
 import argparse
