@@ -138,8 +138,9 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     // Structured photon sets read high in a scattering medium (docs/stratified_sampling.md): said once per run.
     if (context.first_of_run && ps.sampler != SamplerKind::independent && scene.has_media())
         stats.warn(std::string("photons.sampler = \"") + sampler_name(ps.sampler) +
-                       "\": the kNN estimate reads high over its photons in a scattering medium (the furnace, k = 8: "
-                       "+1% to +2%, falling with k; cause open, docs/stratified_sampling.md); \"independent\" reads exact",
+                       "\": in a scattering medium the kNN estimate over these photons reads high, up to about 2% at "
+                       "k = 8 in the furnace and more than over \"independent\" photons (cause open, "
+                       "docs/stratified_sampling.md)",
                    context.log);
     if (log && !maps.volume_regions.empty())
         *log << "build: volume photon maps of " << maps.volume_regions.regions()
