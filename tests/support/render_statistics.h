@@ -45,4 +45,17 @@ inline Sample repeated_run_brightness(const RunConfig& config, int repeats) {
     return brightness;
 }
 
+// Mean image value (all channels) over the passes of one run of `config` (render.passes): each pass
+// has its own photon map and camera samples, so each pass's image mean is an independent sample.
+inline Sample pass_brightness(const RunConfig& config) {
+    RunOptions o;
+    o.progress = false;
+    const RunResult result = run(config, o);
+    EXPECT_EQ(result.stats.render.nonfinite_samples, 0u);
+    Sample brightness;
+    for (const auto& pass : result.stats.passes) brightness.add(pass.image_mean);
+    EXPECT_EQ(uint64_t(brightness.n), result.stats.pass_summary.count) << "more passes than the run records";
+    return brightness;
+}
+
 }  // namespace vpm::test

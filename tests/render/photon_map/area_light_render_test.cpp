@@ -52,10 +52,10 @@ test::Sample brightness(const std::string& path, const std::vector<std::string>&
     return test::repeated_run_brightness(RunConfig::load(path, overrides), repeats);
 }
 
-void expect_same_mean(const test::Sample& a, const test::Sample& b, double sigmas, double relative_slack, const char* what) {
+void expect_same_mean(const test::Sample& a, const test::Sample& b, double sigmas, const char* what) {
     const double se = std::sqrt(a.se() * a.se() + b.se() * b.se());
     std::printf("%s: %.6g +- %.3g vs %.6g +- %.3g\n", what, a.mean(), a.se(), b.mean(), b.se());
-    EXPECT_NEAR(a.mean(), b.mean(), sigmas * se + relative_slack * b.mean()) << what << ": " << a.mean() << " +- " << a.se()
+    EXPECT_NEAR(a.mean(), b.mean(), sigmas * se) << what << ": " << a.mean() << " +- " << a.se()
                                                                              << " vs " << b.mean() << " +- " << b.se();
     EXPECT_GT(a.se(), 0.0) << what;
     EXPECT_GT(b.se(), 0.0) << what;
@@ -95,7 +95,7 @@ TEST(AreaLightRender, MisOnAndOffAgreeOnTheSmokyCornellBox) {
     on.insert(on.end(), {"render.mis=true", "render.seed=3"});   // independent seeds: independent runs
     off.insert(off.end(), {"render.mis=false", "render.seed=4"});
     const std::string path = VPM_SOURCE_DIR "/configs/cornell_smoke_path.toml";
-    expect_same_mean(brightness(path, on, 10), brightness(path, off, 10), 4.0, 0.0, "Cornell box, MIS on vs off");
+    expect_same_mean(brightness(path, on, 10), brightness(path, off, 10), 4.0, "Cornell box, MIS on vs off");
 }
 
 TEST(AreaLightRender, MisOnAndOffAgreeInAMediumUnderASmallBrightQuad) {
@@ -104,7 +104,7 @@ TEST(AreaLightRender, MisOnAndOffAgreeInAMediumUnderASmallBrightQuad) {
     on.insert(on.end(), {"render.mis=true", "render.seed=5"});
     off.insert(off.end(), {"render.mis=false", "render.seed=6"});
     const std::string path = VPM_SOURCE_DIR "/configs/small_light_smoke.toml";
-    expect_same_mean(brightness(path, on, 10), brightness(path, off, 10), 4.0, 0.0, "small bright quad, MIS on vs off");
+    expect_same_mean(brightness(path, on, 10), brightness(path, off, 10), 4.0, "small bright quad, MIS on vs off");
 }
 
 TEST(AreaLightRender, PhotonMapMatchesPathTracerOnTheCornellBoxWithItsLightInView) {
@@ -113,8 +113,9 @@ TEST(AreaLightRender, PhotonMapMatchesPathTracerOnTheCornellBoxWithItsLightInVie
     pm.push_back("render.seed=7");
     pt.insert(pt.end(), {"render.integrator=path", "render.seed=8"});
     const std::string path = VPM_SOURCE_DIR "/configs/cornell_smoke.toml";
-    // The corrected estimator is unbiased in the kNN count; what is left is the kernel's blur.
-    expect_same_mean(brightness(path, pm, 6), brightness(path, pt, 6), 3.0, 0.02, "Cornell box, photon map vs path tracer");
+    // The corrected estimator is unbiased in the kNN count; what is left is the kernel's blur, below
+    // what 64 maps resolve (-0.06% +- 1.85%).
+    expect_same_mean(brightness(path, pm, 12), brightness(path, pt, 12), 3.0, "Cornell box, photon map vs path tracer");
 }
 
 namespace {
@@ -242,7 +243,7 @@ TEST(AreaLightRender, MisOnAndOffAgreeUnderTheEnvironmentMap) {
     on.insert(on.end(), {"render.mis=true", "render.seed=9"});
     off.insert(off.end(), {"render.mis=false", "render.seed=10"});
     const std::string path = VPM_SOURCE_DIR "/configs/plume_sky.toml";
-    expect_same_mean(brightness(path, on, 8), brightness(path, off, 8), 4.0, 0.0, "environment map, MIS on vs off");
+    expect_same_mean(brightness(path, on, 8), brightness(path, off, 8), 4.0, "environment map, MIS on vs off");
 }
 
 // Issue 24, item 5: two identical sphere lights and two identical quads at the same place are one
@@ -292,7 +293,7 @@ g = 0.5
             diff.add(a / b - 1.0);
         }
         std::printf("%s: coincident / doubled - 1 = %.4f +- %.4f\n", integrator, diff.mean(), diff.se());
-        EXPECT_LT(std::abs(diff.mean()), 3.0 * diff.se() + 1e-3) << integrator;
+        EXPECT_LT(std::abs(diff.mean()), 3.0 * diff.se()) << integrator;
         EXPECT_LT(std::abs(diff.mean()), 0.05) << integrator;
     }
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <string>
 
 #include "support/io_test_util.h"
 #include "support/render_statistics.h"
@@ -19,7 +20,8 @@ namespace {
 
 class FocusedEmission : public vpm_test::TempDirTest {
 protected:
-    test::Sample brightness(const std::string& integrator, int repeats) {
+    // Mean image over `passes` passes of `spp` samples per pixel, each pass its own photon map.
+    test::Sample brightness(const std::string& integrator, int passes, int spp) {
         const auto path = dir_ / "slab.toml";
         std::ofstream(path) << R"(
 [render]
@@ -49,20 +51,21 @@ max = [10000, 2, 10000]
 sigma_t_scale = 1
 albedo = 0.9
 )";
-        return test::repeated_run_brightness(RunConfig::load(path.string()), repeats);
+        return test::pass_brightness(RunConfig::load(
+            path.string(), {"render.spp=" + std::to_string(passes * spp), "render.passes=" + std::to_string(passes)}));
     }
 };
 
 }  // namespace
 
-// The photon map against the path tracer within 4 standard errors plus 2% for the estimate's
-// smoothing (measured at 1e6 photons: -1.1%, two seeds). Before the focus: -46%.
+// The photon map against the path tracer within 3 standard errors of the difference (64 maps of
+// 1e5 photons: -0.14% +- 0.38%).
 TEST_F(FocusedEmission, SkyOverAWideSlabMatchesThePathTracer) {
-    const test::Sample photon_map = brightness("photon_map", 6);
-    const test::Sample path = brightness("path", 4);
+    const test::Sample photon_map = brightness("photon_map", 32, 4);
+    const test::Sample path = brightness("path", 32, 8);
     const double se = std::hypot(photon_map.se(), path.se());
     std::cout << "photon map " << photon_map.mean() << " +- " << photon_map.se() << ", path tracer " << path.mean()
               << " +- " << path.se() << "\n";
-    EXPECT_NEAR(photon_map.mean(), path.mean(), 4.0 * se + 0.02 * path.mean());
-    EXPECT_LT(se, 0.03 * path.mean()) << "too noisy to tell";
+    EXPECT_NEAR(photon_map.mean(), path.mean(), 3.0 * se);
+    EXPECT_LT(se, 0.01 * path.mean()) << "too noisy to tell 3%";
 }

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "render/run/run.h"
 #include "render/run/run_stats.h"
+#include "support/furnace.h"
 #include "support/render_statistics.h"
 
 using namespace vpm;
@@ -55,9 +56,9 @@ TEST(IntegratorChoice, SeedExperimentClassicOverCorrectedIsKOverKMinusOne) {
     const double k = 8.0;
     std::printf("furnace: classic %.5f, corrected %.5f, classic/corrected - 1 = %.5f +- %.5f (1/(k-1) = %.5f)\n",
                 classic.image.mean(), corrected.image.mean(), excess.mean(), excess.se(), 1.0 / (k - 1));
-    // 3 standard errors plus render_loop_test.cpp's 5% model tolerance for the walks' clustering; and
+    // k/(k-1) on the image's estimated share (support/furnace.h), within 3 standard errors; and
     // decisively above zero (the path tracer's excess is exactly 0).
-    EXPECT_NEAR(excess.mean(), 1.0 / (k - 1), 3.0 * excess.se() + 0.05 / (k - 1));
+    EXPECT_NEAR(excess.mean(), test::furnace_estimated_share(RunConfig::load(kFurnace)) / (k - 1), 3.0 * excess.se());
     EXPECT_GT(excess.mean(), 8.0 * excess.se());
 }
 

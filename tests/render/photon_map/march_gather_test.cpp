@@ -65,8 +65,8 @@ TEST_F(MarchGather, WeightsStayBoundedInADenseSmoothGrid) {
 
 TEST_F(MarchGather, AgreesWithThePathTracerInAGrid) {
     // Optical thickness ~5 across the blob, overlapped by a homogeneous sphere (both estimators'
-    // mean image over independent runs). Tolerance: three combined standard errors plus 1% for the
-    // kNN estimate's proximity bias (the blob is smooth; measured +1.5% +- 1.6%, seeds 0..5).
+    // mean image over independent runs), within three combined standard errors (the blob is smooth:
+    // 64 maps read -0.06% +- 0.71% against the path tracer).
     const std::string config = blob(8.0, true);
     test::Sample path, march;
     for (int r = 0; r < 6; ++r) {
@@ -79,7 +79,7 @@ TEST_F(MarchGather, AgreesWithThePathTracerInAGrid) {
     ASSERT_GT(path.mean(), 0.0);
     std::printf("path tracer %.6f +- %.6f, march %.6f +- %.6f\n", path.mean(), path.se(), march.mean(), march.se());
     const double se = std::hypot(path.se(), march.se());
-    EXPECT_NEAR(march.mean(), path.mean(), 3.0 * se + 0.01 * path.mean());
+    EXPECT_NEAR(march.mean(), path.mean(), 3.0 * se);
 }
 
 TEST_F(MarchGather, SameImageOnOneAndTwoThreads) {

@@ -52,7 +52,7 @@ TEST(PhotonBeamsGather, FurnaceBalloonCorrectedAndSamplePointUnbiasedClassicHigh
                 expect_ratio);
     EXPECT_NEAR(corrected.mean(), 1.0, 3.0 * corrected.se());
     EXPECT_NEAR(sample_point.mean(), 1.0, 3.0 * sample_point.se());
-    EXPECT_NEAR(ratio.mean(), expect_ratio, 3.0 * ratio.se() + 0.01);
+    EXPECT_NEAR(ratio.mean(), expect_ratio, 3.0 * ratio.se());
     EXPECT_GT(ratio.mean(), 1.0 + 10.0 * ratio.se());
 }
 
@@ -116,9 +116,11 @@ test::Sample beam_brightness(const std::string& config, const std::vector<std::s
     return test::repeated_run_brightness(RunConfig::load(VPM_SOURCE_DIR "/configs/" + config, all), repeats);
 }
 
-// Both width forms against the path tracer: within 3 combined standard errors plus `bias` of the
-// path tracer's mean (the kNN widths' smoothing at the media's faces, stated per scene).
-void expect_beams_match_path_tracer(const std::string& config, double bias) {
+// Both width forms against the path tracer within 3 combined standard errors; "sample_point" also
+// `sample_point_allowance` of the path tracer's mean for its kNN widths' smoothing, not derived yet
+// (plume, 32 maps: -1.38% +- 0.32%). Balloon widths, 64 maps (16 x 16, 20000 photons, 2 spp per
+// map): thin cube +0.28% +- 0.33%, plume +0.01% +- 0.50%.
+void expect_beams_match_path_tracer(const std::string& config, double sample_point_allowance) {
     const test::Sample path = beam_brightness(config, {"render.integrator=\"path\"", "render.spp=64"}, 6);
     for (const char* widths : {"balloon", "sample_point"}) {
         const test::Sample beams = beam_brightness(
@@ -128,7 +130,8 @@ void expect_beams_match_path_tracer(const std::string& config, double bias) {
         const double se = std::hypot(beams.se(), path.se());
         std::printf("%s %s: photon_beams %.5f +- %.5f, path %.5f +- %.5f (ratio %.4f)\n", config.c_str(), widths,
                     beams.mean(), beams.se(), path.mean(), path.se(), beams.mean() / path.mean());
-        EXPECT_NEAR(beams.mean(), path.mean(), 3.0 * se + bias * path.mean()) << config << " " << widths;
+        const double allowance = std::string(widths) == "sample_point" ? sample_point_allowance : 0.0;
+        EXPECT_NEAR(beams.mean(), path.mean(), 3.0 * se + allowance * path.mean()) << config << " " << widths;
     }
 }
 
