@@ -39,10 +39,8 @@ inline Ray diffuse_bounce(const SurfaceHit& hit, Rng& rng) {
 // The cap only makes sure a walk in a medium of albedo 1 ends. Every survival at the cap multiplies
 // the throughput by 1 / cap, so after n collisions at albedo a the weight is (a / cap)^n with
 // probability cap^n: the second moment grows as (a^2 / cap)^n, without bound for a > sqrt(cap).
-// With a cap of 0.95 that was every albedo above 0.975: deep walks in dense albedo-0.99 media came
-// back with weights of 700 at 165 collisions (bench/heldout/h25), and the path tracer's relative
-// RMSE there was 0.12-0.16 at 4 s against 0.093 with 0.999, at 1.7x the time per sample
-// (docs/studies/heldout_scenes.md section 31). At 0.999 the weight stays below 1 / 0.999 up to albedo 0.9995.
+// A cap close to 1 keeps that bounded for every albedo a real medium has: at 0.999 the weight stays
+// below 1 / 0.999 up to albedo 0.9995 (the measurements behind it: docs/studies/heldout_scenes.md).
 constexpr double kRouletteMaxSurvival = 0.999;
 inline bool survive_roulette(Rgb& throughput, int vertices, int rr_depth, Rng& rng) {
     if (vertices < rr_depth) return true;

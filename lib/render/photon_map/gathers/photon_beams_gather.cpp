@@ -90,8 +90,8 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
                 radii[j] = typical;
             }
         }
-        // Guessed widths (no bound) blur a beam's light as far as the guess goes: a dense cube read -50%
-        // with most widths guessed. Where most would be, the run is refused.
+        // Guessed widths (no bound) blur a beam's light as far as the guess goes, so a run where most
+        // widths would be guessed is refused (docs/photon_beams.md).
         const uint64_t guessed = built_.widths_extrapolated + built_.widths_typical;
         if (2 * guessed > beams_.size())
             throw Error("photons.beam_widths = \"sample_point\": " + std::to_string(guessed) + " of the " +
@@ -270,8 +270,8 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
         if (std::find(run.warnings.begin(), run.warnings.end(), w.str()) == run.warnings.end()) run.warn(w.str(), log);
     }
     // Sample-point widths have no starved segment: where few beams cross a camera segment the
-    // estimate is mostly 0 with rare large values (unbiased over maps, but one image reads low:
-    // the dense cube at sigma_t 1e4 read -53% over 3 maps, docs/photon_beams.md).
+    // estimate is mostly 0 with rare large values: unbiased over maps, but one image reads low
+    // (docs/photon_beams.md), so the run says so.
     if (widths_ == BeamWidths::sample_point && total.queries > 0 && total.crossed < total.queries) {
         const std::string prefix = "photons.beam_widths = \"sample_point\": the camera segments crossed ";
         // One warning with the run's totals: the earlier passes' is replaced.

@@ -14,9 +14,9 @@
 // estimate blurs over: centre y_i, radius r_i, perpendicular to the segment (a fixed quadrature of
 // kDiscPoints points). The expected sum over photons of K(delta_i / r_i) sigma_t(y_i + delta_i) is
 // that mean times the fluence, so this is exact for a smooth fluence in a medium with a jump: the
-// albedo inside, 0 where the foot is outside, above 1 where the disc reaches out. (A ball around the
-// photon boosted photons under a face the segment crosses head on, whose discs do not reach out:
-// the dense cube read +19%.) r_i is the distance to the beam_k-th nearest *other* photon
+// albedo inside, 0 where the foot is outside, above 1 where the disc reaches out (a ball around the
+// photon would boost photons under a face the segment crosses head on, whose discs do not reach
+// out). r_i is the distance to the beam_k-th nearest *other* photon
 // (photon/map/photon_radii.h), bounded by photons.max_radius and by max_radius_mfp mean free
 // paths at x_i; both bounds depend on the photon alone, so the estimate stays a sample-point
 // estimate, unbiased on a uniform density for every k (docs/beam_estimate.md). T(0, t_i) comes
