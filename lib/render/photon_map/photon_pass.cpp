@@ -70,6 +70,47 @@ PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings&
     return p;
 }
 
+namespace {
+
+// The photon pass's counts into p (the map sizes are added as they are built).
+void add_trace_counts(const PhotonTraceResult& traced, std::ostream* log, bool store_auto, PhotonPassStats& p) {
+    const size_t stored = traced.photons.size();
+    p.emitted = traced.paths;
+    p.stored = stored;
+    p.collisions = traced.collisions;
+    p.storing_walks = traced.storing_walks;
+    p.store_probability = traced.store_probability;
+    if (log && store_auto)
+        *log << "photons: store_probability = \"auto\": " << traced.store_probability << " after the first 4096 photons ("
+             << traced.storing_walks << " walks stored " << stored << " volume photons in all)\n";
+    p.truncated_paths = traced.truncated_paths;
+    p.paths_per_second = traced.seconds > 0 ? double(traced.paths) / traced.seconds : 0.0;
+    p.energy = traced.energy;
+    if (log)
+        *log << "trace: " << traced.paths << " photon paths, " << traced.collisions << " collisions, " << stored
+             << " stored in " << traced.seconds << " s; energy imbalance " << traced.energy.relative_imbalance()
+             << ", truncated paths " << traced.truncated_paths << "\n";
+}
+
+// What a run's settings cannot do exactly in this scene, said once per run (log and sidecar).
+void warn_once_per_run(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context, RunStats& stats) {
+    // The segment gathers' discs and beams are one structure for the whole scene.
+    if (gather_entry(ps.gather).build && scene.surfaces && !scene.surfaces->dielectric_shapes().empty())
+        stats.warn(std::string("photons.gather = \"") + gather_entry(ps.gather).name +
+                       "\" gathers photons from both sides of a glass interface (its discs and beams are not split by "
+                       "region, docs/interface_regions.md); \"collision\" and \"march\" are",
+                   context.log);
+    // Structured photon sets read high in a scattering medium (docs/stratified_sampling.md).
+    if (ps.sampler != SamplerKind::independent && scene.has_media())
+        stats.warn(std::string("photons.sampler = \"") + sampler_name(ps.sampler) +
+                       "\": in a scattering medium the kNN estimate over these photons reads high, up to about 2% at "
+                       "k = 8 in the furnace and more than over \"independent\" photons (cause open, "
+                       "docs/stratified_sampling.md)",
+                   context.log);
+}
+
+}  // namespace
+
 PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
                            bool surface, RunStats& stats, std::optional<LightAllocation>& cached) {
     // The report lines are written for a run's first pass; later passes add one "pass" line each.
@@ -84,24 +125,10 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     // partial photons (seconds for millions); the caller discards the run.
     if (tbb::is_current_task_group_canceling()) return PhotonMaps();
     stats.phase("trace", traced.seconds);
+    const size_t stored = traced.photons.size();
     PhotonPassStats p;
     report_photon_lights(scene, importance ? "importance" : "power", allocation, traced, p, log);
-    const size_t stored = traced.photons.size();
-    p.emitted = traced.paths;
-    p.stored = stored;
-    p.collisions = traced.collisions;
-    p.storing_walks = traced.storing_walks;
-    p.store_probability = traced.store_probability;
-    if (log && ps.store_auto)
-        *log << "photons: store_probability = \"auto\": " << traced.store_probability << " after the first 4096 photons ("
-             << traced.storing_walks << " walks stored " << stored << " volume photons in all)\n";
-    p.truncated_paths = traced.truncated_paths;
-    p.paths_per_second = traced.seconds > 0 ? double(traced.paths) / traced.seconds : 0.0;
-    p.energy = traced.energy;
-    if (log)
-        *log << "trace: " << traced.paths << " photon paths, " << traced.collisions << " collisions, " << stored
-             << " stored in " << traced.seconds << " s; energy imbalance " << traced.energy.relative_imbalance()
-             << ", truncated paths " << traced.truncated_paths << "\n";
+    add_trace_counts(traced, log, ps.store_auto, p);
     // Warn before building a map (and the beams' BVH) larger than the budget (records + index, per
     // photon and per beam).
     p.projected_map_bytes = double(stored + traced.surface_photons.size()) * double(bytes_per_photon() + 4) +
@@ -132,19 +159,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
                  << " regions (glass interfaces, scene/dielectric_regions.h), " << maps.surface_regions.memory_bytes() / 1e6 << " MB\n";
     }
     maps.volume_regions = split(traced.photons, traced.photon_regions);
-    const bool beam_gather = ps.gather == GatherMode::point_beam || ps.gather == GatherMode::photon_beams;
-    if (context.first_of_run && beam_gather && scene.surfaces && !scene.surfaces->dielectric_shapes().empty())
-        stats.warn(std::string("photons.gather = \"") + (ps.gather == GatherMode::point_beam ? "point_beam" : "photon_beams") +
-                       "\" gathers photons from both sides of a glass interface (its discs and beams are not split by "
-                       "region, docs/interface_regions.md); \"collision\" and \"march\" are",
-                   context.log);
-    // Structured photon sets read high in a scattering medium (docs/stratified_sampling.md): said once per run.
-    if (context.first_of_run && ps.sampler != SamplerKind::independent && scene.has_media())
-        stats.warn(std::string("photons.sampler = \"") + sampler_name(ps.sampler) +
-                       "\": in a scattering medium the kNN estimate over these photons reads high, up to about 2% at "
-                       "k = 8 in the furnace and more than over \"independent\" photons (cause open, "
-                       "docs/stratified_sampling.md)",
-                   context.log);
+    if (context.first_of_run) warn_once_per_run(scene, ps, context, stats);
     if (log && !maps.volume_regions.empty())
         *log << "build: volume photon maps of " << maps.volume_regions.regions()
              << " regions (glass interfaces, scene/dielectric_regions.h), " << maps.volume_regions.memory_bytes() / 1e6 << " MB\n";
