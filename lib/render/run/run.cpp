@@ -56,6 +56,14 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
                      << rs.time_limit << " s run took, from its record), not the clock; --unset render.time_limit_passes "
                      << "renders to the clock\n";
     const Timer run_timer;
+    // One bar for a run of several passes, against its passes or its time limit; the bars of a pass's
+    // photons and rows then show on its first pass only (its one-off work), not restarting each pass.
+    const bool several_passes = fixed_passes > 1 || clock_stops;
+    Progress run_progress(clock_stops ? "time limit" : "passes",
+                          clock_stops ? uint64_t(std::ceil(rs.time_limit * 1000.0)) : uint64_t(fixed_passes),
+                          options.progress && several_passes,
+                          clock_stops ? Progress::Unit::milliseconds : Progress::Unit::items);
+    uint64_t progress_ms = 0;   // run_progress's count under the clock
     int64_t done = 0;   // passes rendered
     double first_group_seconds = 0.0;
     int64_t first_group_passes = 0;
@@ -95,7 +103,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         context.pass = index;
         context.configured_spp = rs.spp_per_pass();
         context.first_of_run = done == 0;
-        context.progress = options.progress;
+        context.progress = options.progress && (!several_passes || done == 0);
         context.log = options.log;
         integrator->prepare(context, result.stats);
         spp = integrator->samples_per_pass(rs.spp_per_pass());
@@ -105,7 +113,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         ro.height = rs.height;
         ro.spp = spp;
         ro.seed = rs.seed;
-        ro.progress = options.progress;
+        ro.progress = options.progress && (!several_passes || done == 0);
         ro.stream_offset = stream;
         ro.sampler = rs.sampler;
         if (clock_stops && done == 0) {   // the first group: later ones are sized by the measured pass time
@@ -130,6 +138,13 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         const int64_t before = done;
         done += n;
         const PassGroupStats this_group{done, n, spp, seconds, run_timer.seconds(), mean_of_means};
+        if (clock_stops) {
+            const uint64_t now_ms = uint64_t(run_timer.seconds() * 1000.0);
+            if (now_ms > progress_ms) run_progress.advance(now_ms - progress_ms);
+            progress_ms = std::max(progress_ms, now_ms);
+        } else {
+            run_progress.advance(uint64_t(n));
+        }
         if (options.on_pass_group) options.on_pass_group(this_group);
 
         // Time per pass from the passes after the first: the first also holds one-off work (the
@@ -173,6 +188,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
                          << each << " s each, " << run_timer.seconds() << " s elapsed\n";
         if (!more) break;
     }
+    run_progress.done();
     if (options.log) {
         const uint64_t passes = result.stats.pass_count();
         *options.log << "render: " << rs.width << "x" << rs.height << " at "
