@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "core/progress.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "io/vdb_io.h"
 #include "photon/estimate/ball_extinction.h"
 #include "photon/estimate/mass_lattice.h"

@@ -9,8 +9,8 @@
 #include <map>
 
 #include "bench_common.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/trace/photon_tracer.h"
 #include "render/photon_map/gathers/point_beam_gather.h"
 #include "render/run/run_config.h"

@@ -40,8 +40,8 @@
 
 #include <nanoflann.hpp>
 
-#include "analysis/chandrasekhar_h.h"
-#include "core/rng.h"
+#include "analysis/study/chandrasekhar_h.h"
+#include "core/sampling/rng.h"
 
 using namespace vpm;
 

@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/estimate/estimators.h"
 #include "photon/map/photon_map.h"
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "bench_common.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "io/vdb_io.h"
 #include "scene/media/grid_medium.h"
 #include "transport/march_points.h"

@@ -12,8 +12,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/map/photon_beam_bvh.h"
 
 using namespace vpm;

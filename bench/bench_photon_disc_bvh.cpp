@@ -8,8 +8,8 @@
 
 #include <map>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/map/photon_disc_bvh.h"
 #include "photon/map/photon_radii.h"
 

@@ -16,8 +16,8 @@
 #include <tbb/task_arena.h>
 
 #include "core/progress.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "core/henyey_greenstein.h"
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/walk_estimate.h"

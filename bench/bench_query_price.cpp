@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "bench_common.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "io/vdb_io.h"
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/group_estimate.h"

@@ -32,8 +32,8 @@
 
 #include "bench_common.h"
 #include "core/henyey_greenstein.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/trace/photon_tracer.h"
 #include "scene/media/grid_medium.h"
 #include "render/run/run_config.h"

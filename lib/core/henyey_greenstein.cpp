@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "core/turn_sincos.h"
+#include "core/sampling/turn_sincos.h"
 
 namespace vpm {
 

@@ -16,7 +16,7 @@
 #include <string>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 
 namespace vpm {
 

@@ -1,6 +1,6 @@
 #include "scene/camera_region.h"
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 
 namespace vpm {

@@ -6,7 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 
 namespace vpm {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/camera.h"
 #include "scene/lights/light.h"
 #include "scene/media/medium.h"

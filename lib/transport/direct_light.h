@@ -3,7 +3,7 @@
 // ratio tracking. Shared by the reference path tracer and the photon-map renderer so that both
 // compute single scattering and surface direct light identically.
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 #include "transport/equiangular.h"
 

@@ -34,7 +34,7 @@
 
 #include "core/henyey_greenstein.h"
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 
 namespace vpm {

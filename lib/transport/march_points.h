@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/media/medium.h"
 #include "scene/media/optical_depth_profile.h"
 #include "scene/scene.h"

@@ -7,7 +7,7 @@
 #include <cstdint>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 
 namespace vpm {

@@ -17,7 +17,7 @@
 // and the bounce's emission weighted likewise (continued_emission). Before, such paths weighed NEE
 // 1 and counted no emission they met: 4.3x the path tracer's per-sample variance under a sky.
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 #include "transport/equiangular.h"
 #include "transport/mis.h"

@@ -9,7 +9,7 @@
 // the power heuristic's other strategy has pdf 0. Photons carry power, which a refraction does not
 // scale (scene/materials/material.h). The event counts as a scattering event for max_depth, Russian
 // roulette and the photon tracer's max_bounces.
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 #include "transport/mis.h"
 

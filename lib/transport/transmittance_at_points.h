@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 
 namespace vpm {

@@ -4,7 +4,7 @@
 // scene in the same way. This layer sits on scene/ and below photon/ and render/:
 //   walk_steps.h    next vertex (surface or medium collision), spawn ray, diffuse bounce, roulette
 //   direct_light.h  next-event estimation with ratio-tracked transmittance
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "scene/scene.h"
 
 namespace vpm {

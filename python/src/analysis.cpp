@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/scene_info.h"
-#include "analysis/study.h"
-#include "analysis/sweep.h"
-#include "analysis/sweep_plan.h"
+#include "analysis/study/study.h"
+#include "analysis/sweep/sweep.h"
+#include "analysis/sweep/sweep_plan.h"
 #include "bindings.h"
 #include "native_call.h"
 #include "render/run/image_io.h"

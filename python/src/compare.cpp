@@ -11,10 +11,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "analysis/error_metrics.h"
-#include "analysis/pixel_mask.h"
-#include "analysis/reference_noise.h"
-#include "analysis/reference_samples.h"
+#include "analysis/metrics/error_metrics.h"
+#include "analysis/metrics/pixel_mask.h"
+#include "analysis/metrics/reference_noise.h"
+#include "analysis/metrics/reference_samples.h"
 #include "render/run/run_outputs.h"
 #include "bindings.h"
 #include "core/error.h"

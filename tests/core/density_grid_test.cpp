@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "core/density_grid.h"
 
 using namespace vpm;

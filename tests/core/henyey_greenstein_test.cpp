@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/henyey_greenstein.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 
 using namespace vpm;
 

@@ -4,7 +4,7 @@
 // mirror's beam, and the photon map against the path tracer on the glass-sphere caustic scene.
 #include <gtest/gtest.h>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/trace/photon_tracer.h"
 #include "render/run/run.h"
 #include "render/run/run_config.h"

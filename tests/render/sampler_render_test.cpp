@@ -1,4 +1,4 @@
-// render.sampler and photons.sampler (core/sampler.h) in the renderer:
+// render.sampler and photons.sampler (core/sampling/sampler.h) in the renderer:
 // - every estimator in the volume furnace, with each sampler on both sides, at its Poisson
 //   expectation within 3 standard errors over independent maps (plus the 5% model tolerance on
 //   the bias that photon_map_render_test.cpp states for walk-clustered photons);
@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "core/sampler.h"
-#include "core/sampler_registry.h"
+#include "core/sampling/sampler.h"
+#include "core/sampling/sampler_registry.h"
 #include "photon/map/photon_map.h"
 #include "photon/trace/photon_tracer.h"
 #include "render/path/path_tracer.h"

@@ -6,7 +6,7 @@
 
 #include "config/config_file.h"
 #include "config/params.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/camera_region.h"
 #include "scene/lights/emission_bounds.h"
 #include "scene/scene.h"

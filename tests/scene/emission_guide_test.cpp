@@ -8,7 +8,7 @@
 
 #include <functional>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/emission_guides.h"
 #include "scene/lights/direction_guide.h"
 #include "scene/scene.h"

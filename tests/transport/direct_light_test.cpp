@@ -8,7 +8,7 @@
 
 #include "config/params.h"
 #include "core/math.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "scene/scene.h"
 #include "transport/direct_light.h"
 #include "transport/mis.h"

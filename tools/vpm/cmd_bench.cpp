@@ -26,10 +26,10 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include "analysis/error_metrics.h"
-#include "analysis/reference_noise.h"
-#include "analysis/scene_matrix.h"
-#include "analysis/reference_samples.h"
+#include "analysis/metrics/error_metrics.h"
+#include "analysis/metrics/reference_noise.h"
+#include "analysis/matrix/scene_matrix.h"
+#include "analysis/metrics/reference_samples.h"
 #include "arguments.h"
 #include "core/thread_limit.h"
 #include "data_files.h"

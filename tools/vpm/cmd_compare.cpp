@@ -17,10 +17,10 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "analysis/error_metrics.h"
-#include "analysis/pixel_mask.h"
-#include "analysis/reference_noise.h"
-#include "analysis/reference_samples.h"
+#include "analysis/metrics/error_metrics.h"
+#include "analysis/metrics/pixel_mask.h"
+#include "analysis/metrics/reference_noise.h"
+#include "analysis/metrics/reference_samples.h"
 #include "arguments.h"
 #include "command.h"
 #include "render/run/image_io.h"

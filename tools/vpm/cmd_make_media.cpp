@@ -15,7 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/error.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "core/density_grid.h"
 #include "render/run/staged_file.h"
 #include "io/vdb_io.h"

@@ -3,7 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "analysis/merge_runs.h"
+#include "analysis/sweep/merge_runs.h"
 #include "arguments.h"
 #include "command.h"
 #include "render/run/run.h"

@@ -9,7 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
-#include "analysis/stress.h"
+#include "analysis/matrix/stress.h"
 #include "arguments.h"
 #include "command.h"
 #include "data_files.h"

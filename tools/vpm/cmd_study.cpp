@@ -17,7 +17,7 @@
 #include <sstream>
 #include <vector>
 
-#include "analysis/study.h"
+#include "analysis/study/study.h"
 #include "arguments.h"
 #include "core/thread_limit.h"
 #include "command.h"

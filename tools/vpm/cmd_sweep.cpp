@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/sweep.h"
-#include "analysis/sweep_plan.h"
+#include "analysis/sweep/sweep.h"
+#include "analysis/sweep/sweep_plan.h"
 #include "arguments.h"
 #include "core/thread_limit.h"
 #include "command.h"

@@ -6,7 +6,7 @@
 #include <mutex>
 #include <vector>
 
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "photon/estimate/mass_lattice.h"
 
 namespace vpm {

@@ -13,7 +13,7 @@
 // It applies where it is exact and cheap to state: one medium in the scene, and segments that end
 // in the medium's exit, an emitter or a black surface (a reflecting surface, Lambertian, mirror or
 // glass, keeps the analog step, which decides between collision and reflection by one free flight).
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/scene.h"
 #include "transport/walk_steps.h"
 

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "photon/trace/forced_collision.h"
 #include "photon/trace/store_thinning.h"
 #include "transport/specular_step.h"

@@ -35,7 +35,7 @@
 #include <functional>
 #include <vector>
 
-#include "core/sampler.h"
+#include "core/sampling/sampler.h"
 #include "photon/map/photon.h"
 #include "photon/map/photon_beam.h"
 #include "scene/dielectric_regions.h"
@@ -75,7 +75,7 @@ struct PhotonTraceSettings {
     // Every segment in the medium collides, its power times 1 - exp(-tau) (photon/trace/forced_collision.h).
     bool forced_collisions = false;
     bool progress = true;
-    // photons.sampler (core/sampler.h): independent keeps one PCG32 stream per batch; stratified
+    // photons.sampler (core/sampling/sampler.h): independent keeps one PCG32 stream per batch; stratified
     // makes one sample set per batch (its photons), sobol one per pass (photon i reads point i).
     SamplerKind sampler = SamplerKind::independent;
     // Also record the photon beams (photon/map/photon_beam.h): every free flight that a stored photon

@@ -5,7 +5,7 @@
 
 #include "config/params.h"
 #include "core/henyey_greenstein.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "transport/direct_light.h"
 #include "transport/equiangular.h"
 #include "transport/mis.h"

@@ -37,6 +37,22 @@ Rgb CameraPath::single_scattering(const Vec3& x, const Vec3& dir, double g, bool
     return l;
 }
 
+CameraTotals sum_counters(const CounterSet& counters) {
+    CameraTotals t;
+    for (const CameraCounters& l : counters) {
+        t.estimates.merge(l.estimates);
+        t.surface_stats.merge(l.surface_stats);
+        t.continued += l.continued;
+        t.march_wide += l.march_wide;
+        t.rays += l.rays;
+        t.march_points += l.march_points;
+        t.map_used += l.map_used;
+        t.march_weight_max = std::max(t.march_weight_max, l.march_weight_max);
+        t.march_weight_sum += l.march_weight_sum;
+    }
+    return t;
+}
+
 VolumeEstimator CameraPath::volume_in(RegionMask region) const {
     const VolumeEstimator& v = maps_.volume;
     if (!maps_.volume_regions) return v;
@@ -53,13 +69,16 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
     const int max_depth = settings_.walk.max_depth;
     // The path's region (scene/dielectric_regions.h): where it starts (the camera, or the march point
     // a continued path leaves), toggled at every refraction through glass.
-    RegionMask region = maps_.volume_regions || maps_.surface_regions ? region_at(scene_.surfaces.get(), first_ray.origin) : 0;
-    Ray ray = first_ray;
-    Rgb throughput = Rgb::Ones();
-    Rgb radiance = Rgb::Zero();
+    const RegionMask start_region =
+        maps_.volume_regions || maps_.surface_regions ? region_at(scene_.surfaces.get(), first_ray.origin) : 0;
     // transport/mis.h. A path started deeper (first_depth > 0) continues from a march point: the
     // emission it meets counts as that point's NEE was weighted (transport/single_scattering.h).
-    EmissionWeighting emission = first_emission;
+    PathState state{first_ray, Rgb::Ones(), Rgb::Zero(), first_emission, start_region};
+    Ray& ray = state.ray;
+    Rgb& throughput = state.throughput;
+    Rgb& radiance = state.radiance;
+    EmissionWeighting& emission = state.emission;
+    RegionMask& region = state.region;
     for (int depth = first_depth;; ++depth) {
         const PathVertex v = next_vertex(scene_, ray, rng);
         ++c.rays;
@@ -73,55 +92,31 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         // Photon beams with balloon widths: a segment crossed by fewer than k beams has no width.
         // It is gathered as the collision gather's are (the path goes on from its free flight, as
         // a starved point map makes it), not counted as 0.
+        const bool last = max_depth >= 0 && depth + 1 > max_depth;   // no scattering past this segment
         Rgb beams = Rgb::Zero();
         const Rgb* taken = nullptr;
-        if (beam && maps_.gather == GatherMode::photon_beams && !(max_depth >= 0 && depth + 1 > max_depth)) {
+        if (beam && maps_.gather == GatherMode::photon_beams && !last) {
             bool starved = false;
             beams = maps_.segment->in_scattering(ray, t_end, rng, &starved);
             taken = &beams;
             if (starved) beam = false;
         }
-        // The collision gather's segments with direct = "nee", where every collision takes NEE: point
-        // and spot lights are also sampled equiangularly along it (transport/equiangular.h). The march's
-        // and the beam's segments do the same in march_in_scattering and segment_direct_light.
         std::optional<EquiangularSegment> segment;
-        if (settings_.walk.equiangular && settings_.direct == DirectLighting::nee && !march && !beam &&
-            !(max_depth >= 0 && depth + 1 > max_depth) && scene_.has_media()) {
-            segment.emplace(scene_, ray, t_end);
-            if (segment->empty())
-                segment.reset();
-            else
-                radiance += throughput * segment->in_scattering(rng, c.rays,
-                                                                [](size_t, double s, double, double tau) {
-                                                                    return free_flight_density(s, tau);
-                                                                });
-        }
+        if (settings_.walk.equiangular && settings_.direct == DirectLighting::nee && !march && !beam && !last &&
+            scene_.has_media())
+            equiangular_segment(t_end, rng, c, state, segment);
         if ((march || beam) && (!v.on_surface || hit.emitter)) {
-            // The segment's in-scattering is gathered apart, so the sky or area light behind it is
-            // weighed by the exact transmittance, not found by the free flight's trial
-            // (transport/seen_through.h). The light is black: the path ends here either way.
-            const bool gathers = !(max_depth >= 0 && depth + 1 > max_depth);
-            if (march && gathers) {
-                // The march's profiles give the segment's optical depth: one walk, not two.
-                double tau = 0.0;
-                const Rgb in = march_in_scattering(ray, t_end, depth, region, rng, c, &tau);
-                radiance += throughput * seen_through_depth(scene_, ray, v.on_surface, hit, emission, tau, c.rays);
-                radiance += throughput * in;
-                break;
-            }
-            radiance += throughput * seen_through(scene_, ray, v.on_surface, hit, emission, c.profile, c.rays);
-            if (gathers) radiance += throughput * beam_in_scattering(ray, t_end, rng, c, taken);
+            light_behind_gathered_segment(v, march, !last, depth, taken, rng, c, state);
             break;
         }
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
-            if (march && !(max_depth >= 0 && depth + 1 > max_depth))
-                radiance += throughput * march_in_scattering(ray, kInfinity, depth, region, rng, c);
-            if (beam && !(max_depth >= 0 && depth + 1 > max_depth)) radiance += throughput * beam_in_scattering(ray, kInfinity, rng, c, taken);
+            if (march && !last) radiance += throughput * march_in_scattering(ray, kInfinity, depth, region, rng, c);
+            if (beam && !last) radiance += throughput * beam_in_scattering(ray, kInfinity, rng, c, taken);
             break;
         }
         if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
-        if (max_depth >= 0 && depth + 1 > max_depth) break;
+        if (last) break;
         if (march) {
             // The medium's in-scattering along this segment comes from the march; the collision
             // sampled above only decides whether the path reaches the surface behind (probability T).
@@ -133,41 +128,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
             if (event) break;
         }
         if (event) {
-            const Vec3 x = ray.at(event.t);
-            const Medium& m = *event.medium;
-            const Rgb weight = throughput * m.albedo();
-            if ((weight == 0.0).all()) break;
-            const bool nee = settings_.direct == DirectLighting::nee;
-            const double sigma_t = total_sigma_t(scene_, x);
-            // The query draws no random numbers, so it runs first: a path that goes on from x
-            // weighs its NEE against the bounce (render.mis) like the path tracer's
-            // (transport/single_scattering.h); one that ends on the map weighs it 1.
-            VolumeEstimate b;
-            if (sigma_t > 0.0) b = volume_in(region).estimate(x, -ray.dir, m.g(), sigma_t, c.scratch, c.estimates);
-            const bool goes_on = b.rule == BoundedQuery::continue_path;
-            if (nee) {
-                if (segment) {
-                    const SegmentPoint at{&*segment, event.t, segment->free_flight_density_at(event.t, m.sigma_t(x))};
-                    radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng, c, &at);
-                } else {
-                    radiance += weight * single_scattering(x, ray.dir, m.g(), goes_on, rng, c);
-                }
-                ++c.rays;
-            }
-            if (!(sigma_t > 0.0) || b.rule == BoundedQuery::zero) break;
-            if (goes_on) {   // too few photons: scatter and go on
-                ++c.continued;
-                if (!nee) radiance += weight * direct_light_in_medium(scene_, x, ray.dir, m.g(), rng, settings_.walk.mis);
-                throughput = weight;
-                const double u1 = rng.uniform(), u2 = rng.uniform();
-                const Vec3 wo = hg_sample(ray.dir, m.g(), u1, u2);
-                emission = continued_emission(settings_.walk.mis, x, ray.dir, wo, m.g());
-                ray = Ray{x, wo};
-                if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
-                continue;
-            }
-            radiance += weight * b.incident;
-            ++c.map_used;
+            if (collision_step(event, depth, segment ? &*segment : nullptr, rng, c, state) == Step::next) continue;
             break;
         }
         if (hit.specular) {   // mirror or glass (transport/specular_step.h): on to the chain's next vertex
@@ -175,29 +136,106 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
             region = region_after_specular(region, hit, ray.dir);
             continue;
         }
-        if ((hit.reflectance == 0.0).all()) break;
-        // The surface photon map gives the light the path would gather. A map of fewer than k photons
-        // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
-        const PhotonMap* surface = surface_in(region);
-        if (surface && surface->size() >= maps_.k) {
-            if (settings_.direct == DirectLighting::nee) radiance += throughput * direct_light_on_surface(scene_, hit, rng);
-            const Estimate<Rgb> e =
-                settings_.neighbourhood == Neighbourhood::walks
-                    ? estimate_surface_irradiance_walks(*surface, hit.position, hit.normal, *maps_.surface_estimator,
-                                                        maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats)
-                    : estimate_surface_irradiance(*surface, hit.position, hit.normal, *maps_.surface_estimator,
-                                                  maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats);
-            radiance += throughput * hit.reflectance * (e.value / kPi);
-            ++c.map_used;
-            break;
-        }
-        radiance += throughput * direct_light_on_surface(scene_, hit, rng, settings_.walk.mis);
-        throughput *= hit.reflectance;
-        ray = diffuse_bounce(hit, rng);
-        emission = EmissionWeighting::after(settings_.walk.mis, hit.position, std::max(0.0, ray.dir.dot(hit.normal)) * kInvPi);
-        if (!survive_roulette(throughput, depth + 1, settings_.walk.rr_depth, rng)) break;
+        if (diffuse_step(hit, depth, rng, c, state) == Step::next) continue;
+        break;
     }
     return radiance;
+}
+
+// The collision gather's segments with direct = "nee", where every collision takes NEE: point and spot
+// lights are also sampled equiangularly along it (transport/equiangular.h). The march's and the beam's
+// segments do the same in march_in_scattering and segment_direct_light.
+void CameraPath::equiangular_segment(double t_end, Rng& rng, CameraCounters& c, PathState& p,
+                                     std::optional<EquiangularSegment>& segment) const {
+    segment.emplace(scene_, p.ray, t_end);
+    if (segment->empty()) {
+        segment.reset();
+        return;
+    }
+    p.radiance += p.throughput * segment->in_scattering(rng, c.rays, [](size_t, double s, double, double tau) {
+        return free_flight_density(s, tau);
+    });
+}
+
+// A gathered segment (march or beams) that ends on a light or escapes: its in-scattering is gathered
+// apart, so the sky or area light behind it is weighed by the exact transmittance, not found by the
+// free flight's trial (transport/seen_through.h). The light is black: the path ends here either way.
+void CameraPath::light_behind_gathered_segment(const PathVertex& v, bool march, bool gathers, int depth, const Rgb* taken,
+                                               Rng& rng, CameraCounters& c, PathState& p) const {
+    const double t_end = v.on_surface ? v.hit.t : kInfinity;
+    if (march && gathers) {
+        // The march's profiles give the segment's optical depth: one walk, not two.
+        double tau = 0.0;
+        const Rgb in = march_in_scattering(p.ray, t_end, depth, p.region, rng, c, &tau);
+        p.radiance += p.throughput * seen_through_depth(scene_, p.ray, v.on_surface, v.hit, p.emission, tau, c.rays);
+        p.radiance += p.throughput * in;
+        return;
+    }
+    p.radiance += p.throughput * seen_through(scene_, p.ray, v.on_surface, v.hit, p.emission, c.profile, c.rays);
+    if (gathers) p.radiance += p.throughput * beam_in_scattering(p.ray, t_end, rng, c, taken);
+}
+
+CameraPath::Step CameraPath::collision_step(const MediumEvent& event, int depth, const EquiangularSegment* segment, Rng& rng,
+                                            CameraCounters& c, PathState& p) const {
+    const Vec3 x = p.ray.at(event.t);
+    const Medium& m = *event.medium;
+    const Rgb weight = p.throughput * m.albedo();
+    if ((weight == 0.0).all()) return Step::end;
+    const bool nee = settings_.direct == DirectLighting::nee;
+    const double sigma_t = total_sigma_t(scene_, x);
+    // The query draws no random numbers, so it runs first: a path that goes on from x weighs its NEE
+    // against the bounce (render.mis) like the path tracer's (transport/single_scattering.h); one that
+    // ends on the map weighs it 1.
+    VolumeEstimate b;
+    if (sigma_t > 0.0) b = volume_in(p.region).estimate(x, -p.ray.dir, m.g(), sigma_t, c.scratch, c.estimates);
+    const bool goes_on = b.rule == BoundedQuery::continue_path;
+    if (nee) {
+        if (segment) {
+            const SegmentPoint at{segment, event.t, segment->free_flight_density_at(event.t, m.sigma_t(x))};
+            p.radiance += weight * single_scattering(x, p.ray.dir, m.g(), goes_on, rng, c, &at);
+        } else {
+            p.radiance += weight * single_scattering(x, p.ray.dir, m.g(), goes_on, rng, c);
+        }
+        ++c.rays;
+    }
+    if (!(sigma_t > 0.0) || b.rule == BoundedQuery::zero) return Step::end;
+    if (!goes_on) {
+        p.radiance += weight * b.incident;
+        ++c.map_used;
+        return Step::end;
+    }
+    ++c.continued;   // too few photons: scatter and go on
+    if (!nee) p.radiance += weight * direct_light_in_medium(scene_, x, p.ray.dir, m.g(), rng, settings_.walk.mis);
+    p.throughput = weight;
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    const Vec3 wo = hg_sample(p.ray.dir, m.g(), u1, u2);
+    p.emission = continued_emission(settings_.walk.mis, x, p.ray.dir, wo, m.g());
+    p.ray = Ray{x, wo};
+    return survive_roulette(p.throughput, depth + 1, settings_.walk.rr_depth, rng) ? Step::next : Step::end;
+}
+
+CameraPath::Step CameraPath::diffuse_step(const SurfaceHit& hit, int depth, Rng& rng, CameraCounters& c, PathState& p) const {
+    if ((hit.reflectance == 0.0).all()) return Step::end;
+    // The surface photon map gives the light the path would gather. A map of fewer than k photons
+    // (empty or starved) has no kNN disc anywhere: the path goes on as under final_gather.
+    const PhotonMap* surface = surface_in(p.region);
+    if (surface && surface->size() >= maps_.k) {
+        if (settings_.direct == DirectLighting::nee) p.radiance += p.throughput * direct_light_on_surface(scene_, hit, rng);
+        const Estimate<Rgb> e =
+            settings_.neighbourhood == Neighbourhood::walks
+                ? estimate_surface_irradiance_walks(*surface, hit.position, hit.normal, *maps_.surface_estimator,
+                                                    maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats)
+                : estimate_surface_irradiance(*surface, hit.position, hit.normal, *maps_.surface_estimator,
+                                              maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats);
+        p.radiance += p.throughput * hit.reflectance * (e.value / kPi);
+        ++c.map_used;
+        return Step::end;
+    }
+    p.radiance += p.throughput * direct_light_on_surface(scene_, hit, rng, settings_.walk.mis);
+    p.throughput *= hit.reflectance;
+    p.ray = diffuse_bounce(hit, rng);
+    p.emission = EmissionWeighting::after(settings_.walk.mis, hit.position, std::max(0.0, p.ray.dir.dot(hit.normal)) * kInvPi);
+    return survive_roulette(p.throughput, depth + 1, settings_.walk.rr_depth, rng) ? Step::next : Step::end;
 }
 
 bool CameraPath::marches(const Ray& ray, double t_end) const {

@@ -18,11 +18,12 @@
 // A CameraPath is a value over one pass's maps (PassMaps): it writes nothing but the counters it is
 // handed, so a pilot traces candidate maps and gathers with counters of its own.
 #include <cstdint>
+#include <optional>
 
 #include <tbb/enumerable_thread_specific.h>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/estimate/estimators.h"
 #include "photon/map/photon_map.h"
 #include "photon/map/region_photon_maps.h"
@@ -36,6 +37,8 @@
 namespace vpm {
 
 class SegmentGather;
+class EquiangularSegment;
+struct PathVertex;
 struct SegmentPoint;
 
 // One thread's counts and buffers of the camera paths, summed over threads for the run record and
@@ -55,6 +58,15 @@ struct CameraCounters {
 
 // Every thread's counters.
 using CounterSet = tbb::enumerable_thread_specific<CameraCounters>;
+
+// Every thread's counts summed (maxima for the march weights), in the set's order.
+struct CameraTotals {
+    EstimateCounts estimates;
+    EstimatorStats surface_stats;
+    uint64_t continued = 0, march_wide = 0, rays = 0, march_points = 0, map_used = 0;
+    double march_weight_max = 0.0, march_weight_sum = 0.0;
+};
+CameraTotals sum_counters(const CounterSet& counters);
 
 // What a camera path reads of one pass: its maps, their rules and the gather in force.
 struct PassMaps {
@@ -88,6 +100,28 @@ private:
     const PassMaps& maps_;
     bool both_strategies_;
 
+    // What trace() carries from vertex to vertex.
+    struct PathState {
+        Ray ray;
+        Rgb throughput;
+        Rgb radiance;
+        EmissionWeighting emission;
+        RegionMask region;   // scene/dielectric_regions.h: toggled at every refraction through glass
+    };
+    enum class Step { end, next };
+    // A real collision in a medium: single scattering, then the map's estimate ends the path, or too
+    // few photons and it scatters on. segment: the collision gather's equiangular segment, if any.
+    Step collision_step(const MediumEvent& event, int depth, const EquiangularSegment* segment, Rng& rng,
+                        CameraCounters& c, PathState& p) const;
+    // A diffuse surface: the surface map's estimate ends the path, or it bounces on.
+    Step diffuse_step(const SurfaceHit& hit, int depth, Rng& rng, CameraCounters& c, PathState& p) const;
+    // The collision gather's equiangular segment over (0, t_end), its light added to p; none where it
+    // finds no point or spot light.
+    void equiangular_segment(double t_end, Rng& rng, CameraCounters& c, PathState& p,
+                             std::optional<EquiangularSegment>& segment) const;
+    // A march or beam segment that ends on a light or escapes: the light behind it and its gather.
+    void light_behind_gathered_segment(const PathVertex& v, bool march, bool gathers, int depth, const Rgb* taken, Rng& rng,
+                                       CameraCounters& c, PathState& p) const;
     // Single scattering at a medium vertex: `goes_on`, the path continues past x (MIS-weighted NEE
     // when render.mis); else the map ends it. `at`: x's segment also samples point and spot lights
     // equiangularly (transport/equiangular.h).

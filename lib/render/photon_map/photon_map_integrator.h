@@ -14,10 +14,13 @@
 #include "photon/map/photon_map.h"
 #include "render/integrator.h"
 #include "render/photon_map/photon_map_settings.h"
+#include "render/plan/map_noise_pilot.h"
 #include "render/plan/pass_plan.h"
+#include "render/plan/work_units.h"
 #include "render/path/path_tracer.h"
 #include "render/photon_map/photon_pass.h"
 #include "render/photon_map/camera_path.h"
+#include "render/photon_map/run_decision_map.h"
 #include "render/photon_map/volume_estimate.h"
 #include "render/run/run_config.h"
 #include "transport/mis.h"
@@ -45,7 +48,7 @@ public:
     // the path tracer instead (render/plan/no_map_candidate.h); integrator_used() says which ran.
     std::string name() const override { return settings_.chooses_integrator ? "auto" : "photon_map"; }
     // "path" once the "auto" integrator's plan chose the path tracer, else "photon_map".
-    std::string integrator_used() const { return no_map_ ? "path" : "photon_map"; }
+    std::string integrator_used() const { return choice_.no_map ? "path" : "photon_map"; }
     // The gather in force, by its registry name (photons.gather's value); "none" without a map.
     std::string gather_used() const;
     // Estimates the camera passes took from a map (volume or surface), not continued past.
@@ -56,12 +59,12 @@ public:
     bool path_tracer_sized_passes() const;
     // Once the "auto" integrator's plan chose "continue" no pass traces photons: the passes may go in groups, and the
     // first pass's photon pass and pilot are not what a later pass costs (render/run/run.cpp).
-    bool stateless_passes() const override { return no_map_; }
-    double one_off_seconds() const override { return one_off_seconds_; }
+    bool stateless_passes() const override { return choice_.no_map; }
+    double one_off_seconds() const override { return photons_.one_off_seconds; }
     // The gather in force: photons.gather, or what "auto" or "pilot" chose; "march" for a pass whose
     // segment gather had nothing to query.
-    GatherMode gather() const { return gather_; }
-    const std::optional<GatherPilotStats>& gather_pilot() const { return pilot_; }
+    GatherMode gather() const { return choice_.gather; }
+    const std::optional<GatherPilotStats>& gather_pilot() const { return choice_.pilot; }
     // Counts of each estimator case (knn, fixed radius, ...) over all queries so far.
     EstimatorStats stats() const;
     // Camera paths continued past a collision whose mean-free-path-bounded ball held fewer than
@@ -81,97 +84,116 @@ public:
 
 private:
     struct ThreadState;
-    const Scene& scene_;
-    PhotonMapSettings settings_;
-    bool owns_maps_;
-    PhotonMaps owned_;
-    std::optional<LightAllocation> allocation_;   // photons per light, from the run's first pass
-    const PhotonMap* map_;
-    const PhotonMap* surface_map_;
-    // Glass interfaces (scene/dielectric_regions.h): the maps per region, null in a scene without
-    // closed glass shapes; the camera paths' estimates take their own region's (camera_path.h).
-    const RegionPhotonMaps* volume_regions_ = nullptr;
-    const RegionPhotonMaps* surface_regions_ = nullptr;
-    // The bound's decision map (photon/estimate/bounded_radius.h): traced once per run with a seed of its own
-    // at photons.count / kDecisionMapShare photons, so every pass and machine of a run decides alike.
-    // decision_ratio_ = emitted photons of map_ / of the decision map. (At photons.count it cost the
-    // dense box of optical side 100 a second, as much as the pass's own photon pass: docs/studies/
-    // heldout_scenes.md, section 31.)
-    static constexpr int64_t kDecisionMapShare = 8;
-    PhotonMap decision_owned_;
-    const PhotonMap* decision_map_ = nullptr;
-    PhotonCellCounts decision_cells_;   // answers most decisions in thin media without a query
-    double decision_ratio_ = 1.0;
-    double decision_emitted_ = 0.0;   // the decision map's emitted photons (owned)
-    double map_emitted_ = 0.0;        // map_'s emitted photons (owned maps)
+    // The maps this pass's estimates read: traced by the pass (owns) or built elsewhere.
+    struct MapSet {
+        bool owns = false;
+        PhotonMaps owned;                      // the pass's own (owns)
+        const PhotonMap* volume = nullptr;
+        const PhotonMap* surface = nullptr;    // null: no surface map (paths bounce off surfaces)
+        // Glass interfaces (scene/dielectric_regions.h): the maps per region, null in a scene without
+        // closed glass shapes; the camera paths' estimates take their own region's (camera_path.h).
+        const RegionPhotonMaps* volume_regions = nullptr;
+        const RegionPhotonMaps* surface_regions = nullptr;
+        PhotonMap empty;                       // the "continue" candidate's map in the plan's pilot
+    };
+    // The photons a run traced besides the passes' maps, and what decided their counts.
+    struct PhotonAccounts {
+        std::optional<LightAllocation> allocation;   // photons per light, from the run's first pass
+        int64_t first_map = 0;            // first_map_photons(); 0: not decided yet
+        double one_off_seconds = 0.0;     // one_off_seconds(): the probe, the pilot, its map when traced again, the decision map
+        double last_trace_seconds = 0.0;  // trace_maps' last photon pass
+        PhotonLedger ledger;              // photons traced per phase (RunStats::photon_ledger)
+        bool warned_k = false;            // "k exceeds the stored count" is logged once per run
+    };
+    // The gather in force and what chose it.
+    struct GatherChoice {
+        GatherMode gather = GatherMode::collision;
+        std::optional<GatherPilotStats> pilot;      // gather = "pilot" (gather_pilot.cpp)
+        std::optional<PassPlan> plan;               // gather = "auto" or the "auto" integrator (auto_gather.cpp)
+        std::optional<AutoGatherStats> auto_stats;
+        // The plan chose "continue" (render/plan/no_map_candidate.h): no photon pass, and the camera
+        // paths are the path tracer's (with an empty map they would draw the same paths in distribution,
+        // but pay 1.2-1.5x the path tracer's time per sample for the map's bookkeeping).
+        bool no_map = false;
+    };
+    // The maps the plan's pilot measures on: pass 0's, this pass's own or traced apart for the plan.
+    struct PilotMaps {
+        const PhotonMap* run_volume = nullptr;
+        const PhotonMap* run_surface = nullptr;
+        bool traced = false, traced_surface = false;   // pass 0's maps traced apart, in `owned`
+        PhotonMaps owned;
+        std::optional<PhotonPassStats> counts;   // the photon pass behind them
+        const PhotonMap* volume() const { return traced ? &owned.volume : run_volume; }
+        const PhotonMap* surface() const { return traced ? (traced_surface ? &owned.surface : nullptr) : run_surface; }
+    };
+    // The gathers the plan chooses among, with their names as the pilot measures them.
+    struct PlanCandidates {
+        std::vector<PilotCandidate> pilot;
+        std::vector<GatherMode> gathers;
+        bool path_misses_light = false;   // render/plan/no_map_candidate.h: no "continue" candidate
+    };
+
+    // --- Passes and maps (photon_map_integrator.cpp)
     // Whether passes trace a surface photon map: surfaces, and final_gather off.
     bool traces_surface_map() const;
-    // Whether this run's estimates need a decision map: media, the bound on, a gather that uses it.
-    bool wants_decision_map() const;
-    // Traces decision_owned_ (once per run) and logs it.
-    void trace_decision_map(const PassContext& context, RunStats& stats);
-    // decision_ratio_ for a volume map of `emitted` photons.
-    void set_map_emitted(double emitted);
-    double max_radius_;
-    size_t k_;   // this pass's k (photons.schedule)
-    // This pass's estimators with their radius scales, and the beam discs' (photons.schedule;
-    // render/photon_map/photon_map_settings.h: radii_for_pass).
-    Estimator volume_estimator_, surface_estimator_;
-    double beam_scale_ = 1.0;
-    PassRadiiStats radii_log_;   // the sidecar's photons.radii.* (render/run/run_stats.h)
-    void schedule_pass(int pass);
-    bool warned_k_ = false;   // "k exceeds the stored count" is logged once per run
-    std::unique_ptr<ThreadState> threads_;
-    // A segment gather in force (photons.gather = "point_beam", "photon_beams"): this pass's structure.
-    std::unique_ptr<SegmentGather> segment_gather_;
-    // Builds it over this pass's maps (logging and timing the build when given); an unusable one
-    // (nothing to query) leaves the pass gathering like "march".
-    void build_segment_gather(std::ostream* log, RunStats* stats);
-    // Adds its counts to the run's statistics and frees it.
-    void retire_segment_gather(RunStats& stats);
     // This pass's photon maps with `count` photons (the last pass's freed first).
     void trace_maps(const PassContext& context, int64_t count, bool surface, RunStats& stats);
     // The photons of the run's first map (and of the auto plan's pilot map): photons.count, or fewer
     // where an auto plan sizes the count and walks store many photons each (render/photon_map/photon_pass.h).
     // Decided once per run, on a probe with the run's streams, so every pass range plans alike.
-    int64_t first_map_photons(const PassContext& context, RunStats& stats);
-    void check_pinned_count_fits(const PassContext& context, RunStats& stats);
-    int64_t first_map_photons_ = 0;   // 0: not decided yet
-    double one_off_seconds_ = 0.0;    // one_off_seconds(): the probe, the pilot, its map when traced again, the decision map
-    double last_trace_seconds_ = 0.0; // trace_maps' last photon pass
-    PhotonLedger ledger_;             // photons traced per phase (RunStats::photon_ledger)
-
-    // This pass's maps as the camera path reads them, with `gather` in force over `volume` and `surface`
-    // (the pass's own, or a pilot's candidates); decision_ratio: the decision map's (decision_ratio_for).
-    PassMaps pass_maps(GatherMode gather, const PhotonMap& volume, const PhotonMap* surface, double decision_ratio) const;
-    // The decision ratio for a volume map of `emitted` photons.
-    double decision_ratio_for(double emitted) const;
-    bool both_strategies_ = false;   // render.mis and a light a bounce can find
+    // k: the pass's (the plan's pass 0's), for the cost of its queries.
+    int64_t first_map_photons(const PassContext& context, size_t k, RunStats& stats);
+    void check_pinned_count_fits(const PassContext& context, size_t k, RunStats& stats);
+    // Whether this run's estimates need a decision map: media, the bound on, a gather that uses it.
+    bool wants_decision_map() const;
+    // Traces the decision map (once per run) and logs it.
+    void trace_decision_map(const PassContext& context, RunStats& stats);
+    PassEstimators estimators_for_pass(int pass) const;
     // Whether the volume map is too small for any estimate (the warning in prepare()).
     bool volume_map_starved() const;
+    // A segment gather over this pass's maps (logging and timing the build when given); an unusable one
+    // (nothing to query) leaves the pass gathering like "march".
+    void build_segment_gather(std::ostream* log, RunStats* stats);
+    // Adds its counts to the run's statistics and frees it.
+    void retire_segment_gather(RunStats& stats);
+    // This pass's maps as the camera path reads them, with `gather` in force over `volume` and `surface`
+    // (the pass's own, or a pilot's candidates) and `decision` (RunDecisionMap's view or for_map).
+    PassMaps pass_maps(const PassEstimators& estimators, GatherMode gather, const PhotonMap& volume, const PhotonMap* surface,
+                       const DecisionMap& decision) const;
 
-    GatherMode gather_ = GatherMode::collision;
-    std::optional<GatherPilotStats> pilot_;
-    // gather = "pilot": renders a pilot (8 x 8 camera rays spread over the image, 16 samples each,
-    // streams of their own) with each candidate and keeps the one with the least variance x cost,
-    // the cost from deterministic counts (kNN queries, rays, ball-quadrature lookups). Same choice
-    // on any machine, thread count and scale.
+    // Every thread's camera counts summed.
+    CameraTotals totals() const;
+
+    // --- gather = "pilot": this pass's gather by a pilot of its own (gather_pilot.cpp)
     void choose_gather(const PassContext& context);
 
-    // gather = "auto" (render/photon_map/auto_gather.cpp): on the run's first pass, the map-noise pilot
-    // (render/plan/map_noise_pilot.h) measures collision and march, and the plan (render/plan/pass_plan.h)
-    // picks the gather, and under render.time_limit the photons and samples per pass.
-    std::optional<PassPlan> plan_;
-    std::optional<AutoGatherStats> auto_stats_;
-    // The plan chose "continue" (render/plan/no_map_candidate.h): no photon pass, and the camera paths
-    // are the path tracer's. With an empty map trace() draws the same paths in distribution, but
-    // pays for the map's bookkeeping at every collision: 1.2-1.5x the path tracer's time per sample.
-    bool no_map_ = false;
-    PathTracer continuation_;
-    PhotonMap empty_map_;   // the "continue" candidate's map in the pilot
+    // --- gather = "auto" and the "auto" integrator (auto_gather.cpp): on the run's first pass, the
+    // map-noise pilot (render/plan/map_noise_pilot.h) measures the candidates and the plan
+    // (render/plan/pass_plan.h) picks the gather, and under render.time_limit the photons and samples per pass.
     void plan_auto(const PassContext& context, RunStats& stats);
+    PilotMaps pilot_maps(const PassContext& context, int64_t pilot_count, RunStats& stats);
+    PlanCandidates plan_candidates() const;
+    std::vector<GatherMeasurement> measure_candidates(const PassContext& context, const PilotMaps& pilot,
+                                                      const PlanCandidates& candidates, const PassEstimators& estimators,
+                                                      const WorkUnits& w, PlanInputs& in) const;
+    static std::vector<GatherMeasurement> unmeasured_map_gathers(const PlanCandidates& candidates);
+    void adopt_plan(const PassContext& context, const PassPlan& plan, GatherMode gather, bool uses_map, int64_t pilot_count);
     void warn_if_pinned_samples_overrun(const PassContext& context, const PlanInputs& in, const GatherMeasurement& chosen,
                                         RunStats& stats) const;
+
+    const Scene& scene_;
+    PhotonMapSettings settings_;
+    bool both_strategies_ = false;   // render.mis and a light a bounce can find
+    MapSet maps_;
+    RunDecisionMap decision_;        // the radius bound's (run_decision_map.h)
+    PassEstimators pass_;            // this pass's k and estimators (photons.schedule); the plan measures pass 0's apart
+    // A segment gather in force (photons.gather = "point_beam", "photon_beams"): this pass's structure.
+    std::unique_ptr<SegmentGather> segment_gather_;
+    GatherChoice choice_;
+    PhotonAccounts photons_;
+    PassRadiiStats radii_log_;       // the sidecar's photons.radii.* (render/run/run_stats.h)
+    std::unique_ptr<ThreadState> threads_;
+    PathTracer continuation_;        // the camera paths once the plan chose "continue"
 };
 
 // Operations the counters hold, over all threads (render/plan/pass_plan.h's cost model).

@@ -6,7 +6,7 @@
 
 #include "config/params.h"
 #include "photon/estimate/radius_schedule.h"
-#include "core/sampler_registry.h"
+#include "core/sampling/sampler_registry.h"
 #include "render/photon_map/gathers/photon_beams_gather.h"
 
 namespace vpm {
@@ -212,6 +212,12 @@ int PhotonMapSettings::k_for_pass(int pass_index) const {
     const int kp = std::max(std::min(k_floor, k), int(shrunk));
     // leave_group_out splits k into two halves of k / 2 (photon/estimate/group_estimate.h).
     return leaves_group_out() && kp % 2 ? kp + 1 : kp;
+}
+
+PassEstimators PhotonMapSettings::estimators_for_pass(int pass_index, bool volume, bool surface) const {
+    const PassRadii r = radii_for_pass(pass_index, volume, surface);
+    return {size_t(r.k), search_radius(), estimator.with_radius_scale(r.volume_scale),
+            estimator.with_radius_scale(r.surface_scale), r.beam_scale};
 }
 
 PassRadii PhotonMapSettings::radii_for_pass(int pass_index, bool volume, bool surface) const {

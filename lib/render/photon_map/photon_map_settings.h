@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "core/math.h"
-#include "core/sampler.h"
+#include "core/sampling/sampler.h"
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/walk_estimate.h"
 #include "render/photon_map/gathers/gather_registry.h"
@@ -28,6 +28,15 @@ enum class KSchedule { fixed, shrink, progressive };
 struct PassRadii {
     int k = 32;
     double volume_scale = 1.0, surface_scale = 1.0, beam_scale = 1.0;
+};
+
+// One pass's k, radius bound and estimators with their radius scales, and the beam discs' scale:
+// what the pass's estimates use (PhotonMapSettings::estimators_for_pass).
+struct PassEstimators {
+    size_t k = 32;
+    double max_radius = kInfinity;
+    Estimator volume, surface;
+    double beam_scale = 1.0;
 };
 
 struct PhotonMapSettings {
@@ -82,6 +91,10 @@ struct PhotonMapSettings {
     double alpha_for(int dim) const;
     // Pass `pass_index`'s k and radius scales; volume, surface: the maps the run queries (the k serves both).
     PassRadii radii_for_pass(int pass_index, bool volume, bool surface) const;
+    // Pass `pass_index`'s estimators: radii_for_pass applied to photons.estimator.
+    PassEstimators estimators_for_pass(int pass_index, bool volume, bool surface) const;
+    // The estimators before any schedule: photons.k and photons.estimator as given.
+    PassEstimators unscheduled_estimators() const { return {size_t(k), search_radius(), estimator, estimator, 1.0}; }
     // The kNN search radius: kInfinity when unbounded.
     double search_radius() const { return max_radius > 0 ? max_radius : kInfinity; }
     // Whether a time limit's plan may size this run's passes: the gathers the pilot measures

@@ -7,7 +7,7 @@
 #include <tbb/task_group.h>
 
 #include "core/progress.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/trace/photon_allocation.h"
 #include "photon/trace/photon_budget.h"
 #include "render/photon_map/photon_lights_report.h"

@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "photon/map/photon_map.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "render/plan/pass_plan.h"
 #include "render/plan/pilot_budget.h"
 #include "scene/camera.h"

@@ -97,7 +97,7 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
                         acc[c] += stored[c];
                         row[size_t(g)] += stored[c];
                     }
-                    if (luminance_sq) {   // Rec. 709 luminance, as analysis/error_metrics.h compares
+                    if (luminance_sq) {   // Rec. 709 luminance, as analysis/metrics/error_metrics.h compares
                         const double y = 0.2126 * stored[0] + 0.7152 * stored[1] + 0.0722 * stored[2];
                         (*luminance_sq)[pixel] += y * y;
                     }

@@ -1,7 +1,7 @@
 #pragma once
 // Renders an image by averaging an integrator's estimates over spp jittered camera rays per pixel.
 // Every pixel draws from its own Rng stream (seed, pixel index), so the image is the same for
-// any thread count. With a sampler other than "independent" (render.sampler, core/sampler.h) that
+// any thread count. With a sampler other than "independent" (render.sampler, core/sampling/sampler.h) that
 // Rng is bound to the pixel's sample set in the pass (spp vectors): dimensions 0 and 1 place the
 // sample in the pixel, the integrator's path reads the next ones.
 // Non-finite estimates are counted and left out of the average, never clamped
@@ -12,7 +12,7 @@
 #include <iosfwd>
 #include <vector>
 
-#include "core/sampler.h"
+#include "core/sampling/sampler.h"
 #include "render/run/image.h"
 #include "render/integrator.h"
 #include "scene/camera.h"

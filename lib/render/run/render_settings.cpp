@@ -1,7 +1,7 @@
 #include "render/run/render_settings.h"
 
 #include "core/progress.h"
-#include "core/sampler_registry.h"
+#include "core/sampling/sampler_registry.h"
 #include "core/thread_limit.h"
 #include "config/params.h"
 

@@ -25,11 +25,11 @@
 //   |          |                  | passes 0..7 and 8..15 merge (vpm merge) into the 16-pass |
 //   |          |                  | image                                                    |
 //   | sampler  | "independent"    | camera samples: "independent", "stratified" or "sobol"   |
-//   |          |                  | (core/sampler.h, docs/stratified_sampling.md)            |
+//   |          |                  | (core/sampling/sampler.h, docs/stratified_sampling.md)            |
 #include <cstdint>
 #include <string>
 
-#include "core/sampler.h"
+#include "core/sampling/sampler.h"
 
 namespace vpm {
 

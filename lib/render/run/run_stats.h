@@ -86,7 +86,7 @@ struct PassSummary {
     double image_mean_std() const;    // sample standard deviation over passes (0 for one)
 };
 
-// photons.gather = "pilot": what each pass's pilot measured (PhotonMapIntegrator::choose_gather) and chose.
+// photons.gather = "pilot": what each pass's pilot measured (render/photon_map/gather_pilot.cpp) and chose.
 struct GatherPilotStats {
     std::vector<std::string> candidates;   // "collision", "march", "auto"
     std::vector<double> variance;          // mean per-sample variance of the luminance over the pilot rays

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/turn_sincos.h"
+#include "core/sampling/turn_sincos.h"
 
 namespace vpm {
 

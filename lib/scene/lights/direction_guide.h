@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/math.h"
-#include "core/piecewise_constant_2d.h"
+#include "core/sampling/piecewise_constant_2d.h"
 
 namespace vpm {
 

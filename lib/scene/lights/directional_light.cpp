@@ -3,7 +3,7 @@
 // light crossing it is emitted.
 #include <sstream>
 
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "scene/lights/light_registry.h"
 #include "config/params.h"
 #include "scene/lights/emission_bounds.h"

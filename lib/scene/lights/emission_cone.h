@@ -7,7 +7,7 @@
 // same expected power in every direction of the cone as before: unbiased, with no photon wasted on
 // empty space. A light inside the sphere keeps the whole sphere.
 #include "core/math.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 
 namespace vpm {
 

@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "scene/lights/emission_bounds.h"
 #include "io/exr_read.h"
 #include "scene/lights/latlong_map.h"

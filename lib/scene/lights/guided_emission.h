@@ -5,7 +5,7 @@
 // the light's own. Inactive (no guide): the light's own emission only, with its own random numbers.
 #include <memory>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/lights/direction_guide.h"
 
 namespace vpm {

@@ -18,7 +18,7 @@
 // Radiance is constant over each texel (nearest-texel lookup) and so is the sampling density:
 // a texel is chosen with probability proportional to luminance x its solid angle (rows weighted by
 // cos theta_j - cos theta_j+1, i.e. by sin theta at the row centre, through
-// core/piecewise_constant_2d.h), and a direction uniformly within its solid angle (phi uniform,
+// core/sampling/piecewise_constant_2d.h), and a direction uniformly within its solid angle (phi uniform,
 // cos theta uniform within the row). The solid-angle pdf is then constant over a texel,
 //
 //     pdf(w) = P(texel) / Omega(texel),  Omega = (2 pi / W) (cos theta_j - cos theta_j+1),
@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "core/math.h"
-#include "core/piecewise_constant_2d.h"
+#include "core/sampling/piecewise_constant_2d.h"
 
 namespace vpm {
 

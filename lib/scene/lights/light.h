@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/lights/direction_guide.h"
 
 namespace vpm {

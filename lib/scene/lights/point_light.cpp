@@ -6,7 +6,7 @@
 // (scene/emission_guides.h).
 #include <sstream>
 
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "scene/lights/box_silhouette.h"
 #include "scene/lights/emission_cone.h"
 #include "scene/lights/guided_emission.h"

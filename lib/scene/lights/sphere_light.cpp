@@ -16,7 +16,7 @@
 #include <limits>
 #include <sstream>
 
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "scene/lights/emission_cone.h"
 #include "scene/lights/guided_emission.h"
 #include "scene/lights/light_registry.h"

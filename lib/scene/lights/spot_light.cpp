@@ -8,7 +8,7 @@
 
 #include <algorithm>
 
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "scene/lights/emission_cone.h"
 #include "scene/lights/guided_emission.h"
 #include "scene/lights/light_registry.h"

@@ -1,7 +1,7 @@
 // material = "lambertian": reflectance (number or [r,g,b] in [0,1], default 0.5). Ideal diffuse
 // reflection f = reflectance / pi on the side the ray comes from, cosine-weighted sampling. The
 // walks take this step themselves (transport/walk_steps.h diffuse_bounce) from diffuse_reflectance().
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "scene/lights/light_registry.h"
 #include "scene/materials/material.h"
 #include "config/params.h"

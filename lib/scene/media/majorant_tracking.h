@@ -54,8 +54,8 @@
 #include <limits>
 
 #include "core/math.h"
-#include "core/rng.h"
-#include "core/unit_exponential.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/unit_exponential.h"
 
 namespace vpm {
 

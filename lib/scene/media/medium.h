@@ -10,7 +10,7 @@
 #include <string>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/media/optical_depth_profile.h"
 
 namespace vpm {

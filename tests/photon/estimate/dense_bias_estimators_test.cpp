@@ -10,8 +10,8 @@
 #include <memory>
 #include <vector>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/estimate/ball_extinction.h"
 #include "photon/estimate/group_estimate.h"
 #include "photon/estimate/linear_estimate.h"

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "core/henyey_greenstein.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/estimate/estimators.h"
 #include "photon/map/photon_map.h"
 

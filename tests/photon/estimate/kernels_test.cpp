@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/estimate/estimators.h"
 
 using namespace vpm;

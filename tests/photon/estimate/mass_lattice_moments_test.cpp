@@ -14,7 +14,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "io/vdb_io.h"
 #include "photon/estimate/ball_extinction.h"
 #include "photon/estimate/mass_lattice.h"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/radius_schedule.h"
 #include "support/sample_statistics.h"

@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/map/photon_radii.h"
 #include "photon/estimate/sample_point_estimate.h"
 #include "support/sample_statistics.h"

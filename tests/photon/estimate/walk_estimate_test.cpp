@@ -9,8 +9,8 @@
 
 #include "core/error.h"
 #include "core/henyey_greenstein.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/estimate/walk_estimate.h"
 
 using namespace vpm;

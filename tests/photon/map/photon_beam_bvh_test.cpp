@@ -12,8 +12,8 @@
 #include <map>
 #include <vector>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/map/photon_beam_bvh.h"
 #include "photon/map/segment_box_distance.h"
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/map/photon_cell_counts.h"
 #include "photon/map/photon_map.h"
 

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/map/photon.h"
 #include "photon/map/photon_map.h"
 

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <set>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/map/photon_disc_bvh.h"
 
 using namespace vpm;

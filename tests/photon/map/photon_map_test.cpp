@@ -6,8 +6,8 @@
 #include <cstring>
 #include <tbb/task_arena.h>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "core/error.h"
 #include "photon/map/photon_map.h"
 

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <set>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/map/photon_map.h"
 #include "photon/map/walk_group_split.h"
 #include "photon/trace/photon_tracer.h"

@@ -5,8 +5,8 @@
 // configs/inside_large_sphere.toml came out 2x too bright.
 #include <gtest/gtest.h>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "photon/map/photon_map.h"
 
 using namespace vpm;

@@ -22,7 +22,7 @@ namespace {
 
 class MarchGather : public vpm_test::TempDirTest {
 protected:
-    // The scene matrix's blob cell (analysis/scene_matrix.cpp) at peak extinction about
+    // The scene matrix's blob cell (analysis/matrix/scene_matrix.cpp) at peak extinction about
     // 0.75 sigma_t_scale, optionally with a homogeneous sphere overlapping it.
     std::string blob(double sigma_t_scale, bool sphere = false) {
         const auto p = dir_ / "blob.toml";

@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <string>
 
-#include "analysis/chandrasekhar_h.h"
+#include "analysis/study/chandrasekhar_h.h"
 #include "photon/map/photon_map.h"
 #include "photon/trace/photon_tracer.h"
 #include "render/path/path_tracer.h"

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/map/photon_map.h"
 #include "render/plan/map_noise_pilot.h"
 #include "scene/camera.h"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "render/plan/pilot_bias.h"
 #include "render/run/run.h"
 

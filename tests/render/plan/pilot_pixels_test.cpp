@@ -9,7 +9,7 @@
 #include <set>
 #include <vector>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/map/photon_map.h"
 #include "render/plan/map_noise_pilot.h"
 #include "render/plan/pilot_pixels.h"

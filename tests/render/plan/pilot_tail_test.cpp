@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/map/photon_map.h"
 #include "render/plan/map_noise_pilot.h"
 #include "render/plan/no_map_candidate.h"

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "render/run/run_config.h"
 #include "scene/lights/light_registry.h"
 

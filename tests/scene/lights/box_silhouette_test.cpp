@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "scene/lights/box_silhouette.h"
 
 #include "support/light_from_config.h"

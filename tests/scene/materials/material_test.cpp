@@ -9,8 +9,8 @@
 #include <random>
 
 #include "core/error.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "scene/materials/fresnel.h"
 #include "scene/materials/material_registry.h"
 #include "support/sample_statistics.h"

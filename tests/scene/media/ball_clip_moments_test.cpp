@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "scene/media/ball_clip_moments.h"
 #include "scene/media/homogeneous_medium.h"
 

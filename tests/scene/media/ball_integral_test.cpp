@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "core/density_grid.h"
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"
 

@@ -10,8 +10,8 @@
 #include <cmath>
 #include <vector>
 
-#include "core/rng.h"
-#include "core/sampling.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampling.h"
 #include "core/density_grid.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "io/vdb_io.h"
 #include "scene/media/grid_medium.h"
 #include "scene/media/homogeneous_medium.h"

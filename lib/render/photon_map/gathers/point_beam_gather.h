@@ -27,7 +27,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/estimate/kernels.h"
 #include "photon/map/photon_disc_bvh.h"
 #include "photon/map/photon_map.h"

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/math.h"
-#include "core/rng.h"
+#include "core/sampling/rng.h"
 #include "photon/map/photon_beam.h"
 #include "photon/map/photon_map.h"
 
