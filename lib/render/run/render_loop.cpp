@@ -11,7 +11,7 @@
 #include <tbb/task_group.h>
 
 #include "core/error.h"
-#include "core/hashed_permutation.h"
+#include "core/sampling/hashed_permutation.h"
 #include "core/progress.h"
 
 namespace vpm {
