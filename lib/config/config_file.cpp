@@ -227,6 +227,29 @@ struct DuplicateKeyCheck {
 
 }  // namespace
 
+namespace {
+
+// Removes the value at a dotted path ("render.spp", "media.0.g") from `root`, if it is there.
+void remove_value(toml::table& root, const std::string& key) {
+    toml::node* cur = &root;
+    size_t start = 0;
+    for (size_t dot; (dot = key.find('.', start)) != std::string::npos; start = dot + 1) {
+        const std::string part = key.substr(start, dot - start);
+        toml::node* next = nullptr;
+        if (toml::table* t = cur->as_table()) {
+            next = t->get(part);
+        } else if (toml::array* a = cur->as_array(); a && !part.empty() && part.size() < 10 &&
+                                                      part.find_first_not_of("0123456789") == std::string::npos) {
+            next = a->get(std::stoul(part));
+        }
+        if (!next) return;
+        cur = next;
+    }
+    if (toml::table* t = cur->as_table()) t->erase(key.substr(start));
+}
+
+}  // namespace
+
 std::string json_value_kind(const std::string& text) {
     nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
     return j.is_discarded() ? std::string() : std::string(j.type_name());
@@ -243,7 +266,18 @@ toml::table config_from_json(const std::string& text, const std::string& name) {
     if (!j.is_object()) throw ConfigError(name + ": expected a JSON object");
     if (j.contains("config")) {   // a run sidecar: its resolved config
         if (!j["config"].is_object()) throw ConfigError(name + ": config: expected an object");
-        return json_object_to_toml(j["config"], name, "", 0);
+        toml::table config = json_object_to_toml(j["config"], name, "", 0);
+        // The values the run's document left unset go again, so that nothing is pinned that the run left to the plan (its
+        // automatic choices are made again, as in the run).
+        if (j.contains("config_defaults")) {
+            const nlohmann::json& d = j["config_defaults"];
+            if (!d.is_array()) throw ConfigError(name + ": config_defaults: expected an array of dotted keys");
+            for (const nlohmann::json& key : d) {
+                if (!key.is_string()) throw ConfigError(name + ": config_defaults: expected dotted keys (strings), got " + key.dump());
+                remove_value(config, key.get<std::string>());
+            }
+        }
+        return config;
     }
     return json_object_to_toml(j, name, "", 0);
 }

@@ -41,10 +41,11 @@ std::string format_seconds(double s) {
 
 }  // namespace
 
-Progress::Progress(std::string label, uint64_t total, bool enabled)
+Progress::Progress(std::string label, uint64_t total, bool enabled, Unit unit)
     : label_(std::move(label)),
       total_(total),
       enabled_(enabled && total > 0),
+      unit_(unit),
       terminal_(::isatty(2) == 1),
       start_(std::chrono::steady_clock::now()) {
     if (terminal_) {
@@ -93,8 +94,12 @@ void Progress::draw_line(bool final) {
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     char head[96];
-    std::snprintf(head, sizeof(head), ": %d%% (%llu/%llu), ", int(100.0 * double(count) / double(total_)),
-                  (unsigned long long)count, (unsigned long long)total_);
+    if (unit_ == Unit::milliseconds)
+        std::snprintf(head, sizeof(head), ": %d%% (%.1f s/%.1f s), ", int(100.0 * double(count) / double(total_)),
+                      double(count) / 1000.0, double(total_) / 1000.0);
+    else
+        std::snprintf(head, sizeof(head), ": %d%% (%llu/%llu), ", int(100.0 * double(count) / double(total_)),
+                      (unsigned long long)count, (unsigned long long)total_);
     std::string line = label_ + head + format_seconds(elapsed);
     if (!final) line += ", ETA " + (count > 0 ? format_seconds(elapsed * double(total_ - count) / double(count)) : "?");
     line += "\n";

@@ -5,6 +5,8 @@
 // "label: 45% (450/1000), 12.3 s, ETA 15.1 s", and a last "label: 100%" line; the interval comes
 // from the environment variable VPM_PROGRESS_SECONDS when set (0: a line at every advance).
 // Silent when disabled. Thread-safe: workers call advance() from any thread.
+// Counting milliseconds (a run against its time limit) the line reads "(1.2 s/2.0 s)" and the ETA
+// is the time left.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -15,7 +17,8 @@ namespace vpm {
 
 class Progress {
 public:
-    Progress(std::string label, uint64_t total, bool enabled = true);
+    enum class Unit { items, milliseconds };
+    Progress(std::string label, uint64_t total, bool enabled = true, Unit unit = Unit::items);
     ~Progress();   // calls done()
     void advance(uint64_t amount = 1);
     void done();
@@ -27,6 +30,7 @@ private:
     std::string label_;
     uint64_t total_;
     bool enabled_;
+    Unit unit_;
     bool terminal_ = false;        // a bar on a terminal, else log lines
     int64_t first_ms_ = 0, every_ms_ = 0;
     std::atomic<uint64_t> count_{0};

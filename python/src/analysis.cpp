@@ -1,5 +1,5 @@
-// vpm.study and vpm.sweep: the estimator study (lib/analysis/study.h) and parameter sweeps
-// (lib/analysis/sweep.h), writing the tool's files; vpm/__init__.py turns their tables into rows.
+// vpm.study and vpm.sweep: the estimator study (lib/analysis/study/study.h) and parameter sweeps
+// (lib/analysis/sweep/sweep.h), writing the tool's files; vpm/__init__.py turns their tables into rows.
 #include <filesystem>
 #include <iostream>
 #include <optional>

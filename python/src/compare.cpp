@@ -1,5 +1,5 @@
 // vpm.compare: images against a reference with the metrics `vpm sweep` and `vpm compare` report
-// (lib/analysis/error_metrics.h), computed by the same code; vpm/__init__.py turns files and render
+// (lib/analysis/metrics/error_metrics.h), computed by the same code; vpm/__init__.py turns files and render
 // results into arrays and adds the samples check.
 #include <cmath>
 #include <limits>

@@ -327,7 +327,7 @@ def _image_and_samples(x, name):
 
 def compare(image, reference, metric="relmse", epsilon=0.01, crop=None, exclude=(), mask=None, reference_variance=None):
     """Error of IMAGE against REFERENCE by a named metric, with the reference's noise subtracted, and the
-    metrics `vpm sweep` reports (lib/analysis/error_metrics.h, docs/metrics.md): what `vpm compare` says.
+    metrics `vpm sweep` reports (lib/analysis/metrics/error_metrics.h, docs/metrics.md): what `vpm compare` says.
 
     image: one image, or a list of images taken as independent repeats of one configuration; each an
     (height, width, 3) array, an EXR path (its sidecar gives its samples) or a vpm.RenderResult.

@@ -9,7 +9,7 @@
 //      sample measured by a short calibration render, then a render at the matched spp, redone
 //      once with a corrected spp when its time is off by more than 15%);
 // and prints the error of (2) and (3) against (1) by a named metric (--metric, relMSE by default:
-// lib/analysis/error_metrics.h), the reference's noise floor subtracted (the reference renders in
+// lib/analysis/metrics/error_metrics.h), the reference's noise floor subtracted (the reference renders in
 // independent passes and keeps its variance image beside it), and their ratio.
 #include <cmath>
 #include <cstdio>
@@ -219,7 +219,7 @@ int run_equal_time(int argc, char** argv) {
 }
 
 
-// vpm bench matrix: the scene matrix of issue 20 (lib/analysis/scene_matrix.h).
+// vpm bench matrix: the scene matrix of issue 20 (lib/analysis/matrix/scene_matrix.h).
 int run_matrix(int argc, char** argv) {
     CLI::App app("The scene matrix: homogeneous box and sphere, the Gaussian blob and the plume across optical\n"
                  "thickness, albedo, g, lights and scale; per cell the path tracer, the photon map's defaults and\n"

@@ -1,7 +1,7 @@
 // vpm compare IMAGE... REFERENCE [--metric M] [--epsilon E] [--crop R] [--exclude R]... [--mask F]
 //             [--reference-variance F | --reference-halves A B] [--json] [--repeats]
 // Each IMAGE against REFERENCE (the last argument, or the mean of two halves) by a named metric
-// (lib/analysis/error_metrics.h; relMSE by default), with the reference's noise floor subtracted
+// (lib/analysis/metrics/error_metrics.h; relMSE by default), with the reference's noise floor subtracted
 // when it is known (REFERENCE.variance.exr beside it, --reference-variance, or the halves), over the
 // pixels a mask keeps; beside it the other metrics, the channel-wise RMSE and relative bias, and the
 // luminance metrics `vpm sweep` reports. --repeats takes the images as independent repeats of one

@@ -15,7 +15,7 @@
 // Solved by Nystrom's method on Gauss-Legendre nodes in t with mu' = t^2 (H has a mu log mu term
 // at 0, which the substitution smooths), Newton's method until a step is < 1e-14; H at
 // any mu comes from the equation itself with the converged node values. Accuracy (checked in
-// tests/analysis/chandrasekhar_h_test.cpp against the moment identity
+// tests/analysis/study/chandrasekhar_h_test.cpp against the moment identity
 // int_0^1 H = (2 / a) (1 - sqrt(1 - a)), the conservative int_0^1 H mu = 2 / sqrt(3) and
 // Chandrasekhar's table): better than 1e-9 with the default 64 nodes.
 #include <vector>

@@ -134,7 +134,7 @@ void record_what_ran(const std::vector<Input>& inputs, RunRecord& record) {
 std::string merge_identity(const nlohmann::json& config) {
     nlohmann::json c = config;
     if (c.contains("render") && c["render"].is_object())
-        for (const char* k : {"output", "threads", "passes", "first_pass", "spp", "time_limit", "exposure"})
+        for (const char* k : {"output", "threads", "passes", "first_pass", "spp", "time_limit", "time_limit_passes", "exposure"})
             c["render"].erase(k);
     return hash_hex(c.dump());
 }
@@ -148,7 +148,7 @@ MergedRun merge_runs(const std::vector<std::filesystem::path>& paths) {
     for (const Input& b : inputs) {
         if (merge_identity(b.sidecar["config"]) != identity)
             throw Error(b.exr.string() + ": rendered from a different scene or setting than " + a.exr.string() +
-                        " (resolved configs differ beyond output, threads, passes, first_pass, spp, time_limit, "
+                        " (resolved configs differ beyond output, threads, passes, first_pass, spp, time_limit, time_limit_passes, "
                         "exposure); diff their sidecars' \"config\"");
         if (b.spp_per_pass != a.spp_per_pass)
             throw Error(b.exr.string() + ": " + std::to_string(b.spp_per_pass) + " samples per pass, " + a.exr.string() +
@@ -189,11 +189,13 @@ MergedRun merge_runs(const std::vector<std::filesystem::path>& paths) {
     for (size_t i = 1; i < by_first.size(); ++i)
         contiguous = contiguous && by_first[i]->first == by_first[i - 1]->first + by_first[i - 1]->count;
     const Input& first = *by_first.front();
-    if (contiguous && config.contains("render") && config["render"].is_object()) {
+    const bool one_run = contiguous && config.contains("render") && config["render"].is_object();
+    if (one_run) {
         config["render"]["first_pass"] = first.first;
         config["render"]["passes"] = out.passes;
         config["render"]["spp"] = int64_t(out.passes) * int64_t(a.spp_per_pass);
         config["render"]["time_limit"] = 0.0;
+        config["render"].erase("time_limit_passes");
         out.record.set("reproduces", "config renders passes " + std::to_string(first.first) + ".." +
                                          std::to_string(first.first + out.passes - 1) + ", the merged image (up to float rounding)");
     } else {
@@ -203,6 +205,16 @@ MergedRun merge_runs(const std::vector<std::filesystem::path>& paths) {
                                          "): the merged pass ranges have gaps, which no single run renders");
     }
     out.record.set("config", config);
+    // The keys the config leaves to their defaults (render/run/run.cpp), less those set above.
+    const nlohmann::json& source = one_run ? a.sidecar : first.sidecar;
+    if (source.contains("config_defaults") && source["config_defaults"].is_array()) {
+        nlohmann::json defaults = nlohmann::json::array();
+        for (const nlohmann::json& key : source["config_defaults"])
+            if (!one_run || !(key == "render.first_pass" || key == "render.passes" || key == "render.spp" ||
+                                 key == "render.time_limit" || key == "render.time_limit_passes"))
+                defaults.push_back(key);
+        out.record.set("config_defaults", defaults);
+    }
     out.record.set("merged_from", from);
     out.record.set("passes.count", out.passes);
     out.record.set("passes.first", by_first.front()->first);

@@ -11,12 +11,17 @@
 #include <tbb/task_group.h>
 
 #include "core/error.h"
+#include "core/sampling/hashed_permutation.h"
 #include "core/progress.h"
 
 namespace vpm {
 
 namespace {
 constexpr uint64_t kCameraSalt = 0x63616d657261ULL;   // camera sample sets apart from photon sets
+// Rows go in a fixed pseudo-random order, so that the rows done at any moment are a fair sample of
+// the image's cost and the progress bar's ETA holds where rows differ in cost (sky above a dense
+// medium); each row's pixels draw the same streams in any order, so the image does not change.
+constexpr uint64_t kRowOrderKey = 0x726f776f72646572ULL;
 }  // namespace
 
 Image render_image(const Camera& camera, const Integrator& integrator, const RenderOptions& o, RenderStats& stats) {
@@ -57,7 +62,8 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
     };
     tbb::parallel_for(tbb::blocked_range<int>(0, o.height, 1), [&](const tbb::blocked_range<int>& range) {
         std::vector<double> row(static_cast<size_t>(passes), 0.0);   // this row's sum per pass (written once: no false sharing)
-        for (int y = range.begin(); y != range.end(); ++y) {
+        for (int r = range.begin(); r != range.end(); ++r) {
+            const int y = int(permutation_element(uint32_t(r), uint32_t(o.height), kRowOrderKey));
             // A cancelled task group (the Python module's Ctrl-C) stops at the next row; the caller
             // discards the image. A range may hold many rows, so checking between ranges is not enough.
             if (tbb::is_current_task_group_canceling()) return;

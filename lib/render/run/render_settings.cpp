@@ -22,6 +22,14 @@ RenderSettings RenderSettings::read(Params& p) {
                              std::to_string(r.passes) + " (each pass renders spp / passes samples per pixel)");
     r.time_limit = p.real("time_limit", r.time_limit, Range::closed(0.0, 1e9));
     r.first_pass = int(p.integer("first_pass", r.first_pass, Range::closed(0, 1 << 24)));
+    // Pass indices stay ints (render/run/run.cpp).
+    r.time_limit_passes = p.integer("time_limit_passes", r.time_limit_passes, Range::closed(0, kMaxRunPasses - r.first_pass));
+    if (r.time_limit_passes > 0 && !(r.time_limit > 0))
+        p.fail("time_limit_passes", "is the pass count a render.time_limit took; it needs render.time_limit > 0 (for a "
+                                    "fixed pass count without a limit, set render.passes)");
+    if (r.time_limit_passes > 0 && r.time_limit_passes < r.passes)
+        p.fail("time_limit_passes", std::to_string(r.time_limit_passes) + " is fewer than render.passes = " +
+                                        std::to_string(r.passes) + ", which a time-limited run always renders");
     r.sampler = p.choice("sampler", r.sampler, sampler_choices());
     // Film accumulators are 3 doubles per pixel next to the 3-float image; refuse what cannot fit.
     const double bytes = double(r.width) * double(r.height) * 3.0 * (8.0 + 4.0);

@@ -17,6 +17,10 @@
 //   | time_limit | 0              | seconds; > 0: passes go on (beyond `passes`) while the   |
 //   |          |                  | next one is expected to end within it; 0: off (records   |
 //   |          |                  | stay bounded: render/run/run_stats.h PassSummary)            |
+//   | time_limit_passes | 0       | with time_limit: the passes to render, not read from the |
+//   |          |                  | clock (a run record sets it to the passes its time limit |
+//   |          |                  | took, so that the record renders the same image); 0: by  |
+//   |          |                  | the clock                                                |
 //   | first_pass | 0              | index of this run's first pass: machines rendering       |
 //   |          |                  | passes 0..7 and 8..15 merge (vpm merge) into the 16-pass |
 //   |          |                  | image                                                    |
@@ -31,6 +35,10 @@ namespace vpm {
 
 class Params;
 
+// Passes a run may render, first_pass included: pass indices stay ints (render.first_pass, vpm merge),
+// so a time limit stops before INT_MAX passes.
+constexpr int64_t kMaxRunPasses = 2147483647;
+
 struct RenderSettings {
     int width = 256;
     int height = 256;
@@ -41,6 +49,7 @@ struct RenderSettings {
     double exposure = 0.0;
     int passes = 1;
     double time_limit = 0.0;
+    int64_t time_limit_passes = 0;
     int first_pass = 0;
     SamplerKind sampler = SamplerKind::independent;
     int spp_per_pass() const { return spp / passes; }

@@ -22,8 +22,6 @@ nlohmann::json toml_to_json(const toml::table& table) {
 // Streams of pass p of a run with stream offset r: pass 0 keeps r (a one-pass run is what it always
 // was); later passes sit 2^20 offsets apart so that repeats (consecutive r) never share a pass.
 constexpr uint64_t kPassStreamStride = uint64_t(1) << 20;
-// Pass indices stay ints (render.first_pass, vpm merge): a time limit stops before INT_MAX passes.
-constexpr int64_t kMaxPasses = 2147483647;
 // Camera samples below which a pass is cheaper rendered together with the next ones: one go over
 // the image costs a task launch, a progress bar and a pass over the pixel sums whatever it holds.
 constexpr int64_t kMinGroupSamples = int64_t(1) << 16;
@@ -48,7 +46,24 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         const double pass_samples = double(rs.width) * double(rs.height) * double(spp);
         return integrator->stateless_passes() ? int64_t(std::min(65536.0, std::ceil(double(kMinGroupSamples) / pass_samples))) : 1;
     };
+    // A time limit's passes: by the clock, or, given render.time_limit_passes (which a time-limited run's
+    // record sets to the passes it took), exactly those, so that the record renders the same image. The
+    // integrator plans for render.time_limit either way; only the count came from the clock.
+    const bool clock_stops = rs.time_limit > 0 && rs.time_limit_passes == 0;
+    const int64_t fixed_passes = rs.time_limit_passes > 0 ? rs.time_limit_passes : rs.passes;
+    if (options.log && rs.time_limit_passes > 0)
+        *options.log << "passes: " << rs.time_limit_passes << ", render.time_limit_passes (the count a render.time_limit = "
+                     << rs.time_limit << " s run took, from its record), not the clock; --unset render.time_limit_passes "
+                     << "renders to the clock\n";
     const Timer run_timer;
+    // One bar for a run of several passes, against its passes or its time limit; the bars of a pass's
+    // photons and rows then show on its first pass only (its one-off work), not restarting each pass.
+    const bool several_passes = fixed_passes > 1 || clock_stops;
+    Progress run_progress(clock_stops ? "time limit" : "passes",
+                          clock_stops ? uint64_t(std::ceil(rs.time_limit * 1000.0)) : uint64_t(fixed_passes),
+                          options.progress && several_passes,
+                          clock_stops ? Progress::Unit::milliseconds : Progress::Unit::items);
+    uint64_t progress_ms = 0;   // run_progress's count under the clock
     int64_t done = 0;   // passes rendered
     double first_group_seconds = 0.0;
     int64_t first_group_passes = 0;
@@ -69,13 +84,13 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         // as many as the measured time per pass says still fit (at least one: the limit is checked
         // before a group starts). The image depends on the total pass count only.
         int64_t n = 1;
-        if (done < rs.passes) {
-            n = std::min<int64_t>(group, rs.passes - done);
+        if (done < fixed_passes) {
+            n = std::min<int64_t>(group, fixed_passes - done);
         } else {
             const double per_pass = seconds_per_pass();
             const double fit = per_pass > 0.0 ? std::floor((rs.time_limit - run_timer.seconds()) / per_pass) : double(group);
             n = std::max<int64_t>(1, std::min<int64_t>(group, int64_t(std::min(fit, double(group)))));
-            n = std::min<int64_t>(n, kMaxPasses - rs.first_pass - done);
+            n = std::min<int64_t>(n, kMaxRunPasses - rs.first_pass - done);
         }
         const Timer group_timer;
         const double started = run_timer.seconds();
@@ -88,7 +103,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         context.pass = index;
         context.configured_spp = rs.spp_per_pass();
         context.first_of_run = done == 0;
-        context.progress = options.progress;
+        context.progress = options.progress && (!several_passes || done == 0);
         context.log = options.log;
         integrator->prepare(context, result.stats);
         spp = integrator->samples_per_pass(rs.spp_per_pass());
@@ -98,10 +113,10 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         ro.height = rs.height;
         ro.spp = spp;
         ro.seed = rs.seed;
-        ro.progress = options.progress;
+        ro.progress = options.progress && (!several_passes || done == 0);
         ro.stream_offset = stream;
         ro.sampler = rs.sampler;
-        if (rs.time_limit > 0 && done == 0) {   // the first group: later ones are sized by the measured pass time
+        if (clock_stops && done == 0) {   // the first group: later ones are sized by the measured pass time
             ro.seconds_left = std::max(1e-9, rs.time_limit - run_timer.seconds());
             ro.time_limit = rs.time_limit;
             ro.log = options.log;
@@ -123,6 +138,13 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         const int64_t before = done;
         done += n;
         const PassGroupStats this_group{done, n, spp, seconds, run_timer.seconds(), mean_of_means};
+        if (clock_stops) {
+            const uint64_t now_ms = uint64_t(run_timer.seconds() * 1000.0);
+            if (now_ms > progress_ms) run_progress.advance(now_ms - progress_ms);
+            progress_ms = std::max(progress_ms, now_ms);
+        } else {
+            run_progress.advance(uint64_t(n));
+        }
         if (options.on_pass_group) options.on_pass_group(this_group);
 
         // Time per pass from the passes after the first: the first also holds one-off work (the
@@ -132,15 +154,15 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
             first_group_passes = done;
         }
         const double mean_pass = seconds_per_pass();
-        if (before == 0 && rs.time_limit > 0 && run_timer.seconds() > rs.time_limit) {
+        if (before == 0 && clock_stops && run_timer.seconds() > rs.time_limit) {
             std::ostringstream w;
             w << "render.time_limit = " << rs.time_limit << " s is shorter than the first " << (n > 1 ? "passes" : "pass")
               << " (" << run_timer.seconds() << " s): " << done << (done > 1 ? " passes" : " pass")
               << " written, at least render.passes = " << rs.passes;
             result.stats.warn(w.str(), options.log);
         }
-        const bool more = (done < rs.passes || (rs.time_limit > 0 && run_timer.seconds() + mean_pass <= rs.time_limit &&
-                                                done < kMaxPasses - rs.first_pass)) &&
+        const bool more = (done < fixed_passes || (clock_stops && run_timer.seconds() + mean_pass <= rs.time_limit &&
+                                                    done < kMaxRunPasses - rs.first_pass)) &&
                           !(options.cancelled && options.cancelled());
         if (options.on_pass || !more) {
             Image mean(rs.width, rs.height);
@@ -162,10 +184,11 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         // A line when the count passes 1, 2, 4, 8, ...: a time-limited run may make millions.
         auto bits = [](int64_t v) { return v > 0 ? 64 - __builtin_clzll(uint64_t(v)) : 0; };   // floor(log2 v) + 1
         if (options.log && (done > 1 || more) && bits(done) > bits(before))
-            *options.log << "pass " << done << (rs.time_limit > 0 ? "" : "/" + std::to_string(rs.passes)) << ": "
+            *options.log << "pass " << done << (clock_stops ? "" : "/" + std::to_string(fixed_passes)) << ": "
                          << each << " s each, " << run_timer.seconds() << " s elapsed\n";
         if (!more) break;
     }
+    run_progress.done();
     if (options.log) {
         const uint64_t passes = result.stats.pass_count();
         *options.log << "render: " << rs.width << "x" << rs.height << " at "
@@ -181,6 +204,15 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
 
     result.record = RunRecord::with_environment();
     result.record.set("config", toml_to_json(config.resolved));
+    // What the document left unset, so that loading the record leaves it unset again (a default read
+    // back as a value would pin what the plan chooses); and the passes a time limit took, so that the
+    // record renders them again without the clock.
+    std::vector<std::string> defaulted = config.defaulted;
+    if (rs.time_limit > 0) {
+        result.record.set("config.render.time_limit_passes", done);
+        defaulted.erase(std::remove(defaulted.begin(), defaulted.end(), "render.time_limit_passes"), defaulted.end());
+    }
+    result.record.set("config_defaults", defaulted);
     result.record.set("config_file", config.source_file);
     result.record.set("seed", rs.seed);
     result.record.set("integrator", integrator->name());

@@ -1,7 +1,9 @@
 #pragma once
 // A config file read whole: what is seen (Scene), how the image is made (RenderSettings) and the
 // settings of every registered integrator, of which render.integrator picks one. Every value
-// used, defaults included, is in `resolved`, which the run record writes back as the config.
+// used, defaults included, is in `resolved`, which the run record writes back as the config;
+// `defaulted` names the values in it that the document left unset, so that the record renders
+// again as the document did (a default written back would read as a pin: docs/integrator_choice.md).
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@ namespace vpm {
 struct RunConfig {
     std::string source_file;
     toml::table resolved;
+    std::vector<std::string> defaulted;   // dotted paths ("render.spp", "media.0.g") of resolved values not in the document
     RenderSettings render;
     std::unique_ptr<Scene> scene;
     const IntegratorType* integrator = nullptr;                  // the chosen entry

@@ -1,4 +1,4 @@
-// Sweep error metrics (lib/analysis/error_metrics.h) on tiny images with hand-computed values.
+// Sweep error metrics (lib/analysis/metrics/error_metrics.h) on tiny images with hand-computed values.
 // Grey pixels: luminance = value (the Rec.709 weights sum to 1).
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The named error metrics (lib/analysis/error_metrics.h: relMSE, relRMSE, SMAPE), their pixel masks
+// The named error metrics (lib/analysis/metrics/error_metrics.h: relMSE, relRMSE, SMAPE), their pixel masks
 // (pixel_mask.h) and the reference's noise floor (reference_noise.h): hand-computed values on tiny
 // images, and the floor's subtraction checked statistically on synthetic noise.
 #include <gtest/gtest.h>

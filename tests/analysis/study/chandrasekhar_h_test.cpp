@@ -1,4 +1,4 @@
-// Chandrasekhar's H function (lib/analysis/chandrasekhar_h.h): the analytic anchor of issue 21's
+// Chandrasekhar's H function (lib/analysis/study/chandrasekhar_h.h): the analytic anchor of issue 21's
 // semi-infinite tests. Checked against published values and exact identities, none of which the
 // solver uses.
 #include <gtest/gtest.h>

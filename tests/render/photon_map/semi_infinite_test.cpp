@@ -1,6 +1,6 @@
 // Issue 21: the path tracer and the photon map against Chandrasekhar's closed form for a
 // semi-infinite isotropic medium under a directional light (configs/semi_infinite.toml,
-// lib/analysis/chandrasekhar_h.h): L = a / (4 pi) E mu0 / (mu + mu0) H(mu) H(mu0), mu0 = 1 here and
+// lib/analysis/study/chandrasekhar_h.h): L = a / (4 pi) E mu0 / (mu + mu0) H(mu) H(mu0), mu0 = 1 here and
 // mu = 1 or 0.5 (camera straight above the middle of the top face, or 60 degrees off the normal).
 // The expected image mean is the closed form averaged over the camera's rays (mu varies across the
 // 2-degree field of view). Tolerances are 3.5 standard errors of the image means.
