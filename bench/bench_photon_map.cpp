@@ -22,6 +22,7 @@
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/walk_estimate.h"
 #include "photon/map/photon_map.h"
+#include "walk_photons.h"
 
 using namespace vpm;
 
@@ -136,19 +137,7 @@ int main(int argc, char** argv) {
         // photons (~125 per mfp^3); the estimates at the same 20000 interior points, corrected over
         // photons and over walks, interleaved three times, the least time of each.
         Rng rng(5, 0);
-        std::vector<PhotonInput> in;
-        for (uint64_t w = 0; in.size() < 1000000; ++w) {
-            Vec3 x(20 * rng.uniform(), 20 * rng.uniform(), 20 * rng.uniform());
-            do {
-                PhotonInput p;
-                p.position = x;
-                p.direction = sample_uniform_sphere(rng.uniform(), rng.uniform());
-                p.power = Rgb::Constant(1e-6);
-                p.walk = w;
-                in.push_back(p);
-                x += -std::log(1.0 - rng.uniform()) * sample_uniform_sphere(rng.uniform(), rng.uniform());
-            } while (rng.uniform() < 0.5);
-        }
+        const std::vector<PhotonInput> in = bench::walk_photons(rng, 1000000, 20.0);
         const PhotonMap map(in);
         std::vector<Vec3> qs(Q);
         for (auto& q : qs) q = Vec3(2 + 16 * rng.uniform(), 2 + 16 * rng.uniform(), 2 + 16 * rng.uniform());

@@ -19,6 +19,7 @@
 #include "photon/estimate/estimators.h"
 #include "photon/estimate/walk_estimate.h"
 #include "photon/map/photon_map.h"
+#include "walk_photons.h"
 
 using namespace vpm;
 
@@ -34,19 +35,7 @@ struct WalkScene {
 const WalkScene& scene() {
     static const WalkScene s = [] {
         Rng rng(5, 0);
-        std::vector<PhotonInput> in;
-        for (uint64_t w = 0; in.size() < 1000000; ++w) {
-            Vec3 x(20 * rng.uniform(), 20 * rng.uniform(), 20 * rng.uniform());
-            do {
-                PhotonInput p;
-                p.position = x;
-                p.direction = sample_uniform_sphere(rng.uniform(), rng.uniform());
-                p.power = Rgb::Constant(1e-6);
-                p.walk = w;
-                in.push_back(p);
-                x += -std::log(1.0 - rng.uniform()) * sample_uniform_sphere(rng.uniform(), rng.uniform());
-            } while (rng.uniform() < 0.5);
-        }
+        const std::vector<PhotonInput> in = bench::walk_photons(rng, 1000000, 20.0);
         WalkScene out{PhotonMap(in), std::vector<Vec3>(kQueries)};
         for (auto& q : out.queries) q = Vec3(2 + 16 * rng.uniform(), 2 + 16 * rng.uniform(), 2 + 16 * rng.uniform());
         return out;
