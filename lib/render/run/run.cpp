@@ -69,12 +69,12 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     int64_t first_group_passes = 0;
     // Time per pass from the passes after the first group; until there are any, the first group's
     // whole time, or only its render where nothing else repeats (a stateless integrator: the photon
-    // map planned without a map paid its photon pass and pilot once, 1.2 s of a 2 s limit in the box
-    // at optical thickness 3, and stopped after one 0.15 s pass).
+    // map planned without a map paid its photon pass and pilot once, and they would otherwise count as
+    // every pass's cost).
     auto seconds_per_pass = [&] {
         if (done > first_group_passes) return (run_timer.seconds() - first_group_seconds) / double(done - first_group_passes);
-        // (The first group's one-off work, the photon map's pilot, is not a pass's: a first pass of
-        // 1.0 s holding 0.5 s of pilot stopped the blob at optical thickness 1000 at 1.0 s of 2.)
+        // (The first group's one-off work, the photon map's pilot, is not a pass's: counted as one it
+        // would stop a run with half its time left.)
         return (integrator->stateless_passes() ? render.seconds : run_timer.seconds() - integrator->one_off_seconds()) /
                double(done);   // render: the first group's so far
     };

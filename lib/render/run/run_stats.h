@@ -110,7 +110,7 @@ struct AutoGatherStats {
     std::vector<double> score;     // per candidate: the plan's error^2 x work at its best pass sizes (infinite: not a choice)
 };
 
-// The photons a photon-map run traced, per phase, and what used them (issue 41: no discarded work).
+// The photons a photon-map run traced, per phase, and what used them (no work traced and discarded unsaid).
 struct PhotonLedger {
     uint64_t pass_maps = 0;        // emitted into the maps the camera passes estimate from
     int64_t passes_traced = 0;     // photon passes behind them
