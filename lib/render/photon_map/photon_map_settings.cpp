@@ -98,19 +98,12 @@ void read_alpha(Params& p, PhotonMapSettings& s) {
     s.alpha = p.real(key, 0.5, range);
 }
 
-}  // namespace
-
-PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool chooses_integrator) {
-    PhotonMapSettings s;
-    s.chooses_integrator = chooses_integrator;
-    s.walk = WalkSettings::read(render);
-    s.count = p.integer("count", s.count, Range::closed(1, int64_t(1) << 40));
-    s.count_given = p.has("count");
+// photons.estimator, photons.kernel with its parameter (photons.<kernel>_<parameter>, cone_slope; the
+// key exists only for that kernel) and photons.k, which the estimator's minimum bounds.
+void read_estimator(Params& p, PhotonMapSettings& s) {
     std::vector<std::pair<std::string, Estimator>> estimators;
     for (const Estimator& e : Estimator::all()) estimators.emplace_back(e.name(), e);
     s.estimator = p.choice("estimator", s.estimator, estimators);
-    // photons.kernel (registry in photon/estimate/kernels.h) and its parameter, if any, as
-    // photons.<kernel>_<parameter> (cone_slope); the key exists only for that kernel.
     std::vector<std::pair<std::string, Kernel>> kernels;
     for (const Kernel& k : Kernel::all()) kernels.emplace_back(k.name(), k);
     Kernel kernel = p.choice("kernel", s.estimator.kernel(), kernels);
@@ -126,8 +119,53 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
         p.fail("k", std::string("the ") + s.estimator.name() + " estimator needs k >= " +
                         std::to_string(s.estimator.min_k()) +
                         (s.estimator.traits().min_k_reason ? std::string(" (") + s.estimator.traits().min_k_reason + ")" : ""));
-    if (const std::string w = s.estimator.warning(size_t(s.k)); !w.empty() && !chooses_integrator)
+    if (const std::string w = s.estimator.warning(size_t(s.k)); !w.empty() && !s.chooses_integrator)
         std::cerr << "warning: " << p.where("k") << ": " << w << "\n";
+}
+
+// photons.gather = "photon_beams" takes the estimators that weigh beams, and no forced collisions.
+void check_photon_beams(Params& p, const PhotonMapSettings& s) {
+    if (s.gather != GatherMode::photon_beams) return;
+    if (!s.estimator.traits().photon_beams) {
+        std::string allowed;
+        for (const Estimator& e : Estimator::all())
+            if (e.traits().photon_beams) allowed += (allowed.empty() ? "\"" : ", \"") + std::string(e.name()) + "\"";
+        p.fail("estimator", "photons.gather = \"photon_beams\" takes " + allowed + " (the k-th beam weighed or not), not \"" +
+                                s.estimator.name() + "\"");
+    }
+    if (s.forced_collisions)
+        p.fail("forced_collisions", "must be false with photons.gather = \"photon_beams\" (its beams are the "
+                                    "photons' free flights, which forced collisions replace)");
+}
+
+// render.time_limit and what the plan may size under it: what photons.count, render.spp and
+// render.passes leave unset.
+void read_pass_sizing(Params& render, PhotonMapSettings& s) {
+    s.time_limit = render.has("time_limit") ? render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) : 0.0;
+    s.passes_given = render.has("passes");
+    // Under a limit the plan also sizes the passes of a collision or march gather the user chose (a
+    // single candidate: the gather stays the user's); the other gathers are not measured by the pilot.
+    if (s.plan_sizes_passes() && s.time_limit > 0.0) {
+        // A key the user sets is honoured: photons.count pins the photons per pass, render.spp and
+        // render.passes the samples per pass (spp / passes). Unset, the plan sizes them.
+        s.size_photons = !s.count_given;
+        s.size_samples = !s.passes_given && !render.has("spp");
+    }
+    if (s.sizes_beam_pass()) {
+        s.size_beam_photons = !s.count_given;
+        s.size_beam_samples = !s.passes_given && !render.has("spp");
+    }
+}
+
+}  // namespace
+
+PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool chooses_integrator) {
+    PhotonMapSettings s;
+    s.chooses_integrator = chooses_integrator;
+    s.walk = WalkSettings::read(render);
+    s.count = p.integer("count", s.count, Range::closed(1, int64_t(1) << 40));
+    s.count_given = p.has("count");
+    read_estimator(p, s);
     s.direct = p.choice("direct", s.direct, {{"nee", DirectLighting::nee}, {"photon_map", DirectLighting::photon_map}});
     s.max_radius = p.real("max_radius", s.max_radius, Range::at_least(0.0));
     s.max_bounces = int(p.integer("max_bounces", s.max_bounces, Range::closed(1, 1 << 30)));
@@ -143,32 +181,8 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.gather = read_gather(p, s.gather);
     s.beam_widths = p.choice("beam_widths", BeamWidths::balloon,
                              {{"balloon", BeamWidths::balloon}, {"sample_point", BeamWidths::sample_point}});
-    if (s.gather == GatherMode::photon_beams) {
-        if (!s.estimator.traits().photon_beams) {
-            std::string allowed;
-            for (const Estimator& e : Estimator::all())
-                if (e.traits().photon_beams) allowed += (allowed.empty() ? "\"" : ", \"") + std::string(e.name()) + "\"";
-            p.fail("estimator", "photons.gather = \"photon_beams\" takes " + allowed + " (the k-th beam weighed or not), not \"" +
-                                    s.estimator.name() + "\"");
-        }
-        if (s.forced_collisions)
-            p.fail("forced_collisions", "must be false with photons.gather = \"photon_beams\" (its beams are the "
-                                        "photons' free flights, which forced collisions replace)");
-    }
-    s.time_limit = render.has("time_limit") ? render.real("time_limit", 0.0, Range::closed(0.0, 1e9)) : 0.0;
-    s.passes_given = render.has("passes");
-    // Under a limit the plan also sizes the passes of a collision or march gather the user chose (a
-    // single candidate: the gather stays the user's); the other gathers are not measured by the pilot.
-    if (s.plan_sizes_passes() && s.time_limit > 0.0) {
-        // A key the user sets is honoured: photons.count pins the photons per pass, render.spp and
-        // render.passes the samples per pass (spp / passes). Unset, the plan sizes them.
-        s.size_photons = !s.count_given;
-        s.size_samples = !s.passes_given && !render.has("spp");
-    }
-    if (s.sizes_beam_pass()) {
-        s.size_beam_photons = !s.count_given;
-        s.size_beam_samples = !s.passes_given && !render.has("spp");
-    }
+    check_photon_beams(p, s);
+    read_pass_sizing(render, s);
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));
     s.march_points = p.choice("march_points", s.march_points,
                               {{"fixed", MarchCount::fixed}, {"mass", MarchCount::mass}, {"free_flight", MarchCount::free_flight}});
