@@ -33,76 +33,7 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
     const double piece = PhotonBeamBvh::automatic_piece_length(beams_);
     built_.piece_length = piece;
     std::vector<double> radii;
-    if (widths == BeamWidths::sample_point) {
-        // Each beam's width from its own k nearest other beams (its segment as the query), found in
-        // a BVH of widths 0 within the beam's bound; independent of any camera ray, so any width kept
-        // here leaves the estimate unbiased for the blurred field, and every beam gets one (none is
-        // left out).
-        const Timer timer;
-        const PhotonBeamBvh plain(beams_, {});
-        radii.assign(beams_.size(), kInfinity);
-        std::vector<uint32_t> found(beams_.size(), 0);
-        std::vector<double> bounds(beams_.size(), max_width);
-        tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
-        tbb::enumerable_thread_specific<uint64_t> tested(0);
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
-            std::vector<BeamCrossing>& near = scratch.local();
-            uint64_t& tests = tested.local();
-            for (size_t j = range.begin(); j != range.end(); ++j) {
-                const PhotonBeam& b = beams_[j];
-                // max_radius_mfp mean free paths at the beam's middle (as the point gathers' balls).
-                double sigma_t = 0.0;
-                for (const auto& m : scene_.media) sigma_t += m->sigma_t(b.origin + 0.5 * b.length * b.dir);
-                const double bound = bounded_radius(max_width, max_width_mfp, sigma_t);
-                bounds[j] = bound;
-                plain.nearest(b.origin, b.dir, b.length, k, bound, near, uint32_t(j), &tests);
-                found[j] = uint32_t(near.size());
-                // Fewer than k within a bound: the bound itself (a fixed width). Without one, the m < k
-                // found extrapolated: crossings within u grow as u (a field of lines), so the k-th
-                // would lie near u_m k / m.
-                if (near.size() == k) radii[j] = near.back().u;
-                else if (std::isfinite(bound)) radii[j] = bound;
-                else if (!near.empty()) radii[j] = near.back().u * double(k) / double(near.size());
-            }
-        });
-        // A beam no other one crosses and with no bound: the median of the widths measured with all k
-        // neighbours (or, where no beam has k, of the extrapolated ones); with no crossing at all
-        // there is no width to take, and the run is refused.
-        std::vector<double> measured;
-        for (size_t j = 0; j < beams_.size(); ++j)
-            if (found[j] == k && std::isfinite(radii[j]) && radii[j] > 0.0) measured.push_back(radii[j]);
-        if (measured.empty())
-            for (double r : radii)
-                if (std::isfinite(r) && r > 0.0) measured.push_back(r);
-        double typical = kInfinity;
-        if (!measured.empty()) {
-            std::nth_element(measured.begin(), measured.begin() + std::ptrdiff_t(measured.size() / 2), measured.end());
-            typical = measured[measured.size() / 2];
-        }
-        for (size_t j = 0; j < beams_.size(); ++j) {
-            if (found[j] == k) continue;
-            if (std::isfinite(bounds[j])) {
-                ++built_.widths_bounded;
-            } else if (found[j] > 0) {
-                ++built_.widths_extrapolated;
-            } else {
-                ++built_.widths_typical;
-                radii[j] = typical;
-            }
-        }
-        // Guessed widths (no bound) blur a beam's light as far as the guess goes, so a run where most
-        // widths would be guessed is refused (docs/photon_beams.md).
-        const uint64_t guessed = built_.widths_extrapolated + built_.widths_typical;
-        if (2 * guessed > beams_.size())
-            throw Error("photons.beam_widths = \"sample_point\": " + std::to_string(guessed) + " of the " +
-                        std::to_string(beams_.size()) +
-                        " photon beams are crossed by fewer than photons.k = " + std::to_string(k) +
-                        " others within their own segments and no bound is set, so most widths would be guessed; "
-                        "set photons.max_radius_mfp > 0 (mean free paths; default 2) or photons.max_radius > 0, a "
-                        "smaller photons.k, more photons, or photons.beam_widths = \"balloon\"");
-        for (uint64_t t : tested) built_.widths_tested += t;
-        built_.widths_seconds = timer.seconds();
-    }
+    if (widths == BeamWidths::sample_point) radii = sample_point_widths(max_width, max_width_mfp);
     const Timer bvh_timer;
     bvh_ = PhotonBeamBvh(beams_, radii, piece);
     built_.bvh_seconds = bvh_timer.seconds();
@@ -112,6 +43,78 @@ PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam>
     built_.pieces = bvh_.item_count();
     built_.bvh_bytes = bvh_.memory_bytes() + beams_.capacity() * sizeof(PhotonBeam);
     built_.bytes_per_beam = double(built_.bvh_bytes) / double(std::max<size_t>(beams_.size(), 1));
+}
+
+std::vector<double> PhotonBeamsGather::sample_point_widths(double max_width, double max_width_mfp) {
+    // Each beam's width from its own k nearest other beams (its segment as the query), found in
+    // a BVH of widths 0 within the beam's bound; independent of any camera ray, so any width kept
+    // here leaves the estimate unbiased for the blurred field, and every beam gets one (none is
+    // left out).
+    const Timer timer;
+    const PhotonBeamBvh plain(beams_, {});
+    std::vector<double> radii(beams_.size(), kInfinity);
+    std::vector<uint32_t> found(beams_.size(), 0);
+    std::vector<double> bounds(beams_.size(), max_width);
+    tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
+    tbb::enumerable_thread_specific<uint64_t> tested(0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
+        std::vector<BeamCrossing>& near = scratch.local();
+        uint64_t& tests = tested.local();
+        for (size_t j = range.begin(); j != range.end(); ++j) {
+            const PhotonBeam& b = beams_[j];
+            // max_radius_mfp mean free paths at the beam's middle (as the point gathers' balls).
+            double sigma_t = 0.0;
+            for (const auto& m : scene_.media) sigma_t += m->sigma_t(b.origin + 0.5 * b.length * b.dir);
+            const double bound = bounded_radius(max_width, max_width_mfp, sigma_t);
+            bounds[j] = bound;
+            plain.nearest(b.origin, b.dir, b.length, k_, bound, near, uint32_t(j), &tests);
+            found[j] = uint32_t(near.size());
+            // Fewer than k within a bound: the bound itself (a fixed width). Without one, the m < k
+            // found extrapolated: crossings within u grow as u (a field of lines), so the k-th
+            // would lie near u_m k / m.
+            if (near.size() == k_) radii[j] = near.back().u;
+            else if (std::isfinite(bound)) radii[j] = bound;
+            else if (!near.empty()) radii[j] = near.back().u * double(k_) / double(near.size());
+        }
+    });
+    // A beam no other one crosses and with no bound: the median of the widths measured with all k
+    // neighbours (or, where no beam has k, of the extrapolated ones); with no crossing at all
+    // there is no width to take, and the run is refused.
+    std::vector<double> measured;
+    for (size_t j = 0; j < beams_.size(); ++j)
+        if (found[j] == k_ && std::isfinite(radii[j]) && radii[j] > 0.0) measured.push_back(radii[j]);
+    if (measured.empty())
+        for (double r : radii)
+            if (std::isfinite(r) && r > 0.0) measured.push_back(r);
+    double typical = kInfinity;
+    if (!measured.empty()) {
+        std::nth_element(measured.begin(), measured.begin() + std::ptrdiff_t(measured.size() / 2), measured.end());
+        typical = measured[measured.size() / 2];
+    }
+    for (size_t j = 0; j < beams_.size(); ++j) {
+        if (found[j] == k_) continue;
+        if (std::isfinite(bounds[j])) {
+            ++built_.widths_bounded;
+        } else if (found[j] > 0) {
+            ++built_.widths_extrapolated;
+        } else {
+            ++built_.widths_typical;
+            radii[j] = typical;
+        }
+    }
+    // Guessed widths (no bound) blur a beam's light as far as the guess goes, so a run where most
+    // widths would be guessed is refused (docs/photon_beams.md).
+    const uint64_t guessed = built_.widths_extrapolated + built_.widths_typical;
+    if (2 * guessed > beams_.size())
+        throw Error("photons.beam_widths = \"sample_point\": " + std::to_string(guessed) + " of the " +
+                    std::to_string(beams_.size()) +
+                    " photon beams are crossed by fewer than photons.k = " + std::to_string(k_) +
+                    " others within their own segments and no bound is set, so most widths would be guessed; "
+                    "set photons.max_radius_mfp > 0 (mean free paths; default 2) or photons.max_radius > 0, a "
+                    "smaller photons.k, more photons, or photons.beam_widths = \"balloon\"");
+    for (uint64_t t : tested) built_.widths_tested += t;
+    built_.widths_seconds = timer.seconds();
+    return radii;
 }
 
 Rgb PhotonBeamsGather::scattering(const Vec3& x, double cos_theta) const {

@@ -91,6 +91,9 @@ private:
     mutable tbb::enumerable_thread_specific<Local> local_;
 
     Rgb scattering(const Vec3& x, double cos_theta) const;
+    // beam_widths = "sample_point": each beam's width from its own k nearest other beams within its
+    // bound (the widths' counts into built_); refuses a run where most widths would be guessed.
+    std::vector<double> sample_point_widths(double max_width, double max_width_mfp);
     // The balloon width's bound for a segment: max_width_mfp over the largest majorant of the media
     // along it, at most max_width_ (max_width_ where the mfp bound is off or no medium is crossed).
     double segment_bound(const Ray& ray, double t_end) const;
