@@ -31,14 +31,6 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
     pilot.cost.assign(3, 0.0);
 
     // Each candidate's work is counted apart from the run's, on counters of its own.
-    auto totals = [](const CounterSet& counters, uint64_t& queries, uint64_t& rays, uint64_t& lookups) {
-        queries = rays = lookups = 0;
-        for (const auto& l : counters) {
-            queries += l.estimates.stats.queries + l.surface_stats.queries;
-            rays += l.rays;
-            lookups += l.estimates.lookups;
-        }
-    };
     const Camera& camera = scene_.camera;
     const uint64_t seed = mix64(context.seed ^ 0x70696c6f74ULL);   // streams apart from the camera pass's
     std::vector<double> variance(kRays);
@@ -61,8 +53,9 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
             }
             variance[size_t(j)] = m2 / (kSamples - 1);
         });
-        uint64_t queries, rays, lookups;
-        totals(counters, queries, rays, lookups);
+        const CameraTotals t = sum_counters(counters);
+        const uint64_t queries = t.estimates.stats.queries + t.surface_stats.queries, rays = t.rays,
+                       lookups = t.estimates.lookups;
         double v = 0.0;
         for (double x : variance) v += x;
         pilot.variance[size_t(c)] = v / kRays;

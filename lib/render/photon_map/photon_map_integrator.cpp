@@ -248,14 +248,13 @@ Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
 }
 
 CountedOperations counted_operations(const CounterSet& counters) {
+    const CameraTotals t = sum_counters(counters);
     CountedOperations c;
-    for (const auto& l : counters) {
-        c.queries += double(l.estimates.stats.queries + l.surface_stats.queries + l.estimates.decisions);
-        c.rays += double(l.rays);
-        c.lookups += double(l.estimates.lookups);
-        c.march_weight_max = std::max(c.march_weight_max, l.march_weight_max);
-        c.map_used += double(l.map_used);
-    }
+    c.queries = double(t.estimates.stats.queries + t.surface_stats.queries + t.estimates.decisions);
+    c.rays = double(t.rays);
+    c.lookups = double(t.estimates.lookups);
+    c.march_weight_max = t.march_weight_max;
+    c.map_used = double(t.map_used);
     return c;
 }
 
