@@ -2,23 +2,36 @@
 # Path-traced references of the caustic scenes (issue 59, docs/studies/caustic_scenes.md): each
 # scene rendered twice by vpm's path tracer on independent seeds (1001, 1002), so that `vpm compare
 # --reference-halves A.exr B.exr IMAGE.exr` takes their mean as the reference and subtracts its noise
-# (from their difference). One thread each, under a wall-clock limit per half.
+# (from their difference). One thread each, under a wall-clock limit per half; all eight halves run
+# at once (nice 10).
 #
 # Usage: scripts/caustic_references.sh [SECONDS_PER_HALF] [OUT_DIR] [VPM]
-#   defaults: 2700 s, bench/caustic_references, build/vpm. All eight halves run at once (nice 10).
+#   defaults: 2700 s, bench/caustic_references, build/vpm.
+# Where OUT_DIR already holds a half, it is extended: the passes after its last (render.first_pass,
+# same seed) for SECONDS more, merged into it with `vpm merge` (exact: the mean by pass counts).
 set -euo pipefail
 seconds="${1:-2700}"
 out="${2:-bench/caustic_references}"
 vpm="${3:-build/vpm}"
 mkdir -p "$out"
 scenes="water_caustics glass_bulb_smoke mirror_ball_haze smoke_glass_flask"
+half() {
+    local scene="$1" half="$2" seed="$3" image="$out/${1}_$2.exr"
+    local args=(render "configs/$scene.toml" -q --threads 1 --set render.integrator=path --set render.seed="$seed"
+                --set render.time_limit="$seconds" --unset render.spp)
+    if [ ! -f "$image" ]; then
+        nice -n 10 "$vpm" "${args[@]}" -o "$image"
+        return
+    fi
+    local first more="$out/.more_${scene}_$half.exr" merged="$out/.merged_${scene}_$half.exr"
+    first=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['passes']['count'])" "${image%.exr}.json")
+    nice -n 10 "$vpm" "${args[@]}" --set render.first_pass="$first" -o "$more"
+    "$vpm" merge -q "$image" "$more" -o "$merged"
+    for ext in exr json png; do mv "${merged%.exr}.$ext" "${image%.exr}.$ext"; done
+    rm -f "$more" "${more%.exr}.json" "${more%.exr}.png"
+}
 for scene in $scenes; do
-    for half in a b; do
-        seed=1001
-        [ "$half" = b ] && seed=1002
-        nice -n 10 "$vpm" render "configs/$scene.toml" -q --threads 1 --set render.integrator=path \
-            --set render.seed=$seed --set render.time_limit="$seconds" --unset render.spp --variance \
-            -o "$out/${scene}_$half.exr" &
-    done
+    half "$scene" a 1001 &
+    half "$scene" b 1002 &
 done
 wait

@@ -15,11 +15,9 @@ double growth(double y_small, double y_large, double x_small, double x_large) {
 
 double per(double a, double b) { return b > 0.0 ? a / b : 0.0; }
 
-// Least growth exponents assumed beyond the pilots, whatever they read: between pilots of 1,024 and
-// 4,096 photons few beams are near any segment and the tests per query barely grow (N^0.03 in
-// glass_sphere_fog), while from 12,500 to 400,000 photons they grew as N^0.3-0.8 (302, 463, 1163,
-// 2041 per query at k 32) and the width tests per beam as N^0.77.
-constexpr double kLeastTestGrowth = 0.5;
+// Least growth of the width tests per beam assumed beyond the pilots, whatever they read (between
+// pilots of 1,024 and 4,096 photons it reads near 0; from 12,500 to 50,000 photons N^0.77). The
+// tests per camera query: BeamPassInputs::least_test_growth.
 constexpr double kLeastWidthGrowth = 0.75;
 
 // The camera side's operations other than the beams' queries, per probe sample.
@@ -46,6 +44,18 @@ BeamWorkUnits beam_work_units() {
     return b;
 }
 
+BeamWorkUnits point_beam_work_units(double radius_query) {
+    // docs/studies/beam_gather.md section 10.1 (bench_beam_gather, thin_cube, beam_k 8-128): a
+    // segment query 19 us + 0.19 us per disc crossed, a BVH item 0.6 us; the upper side kept.
+    BeamWorkUnits b;
+    b.query = 20000.0;
+    b.test = 250.0;
+    b.width_test = 0.0;
+    b.beam = radius_query;
+    b.piece = 600.0;
+    return b;
+}
+
 double beam_pilot_units(const BeamPilotCounts& c, const WorkUnits& w, const BeamWorkUnits& b) {
     return c.photons * w.path + c.collisions * w.collision + c.surface_stored * w.stored + c.beams * b.beam +
            c.pieces * b.piece + c.width_tests * b.width_test +
@@ -69,7 +79,7 @@ double beam_pass_units(const BeamPassInputs& in, double n, double s, double* map
         std::max(kLeastWidthGrowth, growth(per(S.width_tests, S.beams), per(L.width_tests, L.beams), S.photons, L.photons));
     map += beams * per(L.width_tests, L.beams) * std::pow(scale, width_growth) * b.width_test;
     const double test_growth =
-        std::max(kLeastTestGrowth, growth(per(S.beam_tests, S.beam_queries), per(L.beam_tests, L.beam_queries), S.photons, L.photons));
+        std::max(in.least_test_growth, growth(per(S.beam_tests, S.beam_queries), per(L.beam_tests, L.beam_queries), S.photons, L.photons));
     const double sample = other_camera_units(L, w) +
                           per(L.beam_queries, L.samples) * (b.query + per(L.beam_tests, L.beam_queries) * std::pow(scale, test_growth) * b.test);
     if (map_units) *map_units = map;
@@ -81,7 +91,7 @@ BeamPassSize size_beam_pass(const BeamPassInputs& in) {
     const BeamPilotCounts& L = in.large;
     const BeamPilotCounts& S = in.small;
     out.test_growth =
-        std::max(kLeastTestGrowth, growth(per(S.beam_tests, S.beam_queries), per(L.beam_tests, L.beam_queries), S.photons, L.photons));
+        std::max(in.least_test_growth, growth(per(S.beam_tests, S.beam_queries), per(L.beam_tests, L.beam_queries), S.photons, L.photons));
     out.width_growth =
         std::max(kLeastWidthGrowth, growth(per(S.width_tests, S.beams), per(L.width_tests, L.beams), S.photons, L.photons));
     out.pilot_units = beam_pilot_units(S, in.units, in.beam_units) + beam_pilot_units(L, in.units, in.beam_units);

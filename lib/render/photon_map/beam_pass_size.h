@@ -1,9 +1,10 @@
 #pragma once
-// Photons and camera samples per pass for photons.gather = "photon_beams" under render.time_limit
-// (docs/photon_beams.md, "Time limits"). A pass cannot be cut short, and a photon-beams pass is
-// dominated by two costs that grow faster than its photons: the k-nearest beam query of every camera
-// segment (its crossing tests grow with the beams: the k-th width shrinks, and a long segment opens
-// every box it pierces) and, for sample-point widths, each beam's own k-nearest query. So the pass is
+// Photons and camera samples per pass for the segment gathers under render.time_limit: photons.gather
+// = "photon_beams" (docs/photon_beams.md, "Time limits") and "point_beam" (docs/beam_estimate.md). A
+// pass cannot be cut short, and such a pass is dominated by costs that grow faster than its photons:
+// the query of every camera segment (its crossing tests grow with the beams or discs: the k-th width
+// or radius shrinks more slowly than their number grows, and a long segment opens every box it
+// pierces) and, for sample-point widths, each beam's own k-nearest query. So the pass is
 // sized from counted work, never from the clock: two pilot maps at N_L / 4 and N_L photons are traced,
 // built and queried by a probe of camera paths, each count per photon or per sample read at both
 // sizes, and its growth with the photons fitted as a power (within [0, 1] per photon or query) and
@@ -23,9 +24,11 @@ namespace vpm {
 constexpr double kBeamPlanMinPasses = 4.0;
 
 // Counts of one pilot: a map of `photons` emitted photons, built, and a probe of camera samples.
+// point_beam: its photon discs are the "beams" (each a k-nearest query for its radius), one BVH item
+// each, and the discs a segment crosses its crossing tests.
 struct BeamPilotCounts {
     double photons = 0.0;          // emitted
-    double beams = 0.0;            // beams in the BVH
+    double beams = 0.0;            // beams (point_beam: discs) in the BVH
     double pieces = 0.0;           // the camera BVH's items (long beams as pieces)
     double width_tests = 0.0;      // sample_point: crossing tests of the widths' queries (0: balloon)
     double collisions = 0.0;       // real medium collisions of the photon walks
@@ -41,10 +44,20 @@ struct BeamWorkUnits {
     double query = 0.0;        // a camera segment's beam query: traversal set-up, sort, transmittance walk
     double test = 0.0;         // a crossing test of a camera segment's query (with its share of the traversal)
     double width_test = 0.0;   // a crossing test of a sample-point width's query
-    double beam = 0.0;         // a beam recorded and its width kept
+    double beam = 0.0;         // a beam recorded and its width kept (point_beam: a disc and its radius query)
     double piece = 0.0;        // a BVH item built
 };
 BeamWorkUnits beam_work_units();
+// point_beam's: a disc's radius is a k-nearest query at photons.beam_k over the map (`radius_query`:
+// query_price of work_units at beam_k over the largest map considered, so smaller maps err short).
+BeamWorkUnits point_beam_work_units(double radius_query);
+
+// The least growth of the crossing tests per camera query assumed beyond the pilots. Photon beams:
+// N^0.5 (measured from 12,500 to 400,000 photons in glass_sphere_fog: N^0.3-0.8, while between the
+// small pilots it reads near 0). point_beam: N^(1/3), the discs a segment crosses at uniform density
+// (N discs of radius ~N^(-1/3): N r^2), read N^0.32 in glass_sphere_fog from 25,000 to 100,000 photons.
+constexpr double kLeastBeamTestGrowth = 0.5;
+constexpr double kLeastDiscTestGrowth = 1.0 / 3.0;
 
 struct BeamPassInputs {
     BeamPilotCounts small, large;   // the pilots, small.photons < large.photons
@@ -55,6 +68,7 @@ struct BeamPassInputs {
     int spp = 1;                    // samples per pass as configured: the largest S considered
     bool size_photons = false;      // false: N stays count
     bool size_samples = false;      // false: S stays spp
+    double least_test_growth = kLeastBeamTestGrowth;   // kLeastDiscTestGrowth for point_beam
     double budget = 0.0;            // render.time_limit in work units (kWorkUnitsPerSecond per second)
 };
 

@@ -1,5 +1,5 @@
-// photons.gather = "photon_beams" under render.time_limit: the pilots that size its passes
-// (render/photon_map/beam_pass_size.h), members of PhotonMapIntegrator.
+// photons.gather = "photon_beams" or "point_beam" under render.time_limit: the pilots that size
+// their passes (render/photon_map/beam_pass_size.h), members of PhotonMapIntegrator.
 #include <algorithm>
 #include <sstream>
 
@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "render/photon_map/gathers/photon_beams_gather.h"
+#include "render/photon_map/gathers/point_beam_gather.h"
 #include "render/photon_map/photon_map_integrator.h"
 #include "render/plan/pilot_pixels.h"
 
@@ -45,14 +46,20 @@ BeamPilotCounts PhotonMapIntegrator::beam_pilot(const PassContext& context, int6
         c.surface_stored = double(scratch.photons->surface_stored);
     }
     SegmentGatherInputs inputs{scene_, ps, maps.volume, maps.beams, pass_.k, pass_.max_radius, pass_.beam_scale};
-    std::unique_ptr<SegmentGather> gather = gather_entry(GatherMode::photon_beams).build(inputs);
+    std::unique_ptr<SegmentGather> gather = gather_entry(settings_.gather).build(inputs);
     const auto* beams = dynamic_cast<const PhotonBeamsGather*>(gather.get());
-    const PhotonBeamsGatherStats built = beams->stats();
-    c.beams = double(built.beams);
-    c.pieces = double(built.pieces);
-    c.width_tests = double(built.widths_tested);
+    const auto* discs = dynamic_cast<const PointBeamGather*>(gather.get());
+    if (beams) {
+        const PhotonBeamsGatherStats built = beams->stats();
+        c.beams = double(built.beams);
+        c.pieces = double(built.pieces);
+        c.width_tests = double(built.widths_tested);
+    } else {
+        c.beams = double(discs->stats().photons);   // one radius query and one BVH item per disc
+        c.pieces = c.beams;
+    }
 
-    PassMaps pm = pass_maps(pass_, GatherMode::photon_beams, maps.volume, surface ? &maps.surface : nullptr, decision_.view());
+    PassMaps pm = pass_maps(pass_, settings_.gather, maps.volume, surface ? &maps.surface : nullptr, decision_.view());
     pm.segment = gather->usable() ? gather.get() : nullptr;
     if (!gather->usable()) pm.gather = GatherMode::march;
     pm.volume_regions = maps.volume_regions.empty() ? nullptr : &maps.volume_regions;
@@ -72,9 +79,15 @@ BeamPilotCounts PhotonMapIntegrator::beam_pilot(const PassContext& context, int6
     });
     c.samples = double(kPixels * kBeamProbeSamples);
     c.camera = counted_operations(counters);
-    const PhotonBeamsGatherStats probed = beams->stats();
-    c.beam_queries = double(probed.queries);
-    c.beam_tests = double(probed.tested);
+    if (beams) {
+        const PhotonBeamsGatherStats probed = beams->stats();
+        c.beam_queries = double(probed.queries);
+        c.beam_tests = double(probed.tested);
+    } else {
+        const PointBeamGatherStats probed = discs->stats();
+        c.beam_queries = double(probed.queries);
+        c.beam_tests = double(probed.crossed);
+    }
     return c;
 }
 
@@ -89,7 +102,7 @@ void PhotonMapIntegrator::plan_beam_pass(const PassContext& context, RunStats& s
     } catch (const Error& e) {
         // Sample-point widths refuse a pilot map whose beams do not cross: no sizing from it.
         choice_.beam_pass = BeamPassSize{settings_.count, context.configured_spp};
-        stats.warn(std::string("photon_beams under render.time_limit: the pilot maps of ") + std::to_string(small) + " and " +
+        stats.warn(std::string(gather_entry(settings_.gather).name) + " under render.time_limit: the pilot maps of " + std::to_string(small) + " and " +
                        std::to_string(large) + " photons could not be built (" + e.what() +
                        "), so the passes keep photons.count and render.spp and may overrun the limit",
                    context.log);
@@ -97,7 +110,14 @@ void PhotonMapIntegrator::plan_beam_pass(const PassContext& context, RunStats& s
         return;
     }
     in.units = work_units(scene_, int(pass_.k));
-    in.beam_units = beam_work_units();
+    if (settings_.gather == GatherMode::point_beam) {
+        // Each disc's radius: a k-nearest query at beam_k, priced over the largest map considered.
+        const double stored = std::max(1.0, in.large.beams / std::max(1.0, in.large.photons) * double(settings_.count));
+        in.beam_units = point_beam_work_units(query_price(work_units(scene_, settings_.beam_k), stored));
+        in.least_test_growth = kLeastDiscTestGrowth;
+    } else {
+        in.beam_units = beam_work_units();
+    }
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
     in.count = settings_.count;
     in.spp = context.configured_spp;
@@ -112,7 +132,7 @@ void PhotonMapIntegrator::plan_beam_pass(const PassContext& context, RunStats& s
     const BeamPassSize& b = *choice_.beam_pass;
     std::ostringstream s;
     s.precision(3);
-    s << "photon_beams: render.time_limit = " << settings_.time_limit << " s sizes the pass from counted work (pilots of "
+    s << gather_entry(settings_.gather).name << ": render.time_limit = " << settings_.time_limit << " s sizes the pass from counted work (pilots of "
       << small << " and " << large << " photons, " << seconds << " s): " << b.count << " photons"
       << (settings_.size_beam_photons ? "" : " (photons.count)") << " and " << b.spp << " spp"
       << (settings_.size_beam_samples ? "" : " (render.spp / render.passes)") << " per pass, projected "
@@ -123,7 +143,7 @@ void PhotonMapIntegrator::plan_beam_pass(const PassContext& context, RunStats& s
     if (!b.fits) {
         std::ostringstream w;
         w.precision(3);
-        w << "render.time_limit = " << settings_.time_limit << " s: one photon_beams pass of " << b.count << " photons at " << b.spp
+        w << "render.time_limit = " << settings_.time_limit << " s: one " << gather_entry(settings_.gather).name << " pass of " << b.count << " photons at " << b.spp
           << " spp counts " << b.pass_units / kWorkUnitsPerSecond << " s of one core, more than its budget of "
           << b.pass_budget / kWorkUnitsPerSecond << " s, and a pass is not cut short";
         if (!settings_.size_beam_photons || !settings_.size_beam_samples)

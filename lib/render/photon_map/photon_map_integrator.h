@@ -112,7 +112,7 @@ private:
         std::optional<GatherPilotStats> pilot;      // gather = "pilot" (gather_pilot.cpp)
         std::optional<PassPlan> plan;               // gather = "auto" or the "auto" integrator (auto_gather.cpp)
         std::optional<AutoGatherStats> auto_stats;
-        std::optional<BeamPassSize> beam_pass;      // gather = "photon_beams" under render.time_limit (beam_pilot.cpp)
+        std::optional<BeamPassSize> beam_pass;      // gather = "photon_beams" or "point_beam" under render.time_limit (beam_pilot.cpp)
         // The plan chose "continue" (render/plan/no_map_candidate.h): no photon pass, and the camera
         // paths are the path tracer's (with an empty map they would draw the same paths in distribution,
         // but pay 1.2-1.5x the path tracer's time per sample for the map's bookkeeping).
@@ -181,7 +181,7 @@ private:
     static std::vector<GatherMeasurement> unmeasured_map_gathers(const PlanCandidates& candidates);
     void adopt_plan(const PassContext& context, const PassPlan& plan, GatherMode gather, bool uses_map, int64_t pilot_count);
 
-    // --- photons.gather = "photon_beams" under render.time_limit (beam_pilot.cpp, beam_pass_size.h):
+    // --- photons.gather = "photon_beams" or "point_beam" under render.time_limit (beam_pilot.cpp, beam_pass_size.h):
     // the photons and samples per pass, decided once per run from two pilot maps' counted work.
     void plan_beam_pass(const PassContext& context, RunStats& stats);
     // One pilot: a map of `photons` photons on streams of its own, built, and a probe of camera samples.

@@ -75,11 +75,13 @@ struct PhotonMapSettings {
     // per pass unless photons.count is given, the samples per pass unless render.spp or
     // render.passes is.
     bool size_photons = false, size_samples = false;
-    // photons.gather = "photon_beams" with render.time_limit > 0: its passes are sized from counted
+    // photons.gather = "photon_beams" or "point_beam" with render.time_limit > 0: its passes are sized from counted
     // work (render/photon_map/beam_pass_size.h), the photons unless photons.count is given, the
     // samples unless render.spp or render.passes is.
     bool size_beam_photons = false, size_beam_samples = false;
-    bool sizes_beam_pass() const { return gather == GatherMode::photon_beams && time_limit > 0.0; }
+    bool sizes_beam_pass() const {
+        return (gather == GatherMode::photon_beams || gather == GatherMode::point_beam) && time_limit > 0.0;
+    }
     bool passes_given = false;   // render.passes set (under a limit it pins the pass, the path tracer's too)
     double time_limit = 0.0;   // render.time_limit (the plan's budget)
     double alpha = 0.0;   // 0: "auto" (alpha_for)

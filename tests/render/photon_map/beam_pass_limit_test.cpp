@@ -1,6 +1,7 @@
-// photons.gather = "photon_beams" under render.time_limit: the pass is sized from the pilots'
-// counted work (render/photon_map/beam_pass_size.h), so the choice is the same on any thread count,
-// takes fewer photons than photons.count where the pass would not fit, and a pinned count stays.
+// photons.gather = "photon_beams" and "point_beam" under render.time_limit: the pass is sized from
+// the pilots' counted work (render/photon_map/beam_pass_size.h), so the choice is the same on any
+// thread count, takes fewer photons than photons.count where the pass would not fit, and a pinned
+// count stays.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,9 +18,9 @@ using namespace vpm;
 
 namespace {
 
-RunResult render(int threads, const std::vector<std::string>& extra) {
+RunResult render(int threads, const std::vector<std::string>& extra, const std::string& gather = "photon_beams") {
     std::vector<std::string> sets = {"render.width=16", "render.height=16", "render.time_limit=0.05",
-                                     "photons.gather=\"photon_beams\"", "photons.k=8",
+                                     "photons.gather=\"" + gather + "\"", "photons.k=8",
                                      "render.threads=" + std::to_string(threads)};
     sets.insert(sets.end(), extra.begin(), extra.end());
     RunOptions o;
@@ -62,6 +63,27 @@ TEST(BeamPassLimit, APinnedCountStaysAndWarns) {
     EXPECT_EQ(photons_per_pass(r), 20000.0);
     const bool warned = std::any_of(r.stats.warnings.begin(), r.stats.warnings.end(), [](const std::string& s) {
         return s.find("one photon_beams pass of 20000 photons") != std::string::npos;
+    });
+    EXPECT_TRUE(warned);
+}
+
+TEST(BeamPassLimit, PointBeamSizedFromCountsTheSameOnOneAndTwoThreads) {
+    const RunResult a = render(1, {}, "point_beam"), b = render(2, {}, "point_beam");
+    ASSERT_TRUE(a.stats.photon_ledger.has_value() && b.stats.photon_ledger.has_value());
+    EXPECT_EQ(photons_per_pass(a), photons_per_pass(b));
+    EXPECT_EQ(a.stats.passes.front().spp, b.stats.passes.front().spp);
+    EXPECT_LT(photons_per_pass(a), 100000.0);   // photons.count's default does not fit 0.05 s
+    EXPECT_GE(photons_per_pass(a), 1024.0);     // the small pilot's photons: the least N
+    EXPECT_EQ(a.stats.passes.front().spp, 1);
+    EXPECT_TRUE(has_phase(a, "beam_pass_pilot"));
+}
+
+TEST(BeamPassLimit, PointBeamPinnedCountStaysAndWarns) {
+    const RunResult r = render(2, {"photons.count=100000"}, "point_beam");
+    ASSERT_TRUE(r.stats.photon_ledger.has_value());
+    EXPECT_EQ(photons_per_pass(r), 100000.0);
+    const bool warned = std::any_of(r.stats.warnings.begin(), r.stats.warnings.end(), [](const std::string& s) {
+        return s.find("one point_beam pass of 100000 photons") != std::string::npos;
     });
     EXPECT_TRUE(warned);
 }
