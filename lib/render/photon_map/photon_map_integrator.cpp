@@ -151,10 +151,7 @@ void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, si
     photons_.one_off_seconds += probe_timer.seconds();
     photons_.ledger.probe += uint64_t(p.probe_photons);
     const WorkUnits w = work_units(scene_, k);
-    double per_photon = w.path + w.collision * p.collisions_per_photon + w.stored * p.stored_per_photon;
-    // The point-beam gather then finds every stored photon's radius: a kNN query each.
-    if (settings_.gather == GatherMode::point_beam)
-        per_photon += p.stored_per_photon * query_price(w, std::max(1.0, p.stored_per_photon * double(settings_.count)));
+    const double per_photon = w.path + w.collision * p.collisions_per_photon + w.stored * p.stored_per_photon;
     const double budget = settings_.time_limit * kWorkUnitsPerSecond, work = per_photon * double(settings_.count);
     if (!(work > budget)) return;
     std::ostringstream s;
@@ -167,7 +164,7 @@ void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, si
     else s << "not one photon fits";
     // A count the plan could have sized was set by the user; for the other gathers it may be the default.
     if (settings_.plan_sizes_passes()) s << ", or leave photons.count unset for the plan to size it";
-    else s << " (the plan sizes photons only for the \"collision\" and \"march\" gathers: set photons.count to fit)";
+    else s << " (the plan sizes photons only for the \"collision\", \"march\", \"point_beam\" and \"photon_beams\" gathers: set photons.count to fit)";
     stats.warn(s.str(), context.log);
 }
 
