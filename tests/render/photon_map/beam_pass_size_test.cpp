@@ -97,14 +97,15 @@ TEST(BeamPassSize, GrowthIsFittedAndAtLeastTheFloor) {
 
 TEST(BeamPassSize, PointBeamGrowthFloorIsTheDiscs) {
     // point_beam: flat pilots read growth 0; the discs crossed per segment grow at least as N^(1/3).
-    BeamPassInputs in = inputs(8.0, true, true);
+    // 32 s: a 256 x 256 image's segment queries at 20,000 units each fit a quarter of it.
+    BeamPassInputs in = inputs(32.0, true, true);
     in.beam_units = point_beam_work_units(5000.0);
     in.least_test_growth = kLeastDiscTestGrowth;
     const BeamPassSize b = size_beam_pass(in);
     EXPECT_NEAR(b.test_growth, 1.0 / 3.0, 1e-12);
     EXPECT_TRUE(b.fits);
     // Cheaper growth than photon beams' floor: at least as many photons fit the same budget.
-    BeamPassInputs beams = inputs(8.0, true, true);
+    BeamPassInputs beams = inputs(32.0, true, true);
     beams.beam_units = in.beam_units;
     EXPECT_GE(b.count, size_beam_pass(beams).count);
 }
