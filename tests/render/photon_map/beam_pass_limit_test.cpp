@@ -70,7 +70,7 @@ TEST(BeamPassLimit, APinnedCountStaysAndWarns) {
 
 TEST(BeamPassLimit, PointBeamSizedFromCountsTheSameOnOneAndTwoThreads) {
     const RunResult a = render(1, {}, "point_beam"), b = render(2, {}, "point_beam");
-    ASSERT_TRUE(a.stats.photon_ledger.has_value() && b.stats.photon_ledger.has_value());
+    ASSERT_TRUE(PhotonMapStats::of(a.stats).photon_ledger.has_value() && PhotonMapStats::of(b.stats).photon_ledger.has_value());
     EXPECT_EQ(photons_per_pass(a), photons_per_pass(b));
     EXPECT_EQ(a.stats.passes.front().spp, b.stats.passes.front().spp);
     EXPECT_LT(photons_per_pass(a), 100000.0);   // photons.count's default does not fit 0.05 s
@@ -81,7 +81,7 @@ TEST(BeamPassLimit, PointBeamSizedFromCountsTheSameOnOneAndTwoThreads) {
 
 TEST(BeamPassLimit, PointBeamPinnedCountStaysAndWarns) {
     const RunResult r = render(2, {"photons.count=100000"}, "point_beam");
-    ASSERT_TRUE(r.stats.photon_ledger.has_value());
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).photon_ledger.has_value());
     EXPECT_EQ(photons_per_pass(r), 100000.0);
     const bool warned = std::any_of(r.stats.warnings.begin(), r.stats.warnings.end(), [](const std::string& s) {
         return s.find("one point_beam pass of 100000 photons") != std::string::npos;
