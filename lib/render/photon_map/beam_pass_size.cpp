@@ -45,8 +45,8 @@ BeamWorkUnits beam_work_units() {
 }
 
 BeamWorkUnits point_beam_work_units(double radius_query) {
-    // docs/studies/beam_gather.md section 10.1 (bench_beam_gather, thin_cube, beam_k 8-128): a
-    // segment query 19 us + 0.19 us per disc crossed, a BVH item 0.6 us; the upper side kept.
+    // The point-beam gather's measured costs (docs/beam_estimate.md): a segment query's set-up, each
+    // disc it crosses, a BVH item; the upper side kept, so a pass errs short.
     BeamWorkUnits b;
     b.query = 20000.0;
     b.test = 250.0;
