@@ -60,11 +60,11 @@ BeamPilotCounts PhotonMapIntegrator::beam_pilot(const PassContext& context, int6
         c.pieces = c.beams;
     }
 
-    PassMaps pm = pass_maps(pass_, settings_.gather, maps.volume, surface ? &maps.surface : nullptr, decision_.view());
+    PassMaps pm = pass_maps(pass_, settings_.gather, maps.volume, surface ? &maps.surface : nullptr, decision_.view(),
+                            maps.volume_regions.empty() ? nullptr : &maps.volume_regions,
+                            surface && !maps.surface_regions.empty() ? &maps.surface_regions : nullptr);
     pm.segment = gather->usable() ? gather.get() : nullptr;
     if (!gather->usable()) pm.gather = GatherMode::march;
-    pm.volume_regions = maps.volume_regions.empty() ? nullptr : &maps.volume_regions;
-    pm.surface_regions = surface && !maps.surface_regions.empty() ? &maps.surface_regions : nullptr;
     const CameraPath path(scene_, settings_, pm, both_strategies_);
     CounterSet counters;
     const Camera& camera = scene_.camera;
