@@ -131,15 +131,18 @@ void PhotonMapIntegrator::plan_beam_pass(const PassContext& context, RunStats& s
     photons_.one_off_seconds += seconds;
     stats.phase("beam_pass_pilot", seconds);
     const BeamPassSize& b = *choice_.beam_pass;
+    const bool discs = settings_.gather == GatherMode::point_beam;
     std::ostringstream s;
     s.precision(3);
     s << gather_entry(settings_.gather).name << ": render.time_limit = " << settings_.time_limit << " s sizes the pass from counted work (pilots of "
       << small << " and " << large << " photons, " << seconds << " s): " << b.count << " photons"
       << (settings_.size_beam_photons ? "" : " (photons.count)") << " and " << b.spp << " spp"
       << (settings_.size_beam_samples ? "" : " (render.spp / render.passes)") << " per pass, projected "
-      << b.pass_units / kWorkUnitsPerSecond << " s of one core (photon pass, BVH and widths " << b.map_units / kWorkUnitsPerSecond
-      << " s) for a pass budget of " << b.pass_budget / kWorkUnitsPerSecond << " s; crossing tests per query grow as N^"
-      << b.test_growth << ", width tests per beam as N^" << b.width_growth << "\n";
+      << b.pass_units / kWorkUnitsPerSecond << " s of one core (photon pass, " << (discs ? "radii and BVH " : "BVH and widths ")
+      << b.map_units / kWorkUnitsPerSecond << " s) for a pass budget of " << b.pass_budget / kWorkUnitsPerSecond << " s; "
+      << (discs ? "discs crossed" : "crossing tests") << " per query grow as N^" << b.test_growth;
+    if (!discs) s << ", width tests per beam as N^" << b.width_growth;
+    s << "\n";
     if (context.log) *context.log << s.str();
     if (!b.fits) {
         std::ostringstream w;
