@@ -28,7 +28,8 @@ StudyOptions walks_options(size_t trials) {
 }  // namespace
 
 // 3000 independent trials (8 queries each) at albedo 0.5: the walk-corrected and leave-group-out
-// means are exact (0), classic, corrected and walk_classic first order in the clustering.
+// means are exact (0), walk_classic exact from the walks entering a ball, classic and corrected first
+// order in the clustering.
 TEST(StudyWalks, EveryEstimatorWithinFourStandardErrorsOfItsDerivation) {
     const StudyResult r = run_estimator_study(walks_options(3000));
     ASSERT_EQ(r.rows.size(), 2u * walk_study_methods().size());
