@@ -718,11 +718,13 @@ void run_walks(const StudyOptions& opt, StudyResult& res, const Timer& timer, co
         double photons_sum = 0.0;
         for (size_t p : photons) photons_sum += double(p);
         const size_t mean_photons = size_t(std::llround(photons_sum / double(opt.trials)));
-        // The theory's radii reach past the Poisson support of k_max photons.
-        const double r_max = 1.01 * std::cbrt(3.0 * (double(kmax) + 12.0 * std::sqrt(double(kmax)) + 30.0) /
+        // The theory's radii reach past the Poisson support of k_max photons, and of k_max walks
+        // entering with up to 16 photons each (walk_classic's theory; a larger c is an error there).
+        const double r_max = 1.01 * std::cbrt(3.0 * 16.0 * (double(kmax) + 12.0 * std::sqrt(double(kmax)) + 30.0) /
                                               (4.0 * kPi * opt.walk_density));
         Rng theory_rng = trial_rng(opt.seed, stream_id(StudyScenario::walks, int(mi), uint64_t(1) << 40));
-        const WalkClustering clustering = walk_clustering(medium, opt.walk_theory_walks, theory_rng, r_max);
+        Rng point_rng = trial_rng(opt.seed, stream_id(StudyScenario::walks, int(mi), (uint64_t(1) << 40) + 1));
+        const WalkClustering clustering = walk_clustering(medium, opt.walk_theory_walks, theory_rng, r_max, point_rng);
         for (size_t ki = 0; ki < nk; ++ki)
             for (size_t m = 0; m < nm; ++m) {
                 StudyRow row;
@@ -734,7 +736,7 @@ void run_walks(const StudyOptions& opt, StudyResult& res, const Timer& timer, co
                 row.n = mean_photons;
                 reduce(samples, opt.trials, nk * nm, ki * nm + m, row);
                 row.has_theory = true;
-                row.theory_source = m >= 3 ? "exact_mean" : "first_order";
+                row.theory_source = m >= 3 ? "exact_mean" : m == 2 ? "quadrature" : "first_order";
                 row.th_error = walk_theory_error(m, row.k, opt.walk_density, clustering);
                 row.th_variance = row.th_mse = row.th_variance_limit = std::nan("");
                 res.rows.push_back(row);
@@ -744,6 +746,10 @@ void run_walks(const StudyOptions& opt, StudyResult& res, const Timer& timer, co
              << " measured (1/(1 - albedo) = " << fmt_fixed(1.0 / (1.0 - medium.albedo), 3) << "); siblings per photon in a ball of k photons s(k):";
         for (size_t ki = 0; ki < nk; ++ki)
             note << (ki ? ", " : " ") << opt.ks[ki] << ": " << fmt_fixed(walk_siblings_at(opt.ks[ki], opt.walk_density, clustering), 4);
+        note << "; photons inside it of a walk that enters it c(k):";
+        for (size_t ki = 0; ki < nk; ++ki)
+            note << (ki ? ", " : " ") << opt.ks[ki] << ": "
+                 << fmt_fixed(walk_entering_photons_at(opt.ks[ki], opt.walk_density, clustering), 4);
         res.notes.push_back(note.str());
         char buf[240];
         std::snprintf(buf, sizeof buf, "study: %-18s 3D  %zu trials x %zu k  %zu walks, ~%zu photons  %.2f s (total %.1f s)",

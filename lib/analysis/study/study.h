@@ -69,9 +69,10 @@
 //              0.99, g 0 and 0.8), rows "walks/a<albedo>/g<g>": the photon-neighbour classic and
 //              corrected, the walk-neighbour walk_classic and walk_corrected
 //              (photon/estimate/walk_estimate.h) and leave_group_out. Theory: walk_corrected and
-//              leave_group_out exact (0, "exact_mean"); the others first order in the clustering
-//              ("first_order", docs/walk_correlation.md), from the sibling-pair distances of
-//              independent walks. Not among the defaults (ask for it).
+//              leave_group_out exact (0, "exact_mean"); walk_classic exact for many walks
+//              ("quadrature": from the walks entering a ball, c(R)); classic and corrected first
+//              order in the clustering ("first_order", docs/walk_correlation.md), from the
+//              sibling-pair distances of independent walks. Not among the defaults (ask for it).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

@@ -148,16 +148,47 @@ void walk_trial(const WalkMedium& medium, const WalkTrialSettings& st, const std
     for (double& v : out) v /= double(st.queries);
 }
 
-WalkClustering walk_clustering(const WalkMedium& medium, size_t walks, Rng& rng, double max_radius) {
+WalkClustering walk_clustering(const WalkMedium& medium, size_t walks, Rng& rng, double max_radius, Rng& point_rng,
+                               size_t points) {
     // Ordered sibling pairs binned by distance (log bins; closer than the first edge: the first bin).
     const size_t bins = 2048;
     const double d_lo = 1e-4 * max_radius, d_hi = 2.0 * max_radius, step = std::log(d_hi / d_lo) / double(bins);
     std::vector<double> hist(bins, 0.0);
+    const size_t radii = 256;
+    const double r_lo = 1e-3 * max_radius;
+    std::vector<double> radius(radii);
+    for (size_t i = 0; i < radii; ++i) radius[i] = r_lo * std::pow(max_radius / r_lo, double(i) / double(radii - 1));
+    // The volume within r of a walk, int 1[D(x) < r] dx with D(x) its nearest photon's distance, by
+    // importance sampling: x = y_i + rho u, photon i uniform, rho log-uniform in [r_lo, max_radius],
+    // u uniform in the unit ball. Its density is q(x) = mean_i g(|x - y_i|), g(d) = the mixture of
+    // ball densities 1 / V(rho) over rho > max(d, r_lo); weight 1 / q counted at every grid radius
+    // above D(x) (unbiased for r <= max_radius, where q > 0 wherever D < r).
+    const double log_span = std::log(max_radius / r_lo);
+    auto g = [&](double d) {
+        const double a = std::max(d, r_lo);
+        return a >= max_radius ? 0.0 : (1.0 / (a * a * a) - 1.0 / (max_radius * max_radius * max_radius)) / (4.0 * kPi * log_span);
+    };
+    std::vector<double> entered(radii, 0.0);   // sum of the weights first counted at each grid radius
     std::vector<Vec3> walk;
     double photons = 0.0;
     for (size_t w = 0; w < walks; ++w) {
         random_walk(medium, Vec3::Zero(), rng, walk);
         photons += double(walk.size());
+        for (size_t p = 0; p < points; ++p) {
+            const size_t i = std::min(walk.size() - 1, size_t(point_rng.uniform() * double(walk.size())));
+            const double rho = r_lo * std::exp(point_rng.uniform() * log_span);
+            const double u1 = point_rng.uniform(), u2 = point_rng.uniform(), u3 = point_rng.uniform();
+            const Vec3 x = walk[i] + rho * sample_uniform_ball(u1, u2, u3);
+            double nearest = kInfinity, q = 0.0;
+            for (const Vec3& y : walk) {
+                const double d = (x - y).norm();
+                nearest = std::min(nearest, d);
+                q += g(d);
+            }
+            q /= double(walk.size());
+            const size_t first = size_t(std::upper_bound(radius.begin(), radius.end(), nearest) - radius.begin());
+            if (first < radii) entered[first] += 1.0 / (q * double(points));
+        }
         for (size_t i = 0; i < walk.size(); ++i)
             for (size_t j = i + 1; j < walk.size(); ++j) {
                 const double d = (walk[i] - walk[j]).norm();
@@ -168,15 +199,16 @@ WalkClustering walk_clustering(const WalkMedium& medium, size_t walks, Rng& rng,
     }
     WalkClustering c;
     c.photons_per_walk = photons / double(walks);
-    const size_t radii = 256;
-    const double r_lo = 1e-3 * max_radius;
+    c.radius = radius;
+    double union_volume = 0.0;   // summed over the walks
     for (size_t i = 0; i < radii; ++i) {
-        const double r = r_lo * std::pow(max_radius / r_lo, double(i) / double(radii - 1));
+        const double r = radius[i];
         double s = 0.0;
         for (size_t b = 0; b < bins; ++b)
             if (hist[b] > 0.0) s += hist[b] * ball_overlap(d_lo * std::exp((double(b) + 0.5) * step) / r);
-        c.radius.push_back(r);
         c.s.push_back(s / photons);
+        union_volume += entered[i];
+        c.c.push_back(union_volume > 0.0 ? photons * ball_volume(3, r) / union_volume : 1.0);
     }
     return c;
 }
@@ -196,6 +228,42 @@ double siblings(double m, double density, const WalkClustering& c) {
     if (j >= c.radius.size()) return c.s.back();
     const double t = std::log(r / c.radius[j - 1]) / std::log(c.radius[j] / c.radius[j - 1]);
     return c.s[j - 1] + t * (c.s[j] - c.s[j - 1]);
+}
+
+// c at expected count m, linear in log r between the grid's radii (1 below the grid: a ball far
+// below the photon spacing holds one photon of the walk that enters it); beyond the grid an error.
+double entering_photons(double m, double density, const WalkClustering& c) {
+    const double r = std::cbrt(3.0 * m / (4.0 * kPi * density));
+    if (r <= c.radius.front()) return 1.0;
+    if (r > c.radius.back())
+        throw Error("study: walks theory: radius " + std::to_string(r) + " beyond the clustering grid (" +
+                    std::to_string(c.radius.back()) + ")");
+    const size_t j = size_t(std::upper_bound(c.radius.begin(), c.radius.end(), r) - c.radius.begin());
+    if (j >= c.radius.size()) return c.c.back();
+    const double t = std::log(r / c.radius[j - 1]) / std::log(c.radius[j] / c.radius[j - 1]);
+    return c.c[j - 1] + t * (c.c[j] - c.c[j - 1]);
+}
+
+// P(Poisson(mu) >= k) = 1 - sum_{j < k} p_j(mu).
+double poisson_at_least(size_t k, double mu) {
+    double below = 0.0;
+    for (size_t j = 0; j < k; ++j) below += poisson_pmf(j, mu);
+    return std::max(0.0, 1.0 - below);
+}
+
+// Walk classic: E[S_k] / rho - 1 = E[1 / V(R)] / lambda = int_0^inf P(H(m) >= k) dm / m^2, H(m) ~
+// Poisson(m / c(m)) the walks entering a ball of m expected photons (docs/walk_correlation.md).
+// Integrated in log m up to the m where the probability is 1 to 1e-12, then the tail 1 / m.
+double walk_classic_error(size_t k, double density, const WalkClustering& c) {
+    const double kd = double(k), m_lo = 1e-6;
+    const double h = 1e-3;   // log m step
+    double sum = 0.0, m = m_lo;
+    for (;;) {
+        const double p = poisson_at_least(k, m / entering_photons(m, density, c));
+        if (p > 1.0 - 1e-12 && m > kd) return sum + 0.5 * h * p / m + 1.0 / m;
+        sum += (m == m_lo ? 0.5 : 1.0) * h * p / m;
+        m *= std::exp(h);
+    }
 }
 
 // int_0^inf s(m)/2 f(m) dm / m over the Poisson support of k, in log m.
@@ -223,7 +291,7 @@ double walk_theory_error(size_t method, size_t k, double density, const WalkClus
     switch (method) {
         case 0: return kd / (kd - 1.0) * (1.0 + corrected_bias()) - 1.0;
         case 1: return corrected_bias();
-        case 2: return 1.0 / (kd - 1.0) - poisson_integral(k, density, c, [k](double m) { return poisson_pmf(k - 1, m); });
+        case 2: return walk_classic_error(k, density, c);
         case 3:
         case 4: return 0.0;
         default: throw Error("walk_theory_error: method index " + std::to_string(method) + " out of range");
@@ -231,5 +299,9 @@ double walk_theory_error(size_t method, size_t k, double density, const WalkClus
 }
 
 double walk_siblings_at(size_t k, double density, const WalkClustering& c) { return siblings(double(k), density, c); }
+
+double walk_entering_photons_at(size_t k, double density, const WalkClustering& c) {
+    return entering_photons(double(k), density, c);
+}
 
 }  // namespace vpm

@@ -22,9 +22,12 @@
 // the walk geometry alone (walk_clustering below: sibling distance pairs, no kNN):
 //   corrected       b_c = (k - 1) int_0^inf s(m)/2 (p_{k-2}(m) - p_{k-1}(m)) dm / m
 //   classic         k/(k - 1) (1 + b_c) - 1
-//   walk_classic    1/(k - 1) - int_0^inf s(m)/2 p_{k-1}(m) dm / m
 // with m = density V(R) the expected photon count of the ball and p_j the Poisson pmf. Valid
-// while s is small at the balls that matter (m ~ k); the study prints s there.
+// while s is small at the balls that matter (m ~ k); the study prints s there. walk_classic's
+// theory is exact in the limit of many walks, from the walks that enter a ball rather than from s:
+//   walk_classic    int_0^inf P(Poisson(m / c(m)) >= k) dm / m^2
+// with c(R) = the mean photons inside the ball of a walk that enters it (the photons of one walk
+// over the volume within R of it, measured by walk_clustering).
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -55,17 +58,23 @@ struct WalkTrialSettings {
 void walk_trial(const WalkMedium& medium, const WalkTrialSettings& settings, const std::vector<size_t>& ks, Rng& rng,
                 std::vector<double>& out, size_t& photons);
 
-// s(R) on a grid of radii, from `walks` independent walks' sibling distances (unwrapped).
+// s(R) and c(R) on a grid of radii, from `walks` independent walks (unwrapped): s from their
+// sibling distances; c = photons per walk x V(R) / E[U(R)], U(R) the volume within R of one walk (the
+// union of its photons' balls), by importance sampling `points` uniform points around each walk
+// (drawn from `point_rng`).
 struct WalkClustering {
-    std::vector<double> radius, s;
+    std::vector<double> radius, s, c;
     double photons_per_walk = 0;   // measured mean, for the notes
 };
-WalkClustering walk_clustering(const WalkMedium& medium, size_t walks, Rng& rng, double max_radius);
+WalkClustering walk_clustering(const WalkMedium& medium, size_t walks, Rng& rng, double max_radius, Rng& point_rng,
+                               size_t points = 64);
 
-// First-order theory of the relative error of method `m` (index into walk_study_methods()) at k.
+// Theory of the relative error of method `m` (index into walk_study_methods()) at k: first order in
+// the clustering for classic and corrected, exact for the others.
 double walk_theory_error(size_t method, size_t k, double density, const WalkClustering& c);
 
-// s at the ball that holds k photons in expectation (m = k), for the notes.
+// s and c at the ball that holds k photons in expectation (m = k), for the notes.
 double walk_siblings_at(size_t k, double density, const WalkClustering& c);
+double walk_entering_photons_at(size_t k, double density, const WalkClustering& c);
 
 }  // namespace vpm

@@ -4,6 +4,8 @@
 // beam: it ends where the flight ends (a collision, a surface, the media's bounds), with no
 // transmittance along it; the flux of many short beams through a point is the track-length
 // estimate of the fluence there (docs/photon_beams.md).
+#include <cstdint>
+
 #include "core/math.h"
 
 namespace vpm {
@@ -13,6 +15,9 @@ struct PhotonBeam {
     Vec3 dir = Vec3::UnitZ();   // unit travel direction (the d_in of hg_eval)
     double length = 0.0;
     Rgb power = Rgb::Zero();
+    // The walk (emitted path) whose flight this is, labelled as its photons are (PhotonInput::walk):
+    // the beams of one walk share their end points, beams of different labels are independent.
+    uint64_t walk = 0;
 };
 
 }  // namespace vpm

@@ -117,7 +117,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
         const double window = kForcedWindow * power.maxCoeff();   // forced steps: the weight window's floor
         bool scattered = false;
         int bounces = 0;
-        // Every photon of this walk: its label is the path index i, its group i mod kWalkGroups (photon.h).
+        // Every photon and beam of this walk: its label is the path index i, its group i mod kWalkGroups (photon.h).
         const uint8_t group = uint8_t(i % kWalkGroups);
         for (;;) {
             if (bounces >= s.max_bounces) {
@@ -134,7 +134,7 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
                 const double flight = event ? event.t : v.on_surface ? hit.t : kInfinity;
                 double t0, t1;
                 if (media_bounds.intersect(ray, flight, t0, t1) && t1 > t0 && std::isfinite(t1))
-                    out.beams.push_back(PhotonBeam{ray.at(t0), ray.dir, t1 - t0, power});
+                    out.beams.push_back(PhotonBeam{ray.at(t0), ray.dir, t1 - t0, power, i});
             }
             if (v.escaped()) {
                 out.energy.escaped += power;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "analysis/study/study.h"
+#include "analysis/study/walk_trial.h"
 #include "core/error.h"
 
 using namespace vpm;
@@ -28,7 +29,8 @@ StudyOptions walks_options(size_t trials) {
 }  // namespace
 
 // 3000 independent trials (8 queries each) at albedo 0.5: the walk-corrected and leave-group-out
-// means are exact (0), classic, corrected and walk_classic first order in the clustering.
+// means are exact (0), walk_classic exact from the walks entering a ball, classic and corrected first
+// order in the clustering.
 TEST(StudyWalks, EveryEstimatorWithinFourStandardErrorsOfItsDerivation) {
     const StudyResult r = run_estimator_study(walks_options(3000));
     ASSERT_EQ(r.rows.size(), 2u * walk_study_methods().size());
@@ -43,6 +45,25 @@ TEST(StudyWalks, EveryEstimatorWithinFourStandardErrorsOfItsDerivation) {
     const std::string csv = study_csv(r);
     EXPECT_NE(csv.find("walks/a0.5/g0,3,8,walk_corrected,"), std::string::npos);
     EXPECT_NE(csv.find("walks/a0.5/g0,3,32,leave_group_out,"), std::string::npos);
+}
+
+// walk_classic's theory, int P(Poisson(m / c) >= k) dm / m^2, on a constant c: independent photons
+// (c = 1) give the seed's 1/(k-1), walks that enter with c photons each 1/(c (k-1)) (substitute
+// mu = m / c); the quadrature must reproduce both.
+TEST(StudyWalks, WalkClassicTheoryOnAConstantEntryCount) {
+    const double density = 40.0;
+    for (const double entering : {1.0, 2.0, 3.5}) {
+        WalkClustering c;
+        for (size_t i = 0; i < 400; ++i) {
+            c.radius.push_back(1e-3 * std::pow(5e3, double(i) / 399.0));   // 1e-3 .. 5 mfp
+            c.s.push_back(0.0);
+            c.c.push_back(entering);
+        }
+        for (const size_t k : {2, 3, 8, 32}) {
+            const double expected = 1.0 / (entering * double(k - 1));
+            EXPECT_NEAR(walk_theory_error(2, k, density, c), expected, 1e-6 * expected) << "c " << entering << " k " << k;
+        }
+    }
 }
 
 TEST(StudyWalks, SameNumbersOnAnyThreadCount) {

@@ -232,6 +232,59 @@ albedo = 0.8
     for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a.walk(i), b.walk(i)) << i;
 }
 
+// Photon beams carry their walk as photons do: labels in path order and the same on 1 and 2
+// threads; every volume photon (a collision) ends a flight of its own walk, the beam stored before
+// it, so one walk's beams and photons form one chain.
+TEST(PhotonWalks, TracerLabelsBeamsWithTheirWalk) {
+    const std::string text = R"(
+[camera]
+position = [0, 0, 5]
+look_at = [0, 0, 0]
+[[lights]]
+type = "environment"
+radiance = 0.1
+[[media]]
+type = 'homogeneous'
+shape = 'sphere'
+radius = 1
+sigma_t_scale = 3
+g = 0.4
+albedo = 0.8
+)";
+    auto scene = RunConfig::build(parse_config(text, "beam_walks.toml", VPM_SOURCE_DIR "/configs")).scene;
+    PhotonTraceSettings s;
+    s.count = 20000;
+    s.progress = false;
+    s.store_surface = false;
+    s.store_beams = true;
+    PhotonTraceResult one, two;
+    tbb::task_arena(1).execute([&] { one = trace_photons(*scene, s); });
+    tbb::task_arena(2).execute([&] { two = trace_photons(*scene, s); });
+    ASSERT_EQ(one.beams.size(), two.beams.size());
+    ASSERT_GT(one.beams.size(), one.photons.size());
+    ASSERT_GT(one.photons.size(), 10000u);
+    for (size_t i = 0; i < one.beams.size(); ++i) {
+        ASSERT_EQ(one.beams[i].walk, two.beams[i].walk) << i;
+        ASSERT_LT(one.beams[i].walk, s.count);
+        if (i > 0) {
+            ASSERT_LE(one.beams[i - 1].walk, one.beams[i].walk) << i;
+        }
+    }
+    // Walk through both lists in order: the beam before each photon is of its walk and ends where
+    // the photon is, travelling its way.
+    size_t b = 0;
+    for (size_t i = 0; i < one.photons.size(); ++i) {
+        const PhotonInput& p = one.photons[i];
+        bool found = false;
+        for (; b < one.beams.size() && one.beams[b].walk <= p.walk && !found; ++b) {
+            const PhotonBeam& beam = one.beams[b];
+            found = beam.walk == p.walk && (beam.origin + beam.length * beam.dir - p.position).norm() < 1e-9 &&
+                    (beam.dir - p.direction).norm() < 1e-12;
+        }
+        ASSERT_TRUE(found) << "photon " << i << " of walk " << p.walk;
+    }
+}
+
 // The pilot's split maps (walk_group_split.h) keep every photon's walk: each walk lands whole in one
 // part, so the parts' walks add up to the map's.
 TEST(PhotonWalks, SplitByWalkGroupKeepsTheWalks) {
