@@ -430,21 +430,26 @@ TEST(PassPlan, APhotonPassOverTheBudgetsShareHalvesThePhotonsUntilThePassFits) {
     const PassPlan p = plan_passes(in);
     EXPECT_EQ(p.count, 25000);
     EXPECT_LE(10.0 * double(p.count) + 1000.0 * p.spp * 10.0, 3e5);
-    // Pinned photons stay, over the cap: the smallest pass the plan may make.
+    // Pinned photons stay, over the whole budget: no smaller pass can be made.
     in.size_photons = false;
-    const PassPlan pinned = plan_passes(in);
-    EXPECT_EQ(pinned.count, 100000);
-    EXPECT_EQ(pinned.spp, 1);
+    EXPECT_EQ(plan_passes(in).count, 100000);
     // Where the camera pass of one sample is the larger part (1e6 against the photons' 1e6 / 2^h),
     // fewer photons would not make the pass fit: N stays N0.
     in.size_photons = true;
     in.candidates[0].sample_cost = 1000.0;
     EXPECT_EQ(plan_passes(in).count, 100000);
-    // Never below kPlanMinPhotons.
+    // A cap of 30000 takes N down to 1562 (15620 + 1e4), one halving short of kPlanMinPhotons.
     in.candidates[0].sample_cost = 10.0;
-    in.budget = kPlanMinPasses * 1.0;
+    in.budget = kPlanMinPasses * 30000.0;
+    EXPECT_EQ(plan_passes(in).count, 1562);
+    // A cap of 20000 is below even that: N stops at 1562 (the next halving would pass
+    // kPlanMinPhotons), and the run is one pass of any size within the budget.
+    in.budget = kPlanMinPasses * 20000.0;
     EXPECT_GE(plan_passes(in).count, kPlanMinPhotons);
-    EXPECT_LT(plan_passes(in).count, 2 * kPlanMinPhotons);
+    EXPECT_LE(10.0 * double(plan_passes(in).count) + 1000.0 * plan_passes(in).spp * 10.0, in.budget);
+    // A budget that cannot hold even a pass of kPlanMinPhotons (20240) is no guide: N stays N0.
+    in.budget = 20000.0;
+    EXPECT_EQ(plan_passes(in).count, 100000);
 }
 
 TEST(PassPlan, SamplesTheUserLeftUnsetAreSizedToTheBudgetsShare) {
