@@ -11,8 +11,8 @@
 #include "photon/map/region_photon_maps.h"
 #include "render/integrator.h"
 #include "render/photon_map/photon_map_settings.h"
+#include "render/photon_map/photon_map_stats.h"
 #include "render/plan/work_units.h"
-#include "render/run/run_stats.h"
 #include "scene/scene.h"
 
 namespace vpm {
