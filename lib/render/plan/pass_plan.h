@@ -82,7 +82,7 @@ struct PlanInputs {
 // plan assumes, which only shifts it towards variance; the plan never reads the clock.
 constexpr double kWorkUnitsPerSecond = 1e9;
 
-// The seconds a run under render.time_limit = T may take (issue 60's contract): a size the user
+// The seconds a run under render.time_limit = T may take: a size the user
 // pins whose counted first pass alone exceeds them on one core is refused.
 inline double time_limit_contract_seconds(double limit) { return 1.2 * limit + 1.0; }
 
