@@ -53,11 +53,11 @@ BeamPilotCounts PhotonMapIntegrator::beam_pilot(const PassContext& context, int6
     c.pieces = double(built.pieces);
     c.width_tests = double(built.widths_tested);
 
-    PassMaps pm = pass_maps(pass_, GatherMode::photon_beams, maps.volume, surface ? &maps.surface : nullptr, decision_.view());
+    PassMaps pm = pass_maps(pass_, GatherMode::photon_beams, maps.volume, surface ? &maps.surface : nullptr, decision_.view(),
+                            maps.volume_regions.empty() ? nullptr : &maps.volume_regions,
+                            surface && !maps.surface_regions.empty() ? &maps.surface_regions : nullptr);
     pm.segment = gather->usable() ? gather.get() : nullptr;
     if (!gather->usable()) pm.gather = GatherMode::march;
-    pm.volume_regions = maps.volume_regions.empty() ? nullptr : &maps.volume_regions;
-    pm.surface_regions = surface && !maps.surface_regions.empty() ? &maps.surface_regions : nullptr;
     const CameraPath path(scene_, settings_, pm, both_strategies_);
     CounterSet counters;
     const Camera& camera = scene_.camera;

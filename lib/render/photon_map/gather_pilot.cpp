@@ -36,7 +36,8 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
     std::vector<double> variance(kRays);
     int chosen = 0;
     for (int c = 0; c < 3; ++c) {
-        const PassMaps maps = pass_maps(pass_, candidates[c], *maps_.volume, maps_.surface, decision_.view());
+        const PassMaps maps = pass_maps(pass_, candidates[c], *maps_.volume, maps_.surface, decision_.view(), maps_.volume_regions,
+                                        maps_.surface ? maps_.surface_regions : nullptr);
         const CameraPath path(scene_, settings_, maps, both_strategies_);
         CounterSet counters;
         tbb::parallel_for(0, kRays, [&](int j) {

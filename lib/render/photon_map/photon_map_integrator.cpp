@@ -260,9 +260,8 @@ std::string PhotonMapIntegrator::gather_used() const { return choice_.no_map ? "
 
 Rgb PhotonMapIntegrator::radiance(const Ray& camera_ray, Rng& rng) const {
     if (choice_.no_map) return continuation_.radiance(camera_ray, rng);
-    PassMaps maps = pass_maps(pass_, choice_.gather, *maps_.volume, maps_.surface, decision_.view());
-    maps.volume_regions = maps_.volume_regions;
-    maps.surface_regions = maps_.surface ? maps_.surface_regions : nullptr;
+    const PassMaps maps = pass_maps(pass_, choice_.gather, *maps_.volume, maps_.surface, decision_.view(), maps_.volume_regions,
+                                    maps_.surface ? maps_.surface_regions : nullptr);
     return CameraPath(scene_, settings_, maps, both_strategies_).trace(camera_ray, 0, rng, threads_->local.local());
 }
 
@@ -280,12 +279,13 @@ CountedOperations counted_operations(const CounterSet& counters) {
 bool PhotonMapIntegrator::volume_map_starved() const { return maps_.volume->size() < pass_.k; }
 
 PassMaps PhotonMapIntegrator::pass_maps(const PassEstimators& e, GatherMode gather, const PhotonMap& volume,
-                                        const PhotonMap* surface, const DecisionMap& decision) const {
+                                        const PhotonMap* surface, const DecisionMap& decision,
+                                        const RegionPhotonMaps* volume_regions, const RegionPhotonMaps* surface_regions) const {
     return PassMaps{VolumeEstimator{volume, decision, e.k, e.volume, e.max_radius, settings_.max_radius_mfp,
                                     settings_.extinction, settings_.leaves_group_out(), threads_->ball,
                                     settings_.neighbourhood},
                     surface, &e.surface, e.k, e.max_radius, gather,
-                    gather_entry(gather).build ? segment_gather_.get() : nullptr};
+                    gather_entry(gather).build ? segment_gather_.get() : nullptr, volume_regions, surface_regions};
 }
 
 void PhotonMapIntegrator::build_segment_gather(std::ostream* log, RunStats* stats) {

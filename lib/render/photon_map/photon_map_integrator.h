@@ -159,9 +159,11 @@ private:
     // Adds its counts to the run's statistics and frees it.
     void retire_segment_gather(RunStats& stats);
     // This pass's maps as the camera path reads them, with `gather` in force over `volume` and `surface`
-    // (the pass's own, or a pilot's candidates) and `decision` (RunDecisionMap's view or for_map).
+    // (the pass's own, or a pilot's candidates), `decision` (RunDecisionMap's view or for_map) and the
+    // maps split by glass region (null: one region).
     PassMaps pass_maps(const PassEstimators& estimators, GatherMode gather, const PhotonMap& volume, const PhotonMap* surface,
-                       const DecisionMap& decision) const;
+                       const DecisionMap& decision, const RegionPhotonMaps* volume_regions = nullptr,
+                       const RegionPhotonMaps* surface_regions = nullptr) const;
 
     // Every thread's camera counts summed.
     CameraTotals totals() const;

@@ -78,6 +78,137 @@ CountedOperations per_sample(const CountedOperations& before, const CountedOpera
     return o;
 }
 
+// Sum over the pilot pixels of each pixel's sample variance over its n samples (Welford).
+double summed_pixel_variance(const std::vector<double>& values, int n, int most) {
+    double v = 0.0;
+    for (int j = 0; j < kPixels; ++j) {
+        double mean = 0.0, m2 = 0.0;
+        for (int s = 0; s < n; ++s) {
+            const double x = values[at(j, s, most)], delta = x - mean;
+            mean += delta / (s + 1);
+            m2 += delta * (x - mean);
+        }
+        v += m2 / (n - 1);
+    }
+    return v;
+}
+
+// The full map's mean over the pilot pixels, its standard error, and how much of the variance the
+// largest samples hold.
+void add_sample_statistics(const std::vector<double>& values, int n, int most, GatherMeasurement& g) {
+    double sum = 0.0;
+    for (int j = 0; j < kPixels; ++j)
+        for (int s = 0; s < n; ++s) sum += values[at(j, s, most)];
+    g.mean = sum / double(kPixels * n);
+    // Pixels differ in mean, so the SE comes from the spread of the pixel means (each of n samples).
+    std::vector<double> pixel_mean(kPixels, 0.0);
+    double spread = 0.0;
+    for (int j = 0; j < kPixels; ++j) {
+        for (int s = 0; s < n; ++s) pixel_mean[size_t(j)] += values[at(j, s, most)] / n;
+        spread += (pixel_mean[size_t(j)] - g.mean) * (pixel_mean[size_t(j)] - g.mean);
+    }
+    g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
+    // The share of the variance in the largest samples (render/plan/pilot_tail.h), about each pixel's mean.
+    std::vector<double> squares;
+    squares.reserve(size_t(kPixels * n));
+    for (int j = 0; j < kPixels; ++j)
+        for (int s = 0; s < n; ++s) {
+            const double d = values[at(j, s, most)] - pixel_mean[size_t(j)];
+            squares.push_back(d * d);
+        }
+    g.v_camera_rel_se = mean_of_squares_relative_se(squares);
+    g.tail_share = largest_squares_share(std::move(squares), kPilotTailFraction);
+}
+
+// V_map and the bias from the two half maps' samples (values[1], values[2]) beside the full map's
+// (values[0]), at the pilot pixels and the spread grid.
+void add_map_noise(const std::vector<std::vector<double>>& values, const std::vector<std::vector<double>>& spread_values,
+                   int n, GatherMeasurement& g) {
+    // A map variance the pilot does not resolve is charged at its standard error, not at 0 (or
+    // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
+    // whose map noise then set the image's error (docs/studies/auto_plan.md section 17).
+    std::vector<double> t;
+    append_map_variance_of_difference(values[1], values[2], kPixels, n, kPilotSamples, t);
+    append_map_variance_of_difference(spread_values[1], spread_values[2], kSpreadPixels, kPilotSpreadSamples,
+                                      kPilotSpreadSamples, t);
+    double se = 0.0;
+    const double v = mean_with_standard_error(t, se);
+    g.v_map_half = 0.5 * std::max(v, se);
+    g.v_map_half_se = 0.5 * se;
+    const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
+    g.bias2 = bias.bias2;
+    g.bias_mean = bias.mean;
+    g.bias_se = bias.se;
+}
+
+// V_camera and V_map also at the centres of a 16 x 16 grid, kSpreadSamples each with every map
+// (the bias stays the 8 x 8 pixels'), weighted by pixel count. The 8 x 8 centres alone missed where
+// the march's camera noise lives in a sphere lit from the side (1% of the pixels, on its lit rim,
+// held 75% of it: 2.0e-5 read, 1.4e-4 true), and where a thin plume holds the map's noise in a
+// tenth of them, V_map read from those few pixels ranged over 0.18-2.8x its mean at seeds 1-12
+// (docs/studies/heldout_scenes.md section 30). Returns the grid's samples with each map.
+template <class Sample>
+std::vector<std::vector<double>> spread_samples(const PilotPixels& where, const std::vector<const PhotonMap*>& maps,
+                                                int candidate, MapNoisePilotHooks& hooks, uint64_t seed,
+                                                uint64_t stream, const Sample& sample) {
+    std::vector<std::vector<double>> spread_values;
+    for (size_t m = 0; m < maps.size(); ++m) {
+        hooks.use(candidate, maps[m]);
+        std::vector<double>& out_m = spread_values.emplace_back(size_t(kSpreadPixels) * kPilotSpreadSamples);
+        tbb::parallel_for(0, kSpreadPixels, [&](int j) {
+            const auto [px, py] = where.spread[size_t(j)];
+            for (int s = 0; s < kPilotSpreadSamples; ++s) {
+                // The same numbers for every map: the differences are the maps'.
+                Rng rng(mix64(seed ^ kSpreadSalt), stream * uint64_t(kSpreadPixels * kPilotSpreadSamples) + uint64_t(j * kPilotSpreadSamples + s));
+                out_m[at(j, s, kPilotSpreadSamples)] = sample(px, py, rng);
+            }
+        });
+    }
+    return spread_values;
+}
+
+// Sum over the spread grid of each pixel's sample variance.
+double summed_spread_variance(const std::vector<double>& values) {
+    static_assert(kPilotSpreadSamples == 2, "the spread's variance below is that of two samples");
+    double vs = 0.0;
+    for (int j = 0; j < kSpreadPixels; ++j) {
+        const double a = values[at(j, 0, kPilotSpreadSamples)], b = values[at(j, 1, kPilotSpreadSamples)];
+        vs += 0.5 * (a - b) * (a - b);   // the unbiased variance of two samples
+    }
+    return vs;
+}
+
+// A background sample's counted work (the same for every candidate: it meets nothing to gather).
+template <class Sample>
+CountedOperations background_work(const PilotPixels& where, const PhotonMap& map, MapNoisePilotHooks& hooks,
+                                  uint64_t seed, uint64_t stream, const Sample& sample) {
+    if (where.background.empty()) return CountedOperations();
+    hooks.use(0, &map);
+    const CountedOperations before = hooks.counts();
+    const int n = int(where.background.size());
+    tbb::parallel_for(0, n, [&](int j) {
+        Rng rng(mix64(seed ^ kBackgroundSalt), stream * uint64_t(kPixels) + uint64_t(j));
+        sample(where.background[size_t(j)].first, where.background[size_t(j)].second, rng);
+    });
+    return per_sample(before, hooks.counts(), double(n));
+}
+
+// Samples per pilot pixel for a candidate whose probe sample cost probe_cost; spent_before: the work
+// the candidates before it spent together.
+int candidate_samples(const PilotBudget& budget, double probe_cost, int budget_maps, bool uses_map, double spent_before) {
+    int n = budget.per_candidate > 0.0 ? pilot_samples(budget.per_candidate, probe_cost, kPixels, budget_maps, kPilotSamples)
+                                       : kPilotSamples;
+    if (!uses_map) {
+        // Without a map a sample is cheap (no kNN query, no halves) and its tail is what decides
+        // (render/plan/no_map_candidate.h): up to kNoMapPilotSamples, within its budget share, or without
+        // a budget within the work the candidates before it spent together. (Capped by that work
+        // under a budget too, a march made cheaper left it 348 samples in the blob at g = 0.8.)
+        const double share = budget.per_candidate > 0.0 ? budget.per_candidate : spent_before;
+        if (share > 0.0) n = std::max(n, pilot_samples(share, probe_cost, kPixels, 1, kNoMapPilotSamples));
+    }
+    return n;
+}
+
 }  // namespace
 
 std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const PhotonMap& map,
@@ -102,18 +233,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         const double jx = rng.uniform(), jy = rng.uniform();
         return luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
     };
-    // A background sample's counted work (the same for every candidate: it meets nothing to gather).
-    CountedOperations background;
-    if (!where.background.empty()) {
-        hooks.use(0, &map);
-        const CountedOperations before = hooks.counts();
-        const int n = int(where.background.size());
-        tbb::parallel_for(0, n, [&](int j) {
-            Rng rng(mix64(seed ^ kBackgroundSalt), stream * uint64_t(kPixels) + uint64_t(j));
-            sample(where.background[size_t(j)].first, where.background[size_t(j)].second, rng);
-        });
-        background = per_sample(before, hooks.counts(), double(n));
-    }
+    const CountedOperations background = background_work(where, map, hooks, seed, stream, sample);
     const double work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
     for (size_t c = 0; c < candidates.size(); ++c) {
         const bool may_use_halves = candidates[c].uses_map;
@@ -156,17 +276,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
             continue;
         }
         one_fits = one_fits || !(image_pixels * image_probe_cost > budget.max_pass_cost);
-        int n = budget.per_candidate > 0.0
-                    ? pilot_samples(budget.per_candidate, probe_cost, kPixels, budget_maps, kPilotSamples)
-                    : kPilotSamples;
-        if (!may_use_halves) {
-            // Without a map a sample is cheap (no kNN query, no halves) and its tail is what decides
-            // (render/plan/no_map_candidate.h): up to kNoMapPilotSamples, within its budget share, or without
-            // a budget within the work the candidates before it spent together. (Capped by that work
-            // under a budget too, a march made cheaper left it 348 samples in the blob at g = 0.8.)
-            const double share = budget.per_candidate > 0.0 ? budget.per_candidate : hooks.work(before) - work_before;
-            if (share > 0.0) n = std::max(n, pilot_samples(share, probe_cost, kPixels, 1, kNoMapPilotSamples));
-        }
+        const int n = candidate_samples(budget, probe_cost, budget_maps, may_use_halves, hooks.work(before) - work_before);
         trace(0, 1, n);
         g.per_sample = mixed(f, per_sample(before, hooks.counts(), double(kPixels * n)), background);
         g.sample_cost = hooks.work(g.per_sample);
@@ -182,86 +292,17 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         }
         g.samples = n;
         g.max_weight = hooks.counts().march_weight_max;   // over this candidate's traces (and the earlier ones')
-        double v = 0.0;
-        for (int j = 0; j < kPixels; ++j) {
-            double mean = 0.0, m2 = 0.0;
-            for (int s = 0; s < n; ++s) {
-                const double x = values[0][at(j, s, most)], delta = x - mean;
-                mean += delta / (s + 1);
-                m2 += delta * (x - mean);
-            }
-            v += m2 / (n - 1);
-        }
+        const double v = summed_pixel_variance(values[0], n, most);
         g.v_camera = v / kPixels;
         // The spread grid's samples with each map (the full map, then the halves where traced).
         std::vector<std::vector<double>> spread_values;
         if (may_use_halves) {
-            // V_camera and V_map also at the centres of a 16 x 16 grid, kSpreadSamples each with
-            // every map (the bias stays the 8 x 8 pixels'), weighted by pixel count. The 8 x 8 centres
-            // alone missed where the march's camera noise lives in a sphere lit from the side (1% of
-            // the pixels, on its lit rim, held 75% of it: 2.0e-5 read, 1.4e-4 true), and where a thin
-            // plume holds the map's noise in a tenth of them, V_map read from those few pixels ranged
-            // over 0.18-2.8x its mean at seeds 1-12 (docs/studies/heldout_scenes.md section 30).
-            for (size_t m = 0; m < maps.size(); ++m) {
-                hooks.use(int(c), maps[m]);
-                std::vector<double>& out_m = spread_values.emplace_back(size_t(kSpreadPixels) * kPilotSpreadSamples);
-                tbb::parallel_for(0, kSpreadPixels, [&](int j) {
-                    const auto [px, py] = where.spread[size_t(j)];
-                    for (int s = 0; s < kPilotSpreadSamples; ++s) {
-                        // The same numbers for every map: the differences are the maps'.
-                        Rng rng(mix64(seed ^ kSpreadSalt), stream * uint64_t(kSpreadPixels * kPilotSpreadSamples) + uint64_t(j * kPilotSpreadSamples + s));
-                        out_m[at(j, s, kPilotSpreadSamples)] = sample(px, py, rng);
-                    }
-                });
-            }
-            static_assert(kPilotSpreadSamples == 2, "the spread's variance below is that of two samples");
-            double vs = 0.0;
-            for (int j = 0; j < kSpreadPixels; ++j) {
-                const double a = spread_values[0][at(j, 0, kPilotSpreadSamples)], b = spread_values[0][at(j, 1, kPilotSpreadSamples)];
-                vs += 0.5 * (a - b) * (a - b);   // the unbiased variance of two samples
-            }
-            g.v_camera = (v + vs) / (kPixels + kSpreadPixels);
+            spread_values = spread_samples(where, maps, int(c), hooks, seed, stream, sample);
+            g.v_camera = (v + summed_spread_variance(spread_values[0])) / (kPixels + kSpreadPixels);
         }
-        double sum = 0.0;
-        for (int j = 0; j < kPixels; ++j)
-            for (int s = 0; s < n; ++s) sum += values[0][at(j, s, most)];
-        g.mean = sum / double(kPixels * n);
-        // Pixels differ in mean, so the SE comes from the spread of the pixel means (each of n samples).
-        std::vector<double> pixel_mean(kPixels, 0.0);
-        double spread = 0.0;
-        for (int j = 0; j < kPixels; ++j) {
-            for (int s = 0; s < n; ++s) pixel_mean[size_t(j)] += values[0][at(j, s, most)] / n;
-            spread += (pixel_mean[size_t(j)] - g.mean) * (pixel_mean[size_t(j)] - g.mean);
-        }
-        g.mean_se = std::sqrt(spread / (kPixels - 1) / kPixels);
-        // The share of the variance in the largest samples (render/plan/pilot_tail.h), about each pixel's mean.
-        std::vector<double> squares;
-        squares.reserve(size_t(kPixels * n));
-        for (int j = 0; j < kPixels; ++j)
-            for (int s = 0; s < n; ++s) {
-                const double d = values[0][at(j, s, most)] - pixel_mean[size_t(j)];
-                squares.push_back(d * d);
-            }
-        g.v_camera_rel_se = mean_of_squares_relative_se(squares);
-        g.tail_share = largest_squares_share(std::move(squares), kPilotTailFraction);
+        add_sample_statistics(values[0], n, most, g);
         g.v_map_quarter = -1.0;
-        if (halves_too) {
-            // A map variance the pilot does not resolve is charged at its standard error, not at 0 (or
-            // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
-            // whose map noise then set the image's error (docs/studies/auto_plan.md section 17).
-            std::vector<double> t;
-            append_map_variance_of_difference(values[1], values[2], kPixels, n, kPilotSamples, t);
-            append_map_variance_of_difference(spread_values[1], spread_values[2], kSpreadPixels, kPilotSpreadSamples,
-                                              kPilotSpreadSamples, t);
-            double se = 0.0;
-            const double v = mean_with_standard_error(t, se);
-            g.v_map_half = 0.5 * std::max(v, se);
-            g.v_map_half_se = 0.5 * se;
-            const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
-            g.bias2 = bias.bias2;
-            g.bias_mean = bias.mean;
-            g.bias_se = bias.se;
-        }
+        if (halves_too) add_map_noise(values, spread_values, n, g);
         // Averages over the image: the pixels that can vary, times their share (the rest add 0). The
         // mean stays theirs (the background's radiance need not be 0): it only compares candidates.
         for (double* x : {&g.v_camera, &g.v_map_half, &g.v_map_half_se, &g.bias2, &g.bias_mean, &g.bias_se}) *x *= f;
