@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Does render.time_limit hold? Renders shipped configs with their pins removed (render.spp,
-render.passes, photons.count: --unset where the file sets them) under render.time_limit = T with
+render.passes, photons.count: --unset where the file or its base sets them) under render.time_limit = T with
 each integrator / gather, and prints a Markdown table of wall seconds against the contract
 T * 1.2 + 1 s (issue 60), with the CPU seconds of the run (a loaded machine stretches the wall
 time of a first pass, which is never cut short). Usage:
@@ -27,6 +27,16 @@ MODES = {
 PINS = [("render", "spp"), ("render", "passes"), ("photons", "count"), ("photons", "gather")]
 
 
+def pinned(path):
+    """The PINS the config at `path` sets, itself or through its `base` chain."""
+    with open(path, "rb") as f:
+        doc = tomllib.load(f)
+    keys = set()
+    if "base" in doc:
+        keys |= pinned(os.path.join(os.path.dirname(path), doc["base"]))
+    return keys | {(t, k) for t, k in PINS if k in doc.get(t, {})}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--vpm", default="build/vpm")
@@ -43,12 +53,11 @@ def main():
     print("|---|---|---|---|---|---|---|")
     for name in a.configs:
         path = os.path.join("configs", name + ".toml")
-        with open(path, "rb") as f:
-            doc = tomllib.load(f)
+        pins = pinned(path)
         for mode in a.modes:
             unset = []
             for table, key in PINS:
-                if key in doc.get(table, {}):
+                if (table, key) in pins:
                     unset += ["--unset", f"{table}.{key}"]
             out = os.path.join(a.out, f"{name}_{mode}.exr")
             cmd = [a.vpm, "render", path, "-q", "--threads", str(a.threads), "-o", out,

@@ -15,8 +15,11 @@
 #include "analysis/metrics/pixel_mask.h"
 #include "analysis/metrics/reference_noise.h"
 #include "analysis/metrics/reference_samples.h"
+#include "analysis/metrics/seen_lights.h"
 #include "render/run/run_outputs.h"
 #include "bindings.h"
+#include "config.h"
+#include "native_call.h"
 #include "core/error.h"
 
 namespace py = pybind11;
@@ -164,6 +167,18 @@ py::array luminance_of(const py::object& image) {
     return out;
 }
 
+// 1.0 where the config's scene shows no area light, 0.0 where it does (seen_lights.h): a mask for
+// compare's `mask`. width, height: the images' size (default: the config's).
+py::array_t<double> exclude_lights_mask(const Config& config, std::optional<int> width, std::optional<int> height) {
+    const int w = width.value_or(config.run->render.width), h = height.value_or(config.run->render.height);
+    std::vector<uint8_t> seen;
+    call_native([&](const std::atomic<bool>&) { seen = seen_light_pixels(*config.run->scene, w, h); });
+    py::array_t<double> out({size_t(h), size_t(w)});
+    double* o = out.mutable_data();
+    for (size_t p = 0; p < seen.size(); ++p) o[p] = seen[p] ? 0.0 : 1.0;
+    return out;
+}
+
 }  // namespace
 
 void bind_compare(py::module_& m) {
@@ -178,6 +193,12 @@ void bind_compare(py::module_& m) {
         py::arg("a"), py::arg("b"));
     m.def("_more_samples_warning", &more_samples_warning, py::arg("run"), py::arg("run_samples"), py::arg("reference"),
           py::arg("reference_samples"));
+    m.def("exclude_lights_mask", &exclude_lights_mask, py::arg("config"), py::arg("width") = py::none(),
+          py::arg("height") = py::none(),
+          "A (height, width) float64 array, 1.0 where the config's scene shows no area light and 0.0 where a camera ray "
+          "meets one, straight or through mirrors and glass (lib/analysis/metrics/seen_lights.h): pass it as "
+          "vpm.compare's mask= to leave directly seen lights out. width, height: the images' size (default: the "
+          "config's; the same aspect ratio).");
     m.def("luminance", &luminance_of, py::arg("image"),
           "Luminance Y = 0.2126 R + 0.7152 G + 0.0722 B of an (height, width, 3) image, as a float64 (height, width) "
           "array: what vpm.compare and sweeps compare.");

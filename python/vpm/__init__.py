@@ -31,7 +31,7 @@ import os
 import warnings
 
 from . import _vpm
-from ._vpm import Config, ConfigError, Error, FileError, PhotonMap, RenderResult, luminance, read_exr
+from ._vpm import Config, ConfigError, Error, FileError, PhotonMap, RenderResult, exclude_lights_mask, luminance, read_exr
 
 def _one_line(text):
     return " ".join(line.strip() for line in text.splitlines() if line.strip())
@@ -72,13 +72,14 @@ for _method in ("__init__", "knn", "estimate"):
                                        "PhotonMap" if _method == "__init__" else "PhotonMap." + _method))
 RenderResult.save = _typed(RenderResult.save, "RenderResult.save")
 luminance = _typed(luminance, "luminance")
+exclude_lights_mask = _typed(exclude_lights_mask, "exclude_lights_mask")
 read_exr = _typed(read_exr, "read_exr")
 
 __version__ = _vpm.__version__
 git_revision = _vpm.git_revision
 _vpm = _TypedModule(_vpm)
 
-__all__ = ["load_config", "render", "trace_photons", "study", "sweep", "compare", "luminance", "info", "read_exr", "Config",
+__all__ = ["load_config", "render", "trace_photons", "study", "sweep", "compare", "exclude_lights_mask", "luminance", "info", "read_exr", "Config",
            "RenderResult",
            "PhotonMap", "Error", "ConfigError", "FileError"]
 
@@ -336,7 +337,8 @@ def compare(image, reference, metric="relmse", epsilon=0.01, crop=None, exclude=
     metric: "relmse" (mean (I-R)^2 / (R^2 + epsilon), the default), "relrmse" (sqrt(mean (I-R)^2) / mean R)
     or "smape" (mean |I-R| / (|I| + |R| + epsilon)); all on luminance.
     crop: (x0, y0, x1, y1) pixels compared (half-open, row 0 at the top); exclude: such rectangles left
-    out (a glint); mask: an array of the image's shape, compared where non-zero.
+    out (a glint); mask: an array of the image's shape, compared where non-zero
+    (vpm.exclude_lights_mask(config) leaves out the pixels that see an area light).
     reference_variance: the reference's per-pixel luminance variance (an array or an EXR path); by default
     REFERENCE.variance.exr when the reference is a path with one beside it (`vpm render --variance`).
     Returns a dict:

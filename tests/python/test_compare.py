@@ -1,13 +1,14 @@
 """vpm.compare and vpm.luminance: the sweep's metrics from Python, the samples warning."""
 import json
 import math
+import os
 import subprocess
 
 import numpy as np
 import pytest
 
 import vpm
-from conftest import FURNACE, SMALL
+from conftest import FURNACE, SMALL, SOURCE_DIR
 
 
 def flat(v, shape=(6, 8)):
@@ -95,3 +96,23 @@ def test_named_metric_mask_and_reference_noise(tmp_path):
         vpm.compare(img, ref, metric="psnr")
     with pytest.raises(vpm.Error, match="crop"):
         vpm.compare(img, ref, crop=(3, 3, 1, 1))
+
+
+def test_exclude_lights_mask_leaves_out_the_pixels_that_see_an_area_light():
+    # configs/glass_sphere_fog.toml with its sphere light moved into view and the glass out of it:
+    # a disc of about 2.7 pixels in radius at 64x64 (tests/analysis/metrics/seen_lights_test.cpp).
+    glass = os.path.join(SOURCE_DIR, "configs", "glass_sphere_fog.toml")
+    config = vpm.load_config(glass, overrides={"render.width": 64, "render.height": 64, "lights.0.center": [0.0, 0.5, 1.0],
+                                               "lights.0.radius": 0.1, "shapes.0.center": [0.0, 50.0, 0.0]})
+    mask = vpm.exclude_lights_mask(config)
+    assert mask.shape == (64, 64) and set(np.unique(mask)) <= {0.0, 1.0}
+    seen = int((mask == 0).sum())
+    assert 16 <= seen <= 60
+    assert vpm.exclude_lights_mask(config, width=32, height=32).shape == (32, 32)
+    # As vpm.compare's mask: the seen pixels are left out.
+    ref, img = np.full((64, 64, 3), 0.5, dtype=np.float32), np.full((64, 64, 3), 0.5, dtype=np.float32)
+    img[mask == 0] = 100.0
+    out = vpm.compare(img, ref, mask=mask)
+    assert out["pixels"] == 64 * 64 - seen and out["error"] == 0.0
+    with pytest.raises(vpm.Error, match="aspect ratio"):
+        vpm.exclude_lights_mask(config, width=64, height=32)

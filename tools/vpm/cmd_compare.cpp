@@ -1,4 +1,4 @@
-// vpm compare IMAGE... REFERENCE [--metric M] [--epsilon E] [--crop R] [--exclude R]... [--mask F]
+// vpm compare IMAGE... REFERENCE [--metric M] [--epsilon E] [--crop R] [--exclude R]... [--mask F] [--exclude-lights C]
 //             [--reference-variance F | --reference-halves A B] [--json] [--repeats]
 // Each IMAGE against REFERENCE (the last argument, or the mean of two halves) by a named metric
 // (lib/analysis/metrics/error_metrics.h; relMSE by default), with the reference's noise floor subtracted
@@ -21,9 +21,11 @@
 #include "analysis/metrics/pixel_mask.h"
 #include "analysis/metrics/reference_noise.h"
 #include "analysis/metrics/reference_samples.h"
+#include "analysis/metrics/seen_lights.h"
 #include "arguments.h"
 #include "command.h"
 #include "render/run/image_io.h"
+#include "render/run/run_config.h"
 #include "render/run/run_outputs.h"
 
 namespace {
@@ -46,7 +48,7 @@ int run_compare(int argc, char** argv) {
                  "vpm compare");
     std::vector<std::string> files, excludes, halves;
     bool json = false, repeats = false;
-    std::string metric_text = "relmse", crop, mask_file, variance_file;
+    std::string metric_text = "relmse", crop, mask_file, variance_file, lights_config;
     double epsilon = vpm::kDefaultMetricEpsilon;
     app.add_option("images", files, "IMAGE.exr... REFERENCE.exr: the images to judge, then the reference (same size)")
         ->check(CLI::ExistingFile);
@@ -66,6 +68,10 @@ int run_compare(int argc, char** argv) {
     app.add_option("--exclude", excludes, "Leave out the pixels in X0,Y0,X1,Y1 (e.g. a glint); repeatable")
         ->allow_extra_args(false);
     app.add_option("--mask", mask_file, "EXR of the images' size: compare only where it is non-zero")->check(CLI::ExistingFile);
+    app.add_option("--exclude-lights", lights_config,
+                   "CONFIG.toml or a run record (RUN.json): leave out the pixels where its scene shows an area light, straight or "
+                   "through mirrors and glass (lib/analysis/metrics/seen_lights.h)")
+        ->check(CLI::ExistingFile);
     app.add_option("--reference-variance", variance_file,
                    "Per-pixel luminance variance of the reference (default: REFERENCE.variance.exr beside it when it exists, "
                    "written by vpm render --variance)")
@@ -104,6 +110,7 @@ int run_compare(int argc, char** argv) {
     if (!crop.empty()) mask.crop(vpm::parse_pixel_rect(crop, "--crop"));
     for (const std::string& e : excludes) mask.exclude(vpm::parse_pixel_rect(e, "--exclude"));
     if (!mask_file.empty()) mask.intersect(vpm::read_exr(mask_file), mask_file);
+    if (!lights_config.empty()) vpm::exclude_seen_lights(mask, *vpm::RunConfig::load(lights_config).scene, lights_config);
     metric.mask = &mask;
     const vpm::Image* variance = noisy.variance ? &*noisy.variance : nullptr;
     std::vector<vpm::Image> images;

@@ -57,6 +57,14 @@ void PixelMask::intersect(const Image& mask, const std::string& name) {
     steps_.push_back("mask " + name);
 }
 
+void PixelMask::exclude_marked(const std::vector<uint8_t>& marked, const std::string& step) {
+    if (marked.size() != keep_.size())
+        throw Error(step + ": " + std::to_string(marked.size()) + " pixels marked, the images have " + std::to_string(keep_.size()));
+    for (size_t p = 0; p < keep_.size(); ++p)
+        if (marked[p]) keep_[p] = 0;
+    steps_.push_back(step);
+}
+
 std::string PixelMask::describe() const {
     const size_t total = keep_.size();
     if (steps_.empty()) return "all " + std::to_string(total) + " pixels";

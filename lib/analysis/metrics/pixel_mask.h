@@ -35,6 +35,9 @@ public:
     // Leave out the pixels where `mask` is zero in every channel; throws vpm::Error naming `name`
     // when its size differs.
     void intersect(const Image& mask, const std::string& name);
+    // Leave out the pixels where `marked` (one byte per pixel) is non-zero; `step` describes it.
+    // Throws vpm::Error when its size differs.
+    void exclude_marked(const std::vector<uint8_t>& marked, const std::string& step);
 
     // A one-line description for reports ("all 4096 pixels", "3900 of 4096 pixels: crop ..., exclude ...").
     std::string describe() const;

@@ -5,6 +5,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "core/error.h"
 #include "core/progress.h"
 #include "core/sampling/rng.h"
 #include "render/plan/map_noise_pilot.h"
@@ -66,7 +67,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     PassPlan plan = plan_passes(in);
     if (!in.size_samples) plan.spp = 0;   // not the plan's: samples_per_pass keeps the configured value
     adopt_plan(context, plan, candidates.gathers[plan.chosen], measured[size_t(plan.chosen)].uses_map, in.pilot_count);
-    warn_if_pinned_samples_overrun(context, in, measured[size_t(plan.chosen)], stats);
+    check_pinned_samples_fit(context, in, measured[size_t(plan.chosen)], stats);
     AutoGatherStats a;
     a.candidates = measured;
     a.photon_cost = in.photon_cost;
@@ -235,20 +236,29 @@ void PhotonMapIntegrator::adopt_plan(const PassContext& context, const PassPlan&
 }
 
 // render.spp pinned under render.time_limit: the passes hold its samples whatever the limit, so the
-// chosen gather's counted work per sample (the pilot's, deterministic) says whether the camera pass alone fits.
-void PhotonMapIntegrator::warn_if_pinned_samples_overrun(const PassContext& context, const PlanInputs& in,
-                                                        const GatherMeasurement& chosen, RunStats& stats) const {
+// chosen gather's counted work per sample (the pilot's, deterministic) says whether the camera pass
+// alone fits: past the limit's contract (time_limit_contract_seconds) the run is refused, past the limit warned about.
+void PhotonMapIntegrator::check_pinned_samples_fit(const PassContext& context, const PlanInputs& in,
+                                                   const GatherMeasurement& chosen, RunStats& stats) const {
     if (in.size_samples || !(in.budget > 0.0) || chosen.sample_cost <= 0.0) return;
     if (choice_.no_map && path_tracer_sized_passes()) return;   // 1-spp passes: render.spp is no pass size there
     const double work = chosen.sample_cost * in.pixels * double(in.spp);
     if (!(work > in.budget)) return;
+    const double contract = time_limit_contract_seconds(settings_.time_limit);
+    const bool refused = work > contract * kWorkUnitsPerSecond;
     std::ostringstream s;
     s.precision(3);
     s << "render.time_limit = " << settings_.time_limit << " s: render.spp is set, so every pass holds " << in.spp
-      << " samples per pixel, and the camera pass alone counts " << work / kWorkUnitsPerSecond
-      << " s of one core (gather \"" << chosen.name << "\"), so the first pass overruns the limit; ";
+      << " samples per pixel, and the camera pass alone counts " << work / kWorkUnitsPerSecond << " s of one core (gather \""
+      << chosen.name << "\"), ";
+    if (refused) s << "past the " << contract << " s a run under this limit may take (1.2 x limit + 1 s); ";
+    else s << "so the first pass overruns the limit; ";
     if (const double fit = std::floor(in.budget / (chosen.sample_cost * in.pixels)); fit >= 1.0) s << "about " << fit << " samples per pixel fit";
     else s << "not one sample per pixel fits";
+    if (refused) {
+        s << ": set render.spp to fit, --unset render.spp (and render.passes) for the plan to size the pass, or raise render.time_limit";
+        throw ConfigError(s.str());
+    }
     s << ", or leave render.spp and render.passes unset for the plan to size the pass";
     stats.warn(s.str(), context.log);
 }

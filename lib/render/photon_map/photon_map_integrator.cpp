@@ -8,11 +8,13 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include "core/error.h"
 #include "core/progress.h"
 #include "core/sampling/rng.h"
 #include "photon/estimate/ball_extinction.h"
 #include "render/photon_map/gathers/segment_gather.h"
 #include "render/plan/pass_plan.h"
+#include "render/plan/pilot_budget.h"
 #include "render/plan/work_units.h"
 #include "transport/single_scattering.h"
 #include "render/photon_map/photon_map_stats.h"
@@ -128,10 +130,15 @@ int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context, size_
         photons_.one_off_seconds += probe_timer.seconds();
         photons_.first_map = p.count;
         photons_.ledger.probe += uint64_t(p.probe_photons);
-        if (context.log && context.first_of_run && p.count < settings_.count)
+        if (context.log && context.first_of_run && p.count < settings_.count) {
             *context.log << "photons: the pilot's map of " << p.count << " photons, not photons.count = " << settings_.count
-                         << ": a probe of " << p.probe_photons << " stored " << p.stored_per_photon << " per photon, and "
-                         << kPilotStoredPhotons << " stored are what the pilot needs (render/photon_map/photon_pass.h)\n";
+                         << ": a probe of " << p.probe_photons << " stored " << p.stored_per_photon << " per photon, and ";
+            if (p.held_by_limit)
+                *context.log << "its photon pass may count " << kPilotBudgetFraction << " of render.time_limit";
+            else
+                *context.log << kPilotStoredPhotons << " stored are what the pilot needs";
+            *context.log << " (render/photon_map/photon_pass.h)\n";
+        }
     }
     if (maps_.owns && settings_.sizes_beam_pass() && scene_.has_media()) {
         if (!choice_.beam_pass) plan_beam_pass(context, stats);
@@ -145,24 +152,35 @@ int64_t PhotonMapIntegrator::first_map_photons(const PassContext& context, size_
 
 // photons.count pinned under render.time_limit: the pass is traced at that count whatever the
 // limit, so a probe's counted work (render/plan/work_units.h: deterministic, no clock) says before
-// the trace whether its photon pass alone fits, and a warning (log and sidecar) names the count that would.
+// the trace whether its photon pass alone fits. A count the user set that counts past the limit's
+// contract (time_limit_contract_seconds) is refused; one that counts past the limit is warned about
+// (log and sidecar). Both name the count that would fit.
 void PhotonMapIntegrator::check_pinned_count_fits(const PassContext& context, size_t k, RunStats& stats) {
     const Timer probe_timer;
     const PilotPhotonCount p = pilot_photon_count(scene_, settings_, context, traces_surface_map(), photons_.allocation);
     photons_.one_off_seconds += probe_timer.seconds();
     photons_.ledger.probe += uint64_t(p.probe_photons);
     const WorkUnits w = work_units(scene_, k);
-    const double per_photon = w.path + w.collision * p.collisions_per_photon + w.stored * p.stored_per_photon;
+    const double per_photon = photon_units(w, p);
     const double budget = settings_.time_limit * kWorkUnitsPerSecond, work = per_photon * double(settings_.count);
     if (!(work > budget)) return;
+    const bool refused = settings_.count_given && work > time_limit_contract_seconds(settings_.time_limit) * kWorkUnitsPerSecond;
     std::ostringstream s;
     s.precision(3);
     s << "render.time_limit = " << settings_.time_limit << " s: photons.count = " << settings_.count
       << (settings_.count_given ? " is set" : " (its default)") << ", and its photon pass alone counts " << work / kWorkUnitsPerSecond << " s of one core (a probe of "
-      << p.probe_photons << " photons: " << p.collisions_per_photon << " collisions and " << p.stored_per_photon
-      << " stored per photon), so the first pass overruns the limit; ";
+      << p.probe_photons << " photons: " << p.collisions_per_photon << " collisions and " << p.stored_per_photon << " stored per photon), ";
+    if (refused)
+        s << "past the " << time_limit_contract_seconds(settings_.time_limit) << " s a run under this limit may take (1.2 x limit + 1 s); ";
+    else
+        s << "so the first pass overruns the limit; ";
     if (const double fit = std::floor(budget / per_photon); fit >= 1.0) s << "about " << fit << " photons fit";
     else s << "not one photon fits";
+    if (refused) {
+        s << ": set photons.count to fit, " << (settings_.plan_sizes_passes() ? "--unset photons.count for the plan to size it, " : "")
+          << "or raise render.time_limit";
+        throw ConfigError(s.str());
+    }
     // A count the plan could have sized was set by the user; for the other gathers it may be the default.
     if (settings_.plan_sizes_passes()) s << ", or leave photons.count unset for the plan to size it";
     else s << " (the plan sizes photons only for the \"collision\", \"march\", \"point_beam\" and \"photon_beams\" gathers: set photons.count to fit)";

@@ -188,8 +188,9 @@ private:
     void plan_beam_pass(const PassContext& context, RunStats& stats);
     // One pilot: a map of `photons` photons on streams of its own, built, and a probe of camera samples.
     BeamPilotCounts beam_pilot(const PassContext& context, int64_t photons, uint64_t salt);
-    void warn_if_pinned_samples_overrun(const PassContext& context, const PlanInputs& in, const GatherMeasurement& chosen,
-                                        RunStats& stats) const;
+    // render.spp pinned under render.time_limit: refused or warned about where its camera pass cannot fit (auto_gather.cpp).
+    void check_pinned_samples_fit(const PassContext& context, const PlanInputs& in, const GatherMeasurement& chosen,
+                                  RunStats& stats) const;
 
     const Scene& scene_;
     PhotonMapSettings settings_;

@@ -12,6 +12,8 @@
 #include "photon/trace/photon_allocation.h"
 #include "photon/trace/photon_budget.h"
 #include "render/photon_map/photon_lights_report.h"
+#include "render/plan/pass_plan.h"
+#include "render/plan/pilot_budget.h"
 
 namespace vpm {
 
@@ -63,11 +65,24 @@ PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings&
     p.probe_photons = int64_t(traced.paths);
     p.stored_per_photon = traced.paths ? double(traced.photons.size()) / double(traced.paths) : 0.0;
     p.collisions_per_photon = traced.paths ? double(traced.collisions) / double(traced.paths) : 0.0;
-    if (p.stored_per_photon * double(ps.count) > kPilotStoredPhotons) {
-        const double wanted = kPilotStoredPhotons / p.stored_per_photon;
-        p.count = std::min(ps.count, std::max(kPilotProbePhotons, int64_t(std::ceil(wanted / double(kPilotProbePhotons))) * kPilotProbePhotons));
+    // A multiple of the probe's photons near `wanted`, within [probe, photons.count].
+    auto probes = [&](double wanted) {
+        return std::min(ps.count, std::max(kPilotProbePhotons, int64_t(std::ceil(wanted / double(kPilotProbePhotons))) * kPilotProbePhotons));
+    };
+    if (p.stored_per_photon * double(ps.count) > kPilotStoredPhotons) p.count = probes(kPilotStoredPhotons / p.stored_per_photon);
+    if (ps.time_limit > 0.0) {
+        const double most = kPilotBudgetFraction * ps.time_limit * kWorkUnitsPerSecond / photon_units(work_units(scene, ps.k), p);
+        // (A limit whose share cannot hold the probe's photons is no guide to the pilot's size.)
+        if (double(p.count) > most && most >= double(kPilotProbePhotons) && probes(most) < p.count) {
+            p.count = probes(most);
+            p.held_by_limit = true;
+        }
     }
     return p;
+}
+
+double photon_units(const WorkUnits& w, const PilotPhotonCount& p) {
+    return w.path + w.collision * p.collisions_per_photon + w.stored * p.stored_per_photon;
 }
 
 namespace {

@@ -12,6 +12,7 @@
 #include "render/integrator.h"
 #include "render/photon_map/photon_map_settings.h"
 #include "render/photon_map/photon_map_stats.h"
+#include "render/plan/work_units.h"
 #include "scene/scene.h"
 
 namespace vpm {
@@ -36,7 +37,9 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& settings
 // (in a dense, bright medium a walk stores tens of photons, and tracing and building the full map
 // could take most of a short budget before the pilot finds that no map pays there). A probe of
 // one batch, with a seed of its own, measures the volume photons stored per emitted one; the map is traced
-// apart from it, as a count chosen on the photons it then normalises would bias them.
+// apart from it, as a count chosen on the photons it then normalises would bias them. Under
+// render.time_limit its photon pass also counts at most kPilotBudgetFraction of the limit's work
+// units (render/plan/pilot_budget.h) where that share holds the probe's photons, so that the first pass can fit.
 constexpr double kPilotStoredPhotons = 262144.0;
 constexpr int64_t kPilotProbePhotons = 4096;
 struct PilotPhotonCount {
@@ -44,7 +47,10 @@ struct PilotPhotonCount {
     int64_t probe_photons = 0;
     double stored_per_photon = 0.0;  // volume photons stored per emitted, in the probe
     double collisions_per_photon = 0.0;   // real medium collisions per emitted, in the probe
+    bool held_by_limit = false;      // count was lowered for render.time_limit (not for the stored photons)
 };
+// Counted work units (render/plan/work_units.h) per emitted photon, from the probe: its walk, collisions and stored photons.
+double photon_units(const WorkUnits& w, const PilotPhotonCount& p);
 // surface_map: whether the run's passes trace one (the photons per light are computed with it, as
 // the passes would, when `allocation` is still empty).
 PilotPhotonCount pilot_photon_count(const Scene& scene, const PhotonMapSettings& settings, const PassContext& context,

@@ -54,6 +54,38 @@ double map_variance_exponent(double v_half, double v_quarter, bool& measured) {
 
 namespace {
 
+// What a pass may cost under a budget, and how far N goes below N0 for it (pass_plan.h).
+struct PassSizeLimit {
+    double most = kInfinity;   // work units
+    int halvings = 0;          // the least N is N0 / 2^halvings
+    // Not even the smallest pass fits the budget: passes no larger than the configured one (N0
+    // photons, at most S0 samples) may also be planned, as the limit is no guide to their size.
+    bool configured_pass = false;
+};
+
+// camera(n, s): the counted work of a camera pass of s samples per pixel over a map of n photons.
+template <class Camera>
+PassSizeLimit pass_size_limit(const PlanInputs& in, double photon_cost, int s_lo, const Camera& camera) {
+    PassSizeLimit out;
+    if (!(in.budget > 0.0)) return out;
+    const double cap = in.budget / kPlanMinPasses;
+    auto least_n = [&] { return std::ldexp(double(in.count), -out.halvings); };
+    // Halve N while the smallest pass is over the cap and its photon pass is the larger part (once
+    // the camera pass is, fewer photons would shorten the pass by less than half), where a pass of
+    // kPlanMinPhotons fits the budget at all.
+    const double floor_n = double(kPlanMinPhotons);
+    if (in.size_photons && photon_cost > 0.0 && photon_cost * floor_n + camera(floor_n, s_lo) <= in.budget)
+        while (least_n() / 2.0 >= floor_n && photon_cost * least_n() + camera(least_n(), s_lo) > cap &&
+               photon_cost * least_n() > camera(least_n(), s_lo))
+            ++out.halvings;
+    // A smallest pass over the cap but within the budget makes a run of about one pass: then any
+    // pass within the budget serves as well, and more samples in it cost no passes.
+    const double least = photon_cost * least_n() + camera(least_n(), s_lo);
+    out.most = least <= cap || least > in.budget ? cap : in.budget;
+    out.configured_pass = least > in.budget;
+    return out;
+}
+
 // One candidate's best pass sizes (N photons, S samples) and their score for the variances given:
 // least error^2 x time (with a budget) or variance x cost per pass.
 struct Sizing {
@@ -65,7 +97,6 @@ struct Sizing {
 // v_camera and v_map_half: the candidate's variances as read, or at their upper bounds.
 Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_camera, double v_map_half, double beta,
                    bool trusted) {
-    const double cap = in.budget > 0.0 ? in.budget / kPlanMinPasses : kInfinity;
     v_map_half = std::max(0.0, v_map_half);   // < 0: the map's noise is below the pilot's resolution
     const double bias2_pilot = std::max(0.0, m.bias2);
     // Without the map (render/plan/no_map_candidate.h) no photon pass is made: N does not matter.
@@ -86,16 +117,20 @@ Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_ca
         while (s_lo < s_hi && double(s_lo) * in.pixels < kNoMapPassSamples) s_lo *= 2;
     // The map's figures were read at the pilot's photons, which may be fewer than N0.
     const double pilot = double(in.pilot_count > 0 ? in.pilot_count : in.count);
-    for (int i = 0; i <= doublings; ++i) {
-        const double n = double(in.count) * double(int64_t(1) << i);
+    // A query's price grows with the map's doublings over the pilot's (none counted below it).
+    auto camera = [&](double n, int s) {
+        return in.pixels * double(s) * (m.sample_cost + std::max(0.0, std::log2(n / pilot)) * query_growth);
+    };
+    const PassSizeLimit limit = pass_size_limit(in, photon_cost, s_lo, camera);
+    for (int i = -limit.halvings; i <= doublings; ++i) {
+        const double n = std::ldexp(double(in.count), i);
         const double v_map = v_map_half * std::pow(0.5 * pilot / n, beta);
         const double bias2 = bias2_pilot * std::pow(pilot / n, 4.0 / 3.0);
-        const double doublings_from_pilot = std::log2(n / pilot);
         for (int s = s_lo; s <= s_hi; s *= 2) {
-            const double cost = photon_cost * n + in.pixels * double(s) * (m.sample_cost + doublings_from_pilot * query_growth);
-            // Over the cap only passes no larger than the configured one (N0, S0) count: the
-            // plan never makes a pass longer than the budget that the configuration did not.
-            if (cost > cap && !(i == 0 && s <= in.spp)) continue;
+            const double cost = photon_cost * n + camera(n, s);
+            // The smallest pass always counts, however long: a pass is not cut short.
+            if (cost > limit.most && !(i == -limit.halvings && s == s_lo) && !(limit.configured_pass && i == 0 && s <= in.spp))
+                continue;
             const double variance = v_map + v_camera / double(s);
             double score = variance * cost;
             // Whole passes: P = floor(T / C) of them fit (one at least), so a pass that fills most of

@@ -15,8 +15,8 @@
 // With a budget T (render.time_limit, in work units) P = floor(T / C) whole passes fit, and the bias,
 // which does not average out, enters: error^2 x time = ((V_map(N) + V_camera / S) / P + bias(N)^2) T for C <= T,
 // (V_map + V_camera / S + bias^2) C for a pass longer than the budget (one pass is still made);
-// bias(N)^2 = bias(Np)^2 (Np / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N never
-// goes below the configured count N0. Every input is a count, a variance or a config value: the
+// bias(N)^2 = bias(Np)^2 (Np / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N goes
+// below the configured count N0 only where a budget's pass cannot hold N0's photon pass (kPlanMinPasses). Every input is a count, a variance or a config value: the
 // plan is the same on any machine and thread count, and scale-invariant.
 #include <cstdint>
 #include <string>
@@ -82,6 +82,10 @@ struct PlanInputs {
 // plan assumes, which only shifts it towards variance; the plan never reads the clock.
 constexpr double kWorkUnitsPerSecond = 1e9;
 
+// The seconds a run under render.time_limit = T may take: a size the user
+// pins whose counted first pass alone exceeds them on one core is refused.
+inline double time_limit_contract_seconds(double limit) { return 1.2 * limit + 1.0; }
+
 struct PassPlan {
     int chosen = 0;              // index into candidates
     int64_t count = 0;           // N
@@ -97,12 +101,17 @@ constexpr int kPlanMaxSpp = 256;
 // Camera samples a pass without a map holds at least (render/plan/no_map_candidate.h), the path tracer's
 // group size (render/run/run.cpp): a pass's fixed cost is not in the counted work.
 constexpr double kNoMapPassSamples = 65536.0;
-// With a budget, a planned pass costs at most budget / kPlanMinPasses work units, or is no larger
-// than the configured pass (N0 photons, at most S0 samples): a pass cannot be cut short, and the
-// counted units run up to 3x below the time in grids (render/plan/work_units.cpp). (A cap of 1/8 of the
+// With a budget, a planned pass costs at most budget / kPlanMinPasses work units: a pass cannot be
+// cut short, and the counted units run up to 3x below the time in grids (render/plan/work_units.cpp).
+// Where the smallest pass the plan may make (N0 photons, or fewer where photons are sized; 1 sample,
+// or S0 where pinned) costs more, the run is about one pass: any pass within the budget may be planned,
+// and where even it exceeds the budget, one no larger than the configured (N0, S0). (A cap of 1/8 of the
 // budget held the dense cells, whose photon pass alone costs more, at 1 sample per pass: 4-20x
 // worse than the forced gathers at 16; docs/studies/auto_plan.md section 11.7.)
 constexpr double kPlanMinPasses = 2.0;
+// Where photons are sized, a pass of this many fits the budget and N0's photon pass is the larger part of a
+// smallest pass over budget / kPlanMinPasses, N is halved (down to this) until it fits or the camera's is.
+constexpr int64_t kPlanMinPhotons = 1024;
 // A gather whose march points weighed more than this (relative to an exact majorant's: 1 in
 // homogeneous media) is not trusted: its weights are heavy-tailed (up to e^(tau_majorant - tau)),
 // and 512 pilot samples do not see the tail that sets its variance (docs/studies/auto_plan.md section 11.7:

@@ -420,3 +420,47 @@ TEST(PassPlan, APilotMapSmallerThanN0IsReadAtItsOwnCount) {
     misread.pilot_count = 0;
     EXPECT_GT(plan_passes(misread).score[0], 1.5 * a.score[0]);
 }
+
+TEST(PassPlan, APhotonPassOverTheBudgetsShareHalvesThePhotonsUntilThePassFits) {
+    // N0 = 100000 photons at 10 units each (1e6) against a cap of 3e5 (budget / kPlanMinPasses): the
+    // photons are sized, so N halves to 25000 (2.5e5 + one sample per pixel, 1e4), where the pass fits.
+    PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1e-4, /*v_quarter*/ -1.0, /*sample*/ 10.0, /*photon*/ 10.0);
+    in.count = 100000;
+    in.budget = kPlanMinPasses * 3e5;
+    const PassPlan p = plan_passes(in);
+    EXPECT_EQ(p.count, 25000);
+    EXPECT_LE(10.0 * double(p.count) + 1000.0 * p.spp * 10.0, 3e5);
+    // Pinned photons stay, over the whole budget: no smaller pass can be made.
+    in.size_photons = false;
+    EXPECT_EQ(plan_passes(in).count, 100000);
+    // Where the camera pass of one sample is the larger part (1e6 against the photons' 1e6 / 2^h),
+    // fewer photons would not make the pass fit: N stays N0.
+    in.size_photons = true;
+    in.candidates[0].sample_cost = 1000.0;
+    EXPECT_EQ(plan_passes(in).count, 100000);
+    // A cap of 30000 takes N down to 1562 (15620 + 1e4), one halving short of kPlanMinPhotons.
+    in.candidates[0].sample_cost = 10.0;
+    in.budget = kPlanMinPasses * 30000.0;
+    EXPECT_EQ(plan_passes(in).count, 1562);
+    // A cap of 20000 is below even that: N stops at 1562 (the next halving would pass
+    // kPlanMinPhotons), and the run is one pass of any size within the budget.
+    in.budget = kPlanMinPasses * 20000.0;
+    EXPECT_GE(plan_passes(in).count, kPlanMinPhotons);
+    EXPECT_LE(10.0 * double(plan_passes(in).count) + 1000.0 * plan_passes(in).spp * 10.0, in.budget);
+    // A budget that cannot hold even a pass of kPlanMinPhotons (20240) is no guide: N stays N0.
+    in.budget = 20000.0;
+    EXPECT_EQ(plan_passes(in).count, 100000);
+}
+
+TEST(PassPlan, SamplesTheUserLeftUnsetAreSizedToTheBudgetsShare) {
+    // cornell_smoke with the march at a 2 s limit: 65536 pixels at 11400 units a sample, photons
+    // 0.1 s. One sample per pixel fits the cap (1 s); the camera's noise wanted 8, 6 s of one core
+    // in one pass, which the configured 16 samples (render.spp's default, not set) had allowed.
+    PlanInputs in = inputs(/*v_camera*/ 1.0, /*v_half*/ 1e-6, /*v_quarter*/ -1.0, /*sample*/ 11400.0, /*photon*/ 1000.0);
+    in.pixels = 65536.0;
+    in.count = 100000;
+    in.budget = 2.0 * kWorkUnitsPerSecond;
+    const PassPlan p = plan_passes(in);
+    EXPECT_EQ(p.spp, 1);
+    EXPECT_LE(1000.0 * double(p.count) + in.pixels * p.spp * 11400.0, in.budget / kPlanMinPasses);
+}

@@ -226,7 +226,7 @@ TEST(Passes, TimeLimitedPathPassesHoldOneSampleUnlessPassesIsSet) {
 
 // A photons.count that is set is honoured under a time limit; a probe's counted work says before
 // the trace when its photon pass alone cannot fit, in the log and the sidecar's warnings.
-TEST(Passes, PinnedPhotonCountThatCannotFitTheLimitIsWarnedAbout) {
+TEST(Passes, PinnedPhotonCountThatCannotFitTheLimitIsWarnedAboutOrRefused) {
     RunOptions o;
     o.progress = false;
     auto furnace = [&](const char* count, const char* limit) {
@@ -241,6 +241,15 @@ TEST(Passes, PinnedPhotonCountThatCannotFitTheLimitIsWarnedAbout) {
     EXPECT_EQ(PhotonMapStats::of(tight.stats).photons->emitted, 20000u);   // honoured all the same
     const RunResult roomy = furnace("photons.count=1000", "render.time_limit=0.2");   // ~1e-3 s of counted work
     for (const auto& w : roomy.stats.warnings) EXPECT_EQ(w.find("photons.count"), std::string::npos) << w;
+    // Past 1.2 x limit + 1 s of one core (here ~2 s for 1e6 photons) the run is refused before the trace.
+    try {
+        furnace("photons.count=1000000", "render.time_limit=1e-6");
+        ADD_FAILURE() << "1e6 photons at a 1e-6 s limit ran";
+    } catch (const ConfigError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("photons.count = 1000000 is set"), std::string::npos) << what;
+        EXPECT_NE(what.find("--unset photons.count"), std::string::npos) << what;
+    }
     // A gather the plan does not size, at the default count: named as the default, with the way out.
     auto homogeneous = [&](const char* gather) {
         return run(RunConfig::load(VPM_SOURCE_DIR "/configs/homogeneous.toml",
@@ -259,7 +268,7 @@ TEST(Passes, PinnedPhotonCountThatCannotFitTheLimitIsWarnedAbout) {
     EXPECT_NE(beam.stats.warnings[0].find("one point_beam pass of 1024 photons"), std::string::npos) << beam.stats.warnings[0];
 }
 
-TEST(Passes, PinnedSamplesThatCannotFitTheLimitAreWarnedAbout) {
+TEST(Passes, PinnedSamplesThatCannotFitTheLimitAreWarnedAboutOrRefused) {
     // A given gather under a limit: the plan measures it and sizes the photons; render.spp pinned at
     // 64 per pass is honoured, and where its counted camera work exceeds the limit the run says so.
     RunOptions o;
@@ -282,6 +291,15 @@ TEST(Passes, PinnedSamplesThatCannotFitTheLimitAreWarnedAbout) {
     EXPECT_TRUE(said);
     const RunResult roomy = sphere("render.spp=1", "render.time_limit=0.05");   // ~1e-3 s of counted camera work per pass
     for (const auto& w : roomy.stats.warnings) EXPECT_EQ(w.find("render.spp"), std::string::npos) << w;
+    // Past 1.2 x limit + 1 s of one core (65536 samples per pixel: ~10 s) the run is refused after the pilot.
+    try {
+        sphere("render.spp=65536", "render.time_limit=1e-6");
+        ADD_FAILURE() << "65536 spp at a 1e-6 s limit ran";
+    } catch (const ConfigError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("render.spp is set"), std::string::npos) << what;
+        EXPECT_NE(what.find("--unset render.spp"), std::string::npos) << what;
+    }
 }
 
 TEST(Passes, AFirstPassProjectedPastTheLimitIsSaidWhileItRuns) {
