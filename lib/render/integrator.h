@@ -7,7 +7,7 @@
 //   integrator_registry.h  integrators by name ("path", "photon_map"): one line each
 //   run_config.h           a config file read into Scene + RenderSettings + integrator settings
 //   run.h                  one run: passes, camera pass, typed RunStats, the JSON record
-//   run_stats.h            the typed statistics and their one serialiser
+//   run_stats.h            the typed statistics, with a section per integrator or gather
 //
 // Estimates must be independent across calls given independent Rng streams; the render loop
 // averages them.

@@ -17,6 +17,7 @@
 #include "render/run/image_io.h"
 #include "render/run/run.h"
 #include "render/run/run_outputs.h"
+#include "render/photon_map/photon_map_stats.h"
 
 namespace py = pybind11;
 
@@ -114,7 +115,7 @@ void bind_render(py::module_& m) {
         .def_property_readonly("spp_per_pass", [](const RenderResult& r) { return r.run->stats.pass_summary.spp; },
                                "Samples per pixel of each pass.")
         .def_property_readonly("photons_traced", [](const RenderResult& r) -> uint64_t {
-            const auto& l = r.run->stats.photon_ledger;
+            const auto& l = PhotonMapStats::of(r.run->stats).photon_ledger;
             return l ? l->pass_maps + l->pilot_only + l->probe + l->decision_map : 0;
         }, "Every photon the run traced (its sidecar's photons.traced ledger summed; 0 without a photon map).")
         .def("save", &save, py::arg("path"),

@@ -20,6 +20,8 @@
 #include "render/run/image_io.h"
 #include "render/run/run.h"
 #include "render/run/staged_file.h"
+#include "render/photon_map/photon_map_stats.h"
+#include "render/photon_map/gathers/point_beam_gather_stats.h"
 
 namespace vpm {
 
@@ -350,14 +352,14 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
             MetricOptions relmse;   // the per-pixel relative MSE, its floor from the halves' variance image
             r.relmse = measure_error(res.image, ref.image, relmse, ref.variance ? &*ref.variance : nullptr).value;
             r.nonfinite_pixels = e.nonfinite_pixels;
-            if (res.stats.gather_pilot) r.chosen = res.stats.gather_pilot->chosen;
-            if (const auto& a = res.stats.auto_gather)   // the defaults: the plan's gather and pass size
+            if (PhotonMapStats::of(res.stats).gather_pilot) r.chosen = PhotonMapStats::of(res.stats).gather_pilot->chosen;
+            if (const auto& a = PhotonMapStats::of(res.stats).auto_gather)   // the defaults: the plan's gather and pass size
                 r.chosen = (method.label == "auto" ? res.stats.integrator_used + ": " : std::string()) + a->chosen + (a->photon_pass ? " " + std::to_string(a->count) : std::string()) + " x " +
                            std::to_string(res.stats.render.samples / std::max<uint64_t>(1, res.stats.pass_summary.count) /
                                           uint64_t(o.size) / uint64_t(o.size));
-            if (res.stats.march_weight_max) r.march_weight_max = *res.stats.march_weight_max;
-            if (res.stats.march_weight_mean) r.march_weight_mean = *res.stats.march_weight_mean;
-            if (const auto& b = res.stats.beam; b && b->queries > 0) r.beam_crossed_per_query = double(b->crossed) / double(b->queries);
+            if (PhotonMapStats::of(res.stats).march_weight_max) r.march_weight_max = *PhotonMapStats::of(res.stats).march_weight_max;
+            if (PhotonMapStats::of(res.stats).march_weight_mean) r.march_weight_mean = *PhotonMapStats::of(res.stats).march_weight_mean;
+            if (const auto& b = res.stats.sections.find<PointBeamGatherStats>(); b && b->queries > 0) r.beam_crossed_per_query = double(b->crossed) / double(b->queries);
             row.methods.push_back(r);
         }
         std::ostringstream line;

@@ -13,6 +13,7 @@
 #include "render/run/run.h"
 #include "core/density_grid.h"
 #include "io/vdb_io.h"
+#include "render/photon_map/photon_map_stats.h"
 
 namespace vpm {
 
@@ -270,7 +271,7 @@ StressReport run_stress(const StressOptions& o) {
             c.nonfinite_pixels = nonfinite_count(r.image);
             c.nonfinite_samples = r.stats.render.nonfinite_samples;
             c.value = r.image.mean();
-            if (const auto& p = r.stats.photons) {
+            if (const auto& p = PhotonMapStats::of(r.stats).photons) {
                 c.photon_pass = true;
                 c.energy_imbalance = p->energy.relative_imbalance();
                 c.emitted = p->emitted;

@@ -28,6 +28,7 @@
 #include "render/run/run_outputs.h"
 #include "render/run/run_record.h"
 #include "config/params.h"
+#include "render/photon_map/photon_map_stats.h"
 
 namespace fs = std::filesystem;
 
@@ -185,9 +186,10 @@ std::vector<std::string> run_row(const PlannedRun& run, const RunResult& res, do
     const double trace = res.stats.seconds("trace"), build = res.stats.seconds("build"),
                  render = res.stats.seconds("render");
     const RunStats& st = res.stats;
-    const uint64_t stored = st.photons ? st.photons->stored : 0;
+    const PhotonMapStats& pm = PhotonMapStats::of(st);
+    const uint64_t stored = pm.photons ? pm.photons->stored : 0;
     uint64_t traced = 0;
-    if (const auto& l = st.photon_ledger) traced = l->pass_maps + l->pilot_only + l->probe + l->decision_map;
+    if (const auto& l = pm.photon_ledger) traced = l->pass_maps + l->pilot_only + l->probe + l->decision_map;
     std::vector<std::string> row = {std::to_string(run.index), run.hash, run.point, run.scene, run.method,
                                     std::to_string(run.spp), std::to_string(run.repeat),
                                     std::to_string(run.seed), std::to_string(run.stream_offset)};

@@ -13,6 +13,7 @@
 #include "render/photon_map/photon_map_integrator.h"
 #include "render/plan/work_units.h"
 #include "scene/media/tracking_counter.h"
+#include "render/photon_map/photon_map_stats.h"
 
 namespace vpm {
 
@@ -105,7 +106,7 @@ PhotonMapIntegrator::PilotMaps PhotonMapIntegrator::pilot_maps(const PassContext
     PilotMaps pilot;
     pilot.run_volume = maps_.volume;
     pilot.run_surface = maps_.surface;
-    pilot.counts = stats.photons;
+    pilot.counts = PhotonMapStats::of(stats).photons;
     if (!maps_.owns || context.pass == 0) return pilot;
     PassContext c = context;
     c.stream_offset = context.run_stream_offset;
@@ -120,7 +121,7 @@ PhotonMapIntegrator::PilotMaps PhotonMapIntegrator::pilot_maps(const PassContext
     pilot.traced_surface = traces_surface_map();
     pilot.owned = run_photon_pass(scene_, pilot_settings, c, pilot.traced_surface, pilot_stats, photons_.allocation);
     photons_.ledger.pilot_only += uint64_t(pilot_count);   // pass 0's map, traced for the plan alone
-    pilot.counts = pilot_stats.photons;
+    pilot.counts = PhotonMapStats::of(pilot_stats).photons;
     if (!decision_.map() && wants_decision_map()) trace_decision_map(context, stats);
     return pilot;
 }

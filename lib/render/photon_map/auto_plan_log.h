@@ -3,7 +3,7 @@
 // line per candidate with what the pilot measured, and the integrator's and the passes' choices.
 #include <iosfwd>
 
-#include "render/run/run_stats.h"
+#include "render/photon_map/photon_map_stats.h"
 
 namespace vpm {
 

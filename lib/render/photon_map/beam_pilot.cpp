@@ -9,6 +9,7 @@
 #include "core/progress.h"
 #include "render/photon_map/gathers/photon_beams_gather.h"
 #include "render/photon_map/photon_map_integrator.h"
+#include "render/photon_map/photon_map_stats.h"
 #include "render/plan/pilot_pixels.h"
 
 namespace vpm {
@@ -40,9 +41,9 @@ BeamPilotCounts PhotonMapIntegrator::beam_pilot(const PassContext& context, int6
     PhotonMaps maps = run_photon_pass(scene_, ps, pc, surface, scratch, photons_.allocation);
     BeamPilotCounts c;
     c.photons = double(photons);
-    if (scratch.photons) {
-        c.collisions = double(scratch.photons->collisions);
-        c.surface_stored = double(scratch.photons->surface_stored);
+    if (const auto& traced = PhotonMapStats::of(scratch).photons) {
+        c.collisions = double(traced->collisions);
+        c.surface_stored = double(traced->surface_stored);
     }
     SegmentGatherInputs inputs{scene_, ps, maps.volume, maps.beams, pass_.k, pass_.max_radius, pass_.beam_scale};
     std::unique_ptr<SegmentGather> gather = gather_entry(GatherMode::photon_beams).build(inputs);

@@ -7,7 +7,7 @@
 
 #include "photon/trace/photon_allocation.h"
 #include "photon/trace/photon_tracer.h"
-#include "render/run/run_stats.h"
+#include "render/photon_map/photon_map_stats.h"
 #include "scene/scene.h"
 
 namespace vpm {

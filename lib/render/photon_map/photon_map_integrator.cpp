@@ -15,6 +15,7 @@
 #include "render/plan/pass_plan.h"
 #include "render/plan/work_units.h"
 #include "transport/single_scattering.h"
+#include "render/photon_map/photon_map_stats.h"
 
 namespace vpm {
 
@@ -222,7 +223,7 @@ void PhotonMapIntegrator::trace_decision_map(const PassContext& context, RunStat
     for (const PhaseStats& phase : traced.phases) seconds += phase.seconds;
     stats.phase("decision_map", seconds);
     photons_.one_off_seconds += seconds;
-    stats.decision_map_photons = decision_.map()->size();
+    PhotonMapStats::in(stats).decision_map_photons = decision_.map()->size();
     if (context.log && context.first_of_run)
         *context.log << "photons: decision map of " << decision_settings.count << " photons (" << decision_.map()->size()
                      << " stored) in " << seconds << " s: photons.max_radius_mfp's switch is decided on it, apart from "

@@ -25,7 +25,7 @@
 #include "render/photon_map/volume_estimate.h"
 #include "render/run/run_config.h"
 #include "transport/mis.h"
-#include "render/run/run_stats.h"
+#include "render/photon_map/photon_map_stats.h"
 #include "scene/scene.h"
 
 namespace vpm {

@@ -179,7 +179,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     p.bytes_per_photon = bytes_per_photon();
     p.map_bytes = maps.volume.memory_bytes();
     p.map_bytes_per_photon = stored ? double(p.map_bytes) / double(stored) : 0.0;
-    stats.add_photon_pass(p);
+    PhotonMapStats::in(stats).add_photon_pass(p);
     if (log)
         *log << "build: kd-tree over " << stored << " photons in " << build_timer.seconds() << " s, "
              << p.map_bytes / 1e6 << " MB (" << p.map_bytes_per_photon << " bytes/photon)\n";

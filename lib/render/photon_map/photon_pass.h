@@ -11,7 +11,7 @@
 #include "photon/map/region_photon_maps.h"
 #include "render/integrator.h"
 #include "render/photon_map/photon_map_settings.h"
-#include "render/run/run_stats.h"
+#include "render/photon_map/photon_map_stats.h"
 #include "scene/scene.h"
 
 namespace vpm {

@@ -17,6 +17,7 @@
 #include "render/photon_map/photon_map_integrator.h"
 #include "render/run/run_config.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -111,8 +112,8 @@ TEST(StoreThinning, FurnaceStaysAtItsRadianceWithAuto) {
         o.stream_offset = r;
         const RunResult res = run(config, o);
         image.add(res.image.mean());
-        ASSERT_TRUE(res.stats.photons.has_value());
-        EXPECT_LT(res.stats.photons->store_probability, 0.5);
+        ASSERT_TRUE(PhotonMapStats::of(res.stats).photons.has_value());
+        EXPECT_LT(PhotonMapStats::of(res.stats).photons->store_probability, 0.5);
     }
     std::printf("furnace with auto: %.4f +- %.4f (0.5)\n", image.mean(), image.se());
     EXPECT_NEAR(image.mean(), 0.5, 3.0 * image.se());

@@ -12,6 +12,7 @@
 #include "config/unset_key.h"
 #include "render/run/run.h"
 #include "render/run/run_config.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -34,7 +35,7 @@ RunResult render(int threads, const std::vector<std::string>& extra) {
 
 // Photons per pass: the maps' photons over the passes traced.
 double photons_per_pass(const RunResult& r) {
-    return double(r.stats.photon_ledger->pass_maps) / double(r.stats.photon_ledger->passes_traced);
+    return double(PhotonMapStats::of(r.stats).photon_ledger->pass_maps) / double(PhotonMapStats::of(r.stats).photon_ledger->passes_traced);
 }
 
 bool has_phase(const RunResult& r, const std::string& name) {
@@ -47,7 +48,7 @@ TEST(BeamPassLimit, SizedFromCountsTheSameOnOneAndTwoThreads) {
     for (const char* widths : {"balloon", "sample_point"}) {
         const std::string w = std::string("photons.beam_widths=\"") + widths + "\"";
         const RunResult a = render(1, {w}), b = render(2, {w});
-        ASSERT_TRUE(a.stats.photon_ledger.has_value() && b.stats.photon_ledger.has_value());
+        ASSERT_TRUE(PhotonMapStats::of(a.stats).photon_ledger.has_value() && PhotonMapStats::of(b.stats).photon_ledger.has_value());
         EXPECT_EQ(photons_per_pass(a), photons_per_pass(b)) << widths;
         EXPECT_LT(photons_per_pass(a), 100000.0) << widths;   // photons.count's default does not fit 0.05 s
         EXPECT_GE(photons_per_pass(a), 1024.0) << widths;     // the small pilot's photons: the least N
@@ -58,7 +59,7 @@ TEST(BeamPassLimit, SizedFromCountsTheSameOnOneAndTwoThreads) {
 
 TEST(BeamPassLimit, APinnedCountStaysAndWarns) {
     const RunResult r = render(2, {"photons.count=20000"});
-    ASSERT_TRUE(r.stats.photon_ledger.has_value());
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).photon_ledger.has_value());
     EXPECT_EQ(photons_per_pass(r), 20000.0);
     const bool warned = std::any_of(r.stats.warnings.begin(), r.stats.warnings.end(), [](const std::string& s) {
         return s.find("one photon_beams pass of 20000 photons") != std::string::npos;

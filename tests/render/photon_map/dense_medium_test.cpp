@@ -78,7 +78,8 @@ Comparison compare(const RunConfig& config, const PhotonMapSettings& ps, int rep
 uint64_t continued(const PhotonMapIntegrator& pm) {
     RunStats st;
     pm.collect(st, nullptr);
-    return st.continued_paths.value_or(0) + st.march_wide_queries.value_or(0);
+    const PhotonMapStats& s = PhotonMapStats::of(st);
+    return s.continued_paths.value_or(0) + s.march_wide_queries.value_or(0);
 }
 
 }  // namespace
@@ -181,7 +182,7 @@ TEST(DenseMedium, TheMarchsBoundIsExactForIndependentPhotonsInTheFurnace) {
         m.add(test::image_mean(config, pm, 5 + uint64_t(r), 4));
         RunStats st;
         pm.collect(st, nullptr);
-        wide += st.march_wide_queries.value_or(0);
+        wide += PhotonMapStats::of(st).march_wide_queries.value_or(0);
         used += pm.stats().queries;
     }
     std::printf("march furnace, bound at the k-th radius: %.5f +- %.5f (expected %.5f), %llu of %llu queries wide\n",

@@ -13,6 +13,7 @@
 
 #include "render/run/run.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -46,8 +47,8 @@ std::vector<std::string> scene_scaled(double s) {
 
 TEST(GatherPilot, RendersExactlyTheGatherItChose) {
     const RunResult a = render(kThinCube, small({"photons.gather=\"pilot\"", "render.passes=2", "render.spp=4"}));
-    ASSERT_TRUE(a.stats.gather_pilot);
-    const GatherPilotStats& p = *a.stats.gather_pilot;
+    ASSERT_TRUE(PhotonMapStats::of(a.stats).gather_pilot);
+    const GatherPilotStats& p = *PhotonMapStats::of(a.stats).gather_pilot;
     ASSERT_EQ(p.candidates.size(), 3u);
     ASSERT_EQ(p.chosen_count.size(), 3u);
     for (size_t c = 0; c < 3; ++c) {
@@ -64,17 +65,17 @@ TEST(GatherPilot, RendersExactlyTheGatherItChose) {
     ASSERT_EQ(p.chosen_count[size_t(chosen)], 2u) << "the two passes' maps chose differently: the test needs one choice";
     const RunResult f = render(kThinCube, small({"photons.gather=\"" + p.chosen + "\"", "render.passes=2", "render.spp=4"}));
     EXPECT_EQ(a.image.rgb, f.image.rgb) << "chose " << p.chosen;
-    EXPECT_EQ(a.stats.volume_estimates->queries, f.stats.volume_estimates->queries);
-    EXPECT_FALSE(f.stats.gather_pilot);
+    EXPECT_EQ(PhotonMapStats::of(a.stats).volume_estimates->queries, PhotonMapStats::of(f.stats).volume_estimates->queries);
+    EXPECT_FALSE(PhotonMapStats::of(f.stats).gather_pilot);
 }
 
 TEST(GatherPilot, SameChoiceAndFiguresOnOneAndTwoThreads) {
     const RunResult one = render(kThinCube, small({"render.threads=1", "photons.gather=\"pilot\""}));
     const RunResult two = render(kThinCube, small({"render.threads=2", "photons.gather=\"pilot\""}));
-    ASSERT_TRUE(one.stats.gather_pilot && two.stats.gather_pilot);
-    EXPECT_EQ(one.stats.gather_pilot->chosen, two.stats.gather_pilot->chosen);
-    EXPECT_EQ(one.stats.gather_pilot->variance, two.stats.gather_pilot->variance);
-    EXPECT_EQ(one.stats.gather_pilot->cost, two.stats.gather_pilot->cost);
+    ASSERT_TRUE(PhotonMapStats::of(one.stats).gather_pilot && PhotonMapStats::of(two.stats).gather_pilot);
+    EXPECT_EQ(PhotonMapStats::of(one.stats).gather_pilot->chosen, PhotonMapStats::of(two.stats).gather_pilot->chosen);
+    EXPECT_EQ(PhotonMapStats::of(one.stats).gather_pilot->variance, PhotonMapStats::of(two.stats).gather_pilot->variance);
+    EXPECT_EQ(PhotonMapStats::of(one.stats).gather_pilot->cost, PhotonMapStats::of(two.stats).gather_pilot->cost);
     EXPECT_EQ(one.image.rgb, two.image.rgb);
 }
 
@@ -86,11 +87,11 @@ TEST(GatherPilot, SameChoiceAndFiguresAtScale1e3) {
     sb.push_back("photons.gather=\"pilot\"");
     const RunResult a = render(kThinCube, small(sa));
     const RunResult b = render(kThinCube, small(sb));
-    ASSERT_TRUE(a.stats.gather_pilot && b.stats.gather_pilot);
-    EXPECT_EQ(a.stats.gather_pilot->chosen, b.stats.gather_pilot->chosen);
+    ASSERT_TRUE(PhotonMapStats::of(a.stats).gather_pilot && PhotonMapStats::of(b.stats).gather_pilot);
+    EXPECT_EQ(PhotonMapStats::of(a.stats).gather_pilot->chosen, PhotonMapStats::of(b.stats).gather_pilot->chosen);
     for (size_t c = 0; c < 3; ++c) {
-        EXPECT_NEAR(b.stats.gather_pilot->variance[c], a.stats.gather_pilot->variance[c], 0.02 * a.stats.gather_pilot->variance[c]) << c;
-        EXPECT_NEAR(b.stats.gather_pilot->cost[c], a.stats.gather_pilot->cost[c], 0.02 * a.stats.gather_pilot->cost[c]) << c;
+        EXPECT_NEAR(PhotonMapStats::of(b.stats).gather_pilot->variance[c], PhotonMapStats::of(a.stats).gather_pilot->variance[c], 0.02 * PhotonMapStats::of(a.stats).gather_pilot->variance[c]) << c;
+        EXPECT_NEAR(PhotonMapStats::of(b.stats).gather_pilot->cost[c], PhotonMapStats::of(a.stats).gather_pilot->cost[c], 0.02 * PhotonMapStats::of(a.stats).gather_pilot->cost[c]) << c;
     }
 }
 
@@ -105,6 +106,6 @@ TEST(GatherPilot, FurnaceStaysUnbiasedWithThePilotsChoice) {
     EXPECT_LT(s.se(), 0.01) << "too noisy to tell 3%";
     const RunResult r = render(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
                                {"render.width=12", "render.height=12", "render.spp=2", "photons.count=20000", "photons.gather=\"pilot\""});
-    ASSERT_TRUE(r.stats.gather_pilot);
-    EXPECT_EQ(r.stats.gather_pilot->chosen_count[0] + r.stats.gather_pilot->chosen_count[1] + r.stats.gather_pilot->chosen_count[2], 1u);
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).gather_pilot);
+    EXPECT_EQ(PhotonMapStats::of(r.stats).gather_pilot->chosen_count[0] + PhotonMapStats::of(r.stats).gather_pilot->chosen_count[1] + PhotonMapStats::of(r.stats).gather_pilot->chosen_count[2], 1u);
 }

@@ -14,6 +14,7 @@
 #include "render/run/run_stats.h"
 #include "support/furnace.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -71,9 +72,9 @@ TEST(IntegratorChoice, AutoNamesWhatRan) {
     one.push_back("render.threads=1");
     two.push_back("render.threads=2");
     const RunResult a = render(kFurnace, one), b = render(kFurnace, two);
-    ASSERT_TRUE(a.stats.auto_gather);
-    EXPECT_EQ(a.stats.auto_gather->candidates.back().name, "continue");
-    EXPECT_EQ(a.stats.integrator_used, a.stats.auto_gather->photon_pass ? "photon_map" : "path");
+    ASSERT_TRUE(PhotonMapStats::of(a.stats).auto_gather);
+    EXPECT_EQ(PhotonMapStats::of(a.stats).auto_gather->candidates.back().name, "continue");
+    EXPECT_EQ(a.stats.integrator_used, PhotonMapStats::of(a.stats).auto_gather->photon_pass ? "photon_map" : "path");
     EXPECT_EQ(a.stats.integrator_used, b.stats.integrator_used);
     EXPECT_EQ(a.image.rgb, b.image.rgb);
     if (a.stats.integrator_used == "path") {

@@ -15,6 +15,7 @@
 #include "render/run/run.h"
 #include "support/io_test_util.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -51,16 +52,16 @@ TEST_F(MarchGather, WeightsStayBoundedInADenseSmoothGrid) {
     // sigma_t_scale 1500: optical thickness ~1000 across the blob, where block-majorant points
     // weighed up to 8e4 (mean 6). One medium: every point weighs exactly albedo P / n.
     const RunResult r = render(blob(1500.0), {"photons.gather=\"march\"", "render.spp=1", "render.width=8", "render.height=8"});
-    ASSERT_TRUE(r.stats.march_weight_max.has_value());
-    EXPECT_EQ(*r.stats.march_weight_max, 1.0);
-    EXPECT_EQ(*r.stats.march_weight_mean, 1.0);
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).march_weight_max.has_value());
+    EXPECT_EQ(*PhotonMapStats::of(r.stats).march_weight_max, 1.0);
+    EXPECT_EQ(*PhotonMapStats::of(r.stats).march_weight_mean, 1.0);
     // Two media: the other medium's transmittance multiplies the weight, so at most 1, and below 1
     // on average where the sphere shades the blob.
     const RunResult two = render(blob(8.0, true), {"photons.gather=\"march\"", "render.spp=1", "render.width=8", "render.height=8"});
-    ASSERT_TRUE(two.stats.march_weight_max.has_value());
-    EXPECT_LE(*two.stats.march_weight_max, 1.0);
-    EXPECT_LT(*two.stats.march_weight_mean, 0.95);
-    EXPECT_GT(*two.stats.march_weight_mean, 0.0);
+    ASSERT_TRUE(PhotonMapStats::of(two.stats).march_weight_max.has_value());
+    EXPECT_LE(*PhotonMapStats::of(two.stats).march_weight_max, 1.0);
+    EXPECT_LT(*PhotonMapStats::of(two.stats).march_weight_mean, 0.95);
+    EXPECT_GT(*PhotonMapStats::of(two.stats).march_weight_mean, 0.0);
 }
 
 TEST_F(MarchGather, AgreesWithThePathTracerInAGrid) {
@@ -103,8 +104,8 @@ TEST_F(MarchGather, MassCountQueriesThinSegmentsOnce) {
         return render(blob(1.5), s);
     };
     const RunResult fixed = with("fixed"), mass = with("mass");
-    ASSERT_TRUE(fixed.stats.volume_estimates && mass.stats.volume_estimates);
-    const double f = double(fixed.stats.volume_estimates->queries), m = double(mass.stats.volume_estimates->queries);
+    ASSERT_TRUE(PhotonMapStats::of(fixed.stats).volume_estimates && PhotonMapStats::of(mass.stats).volume_estimates);
+    const double f = double(PhotonMapStats::of(fixed.stats).volume_estimates->queries), m = double(PhotonMapStats::of(mass.stats).volume_estimates->queries);
     ASSERT_GT(f, 0.0);
     std::printf("queries: fixed %.0f, mass %.0f\n", f, m);
     EXPECT_LT(m, 0.5 * f);

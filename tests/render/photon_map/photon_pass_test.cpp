@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "render/run/run.h"
 #include "scene/scene.h"
+#include "render/photon_map/gathers/photon_beams_gather_stats.h"
 
 using namespace vpm;
 
@@ -95,11 +96,11 @@ TEST(MemoryBudget, PhotonBeamsAreInTheProjection) {
     std::string log;
     const RunResult r = run_logged(config, log);
     const auto& j = r.record.json();
-    ASSERT_TRUE(r.stats.photon_beams.has_value());
-    ASSERT_GT(r.stats.photon_beams->recorded, 0u);
+    ASSERT_TRUE(r.stats.sections.find<PhotonBeamsGatherStats>() != nullptr);
+    ASSERT_GT(r.stats.sections.find<PhotonBeamsGatherStats>()->recorded, 0u);
     EXPECT_TRUE(j["photons"]["over_memory_budget"].get<bool>());
     // not below the beams' BVH and records that were built
-    EXPECT_GE(j["photons"]["projected_map_bytes"].get<double>(), double(r.stats.photon_beams->bvh_bytes));
+    EXPECT_GE(j["photons"]["projected_map_bytes"].get<double>(), double(r.stats.sections.find<PhotonBeamsGatherStats>()->bvh_bytes));
     EXPECT_NE(log.find("photon beams' BVH will take about"), std::string::npos) << log;
 }
 

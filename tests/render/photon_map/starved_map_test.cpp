@@ -10,6 +10,7 @@
 #include "render/run/run.h"
 #include "render/run/run_config.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -55,8 +56,8 @@ TEST(StarvedMap, AStarvedMapMakesNoQueriesAndContinuesPaths) {
     RunOptions o;
     o.progress = false;
     const RunResult r = run(sphere("photon_map", {"photons.store_probability=1e-9", "photons.gather=collision"}), o);
-    ASSERT_TRUE(r.stats.volume_estimates.has_value());
-    EXPECT_EQ(r.stats.volume_estimates->queries, 0u);
-    ASSERT_TRUE(r.stats.continued_paths.has_value());
-    EXPECT_GT(*r.stats.continued_paths, 0u);
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).volume_estimates.has_value());
+    EXPECT_EQ(PhotonMapStats::of(r.stats).volume_estimates->queries, 0u);
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).continued_paths.has_value());
+    EXPECT_GT(*PhotonMapStats::of(r.stats).continued_paths, 0u);
 }

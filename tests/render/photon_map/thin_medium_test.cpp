@@ -15,6 +15,7 @@
 
 #include "render/run/run.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -46,9 +47,9 @@ TEST(ThinMedium, PhotonMapMatchesPathTracerWithPhotonsAimedAtTheCube) {
     const RunResult r = run(RunConfig::load(VPM_SOURCE_DIR "/configs/thin_cube.toml",
                                             {"render.width=4", "render.height=4", "photons.count=20000"}),
                             o);
-    ASSERT_TRUE(r.stats.photons.has_value());
-    ASSERT_EQ(r.stats.photons->lights.size(), 1u);
-    const auto& l = r.stats.photons->lights[0].counts;
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).photons.has_value());
+    ASSERT_EQ(PhotonMapStats::of(r.stats).photons->lights.size(), 1u);
+    const auto& l = PhotonMapStats::of(r.stats).photons->lights[0].counts;
     // The cone around the cube's sphere is 2.2% of the light's sphere; about 28% of the photons sent
     // into it collide in the thin cube, so 4 pi emission would land ~0.6%.
     EXPECT_GT(double(l.landed), 0.2 * double(l.emitted));
@@ -89,8 +90,8 @@ TEST(ThinMedium, MarchCountsQueriesBeyondTheMeanFreePathBound) {
         EXPECT_TRUE(r.record.json()["photons"].contains("march_wide_queries"));
         // A point decided on the decision map (photon/estimate/bounded_radius.h) queries the pass's map only
         // where it takes the estimate: both maps' queries count.
-        return std::make_pair(r.stats.march_wide_queries.value_or(0),
-                              r.stats.volume_estimates->queries + r.stats.decision_queries.value_or(0));
+        return std::make_pair(PhotonMapStats::of(r.stats).march_wide_queries.value_or(0),
+                              PhotonMapStats::of(r.stats).volume_estimates->queries + PhotonMapStats::of(r.stats).decision_queries.value_or(0));
     };
     const auto thin = wide("thin_cube.toml", {});
     EXPECT_GT(thin.second, 0u);
@@ -115,7 +116,7 @@ TEST(ThinMedium, ThresholdGatherMarchesThinSegmentsOnly) {
                                                 {"render.width=8", "render.height=8", "render.spp=2", "photons.count=5000",
                                                  "photons.gather=\"" + gather + "\"", "photons.march_max_optical_depth=" + threshold}),
                                 o);
-        return std::make_pair(r.image.mean(), r.stats.volume_estimates->queries);
+        return std::make_pair(r.image.mean(), PhotonMapStats::of(r.stats).volume_estimates->queries);
     };
     EXPECT_EQ(run_with("threshold", "0"), run_with("collision", "0"));
     EXPECT_EQ(run_with("threshold", "1e300"), run_with("march", "0"));

@@ -8,6 +8,7 @@
 #include "render/plan/no_map_candidate.h"
 #include "render/run/run.h"
 #include "render/run/run_config.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -35,7 +36,7 @@ TEST(NoMapCandidate, AutoKeepsThePhotonMapWhereTheSunMeetsAMirror) {
         o.progress = false;
         const RunResult r = run(c, o);
         EXPECT_EQ(r.stats.integrator_used, "photon_map") << seed;
-        ASSERT_TRUE(r.stats.auto_gather) << seed;
-        for (const GatherMeasurement& m : r.stats.auto_gather->candidates) EXPECT_NE(m.name, kNoMapCandidate) << seed;
+        ASSERT_TRUE(PhotonMapStats::of(r.stats).auto_gather) << seed;
+        for (const GatherMeasurement& m : PhotonMapStats::of(r.stats).auto_gather->candidates) EXPECT_NE(m.name, kNoMapCandidate) << seed;
     }
 }

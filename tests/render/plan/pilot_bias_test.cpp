@@ -10,6 +10,7 @@
 #include "core/sampling/rng.h"
 #include "render/plan/pilot_bias.h"
 #include "render/run/run.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -84,9 +85,9 @@ TEST(PilotBias, FurnaceChargesNoSmoothingBias) {
                                                  "photons.gather=\"auto\"", "photons.k=32", "render.width=32",
                                                  "render.height=32", "render.passes=1"}),
                                 o);
-        ASSERT_TRUE(r.stats.auto_gather);
+        ASSERT_TRUE(PhotonMapStats::of(r.stats).auto_gather);
         int map_candidates = 0;
-        for (const auto& c : r.stats.auto_gather->candidates) {
+        for (const auto& c : PhotonMapStats::of(r.stats).auto_gather->candidates) {
             if (!c.uses_map) continue;
             ++map_candidates;
             EXPECT_GT(c.bias_se, 0.0) << c.name;

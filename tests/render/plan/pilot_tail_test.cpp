@@ -20,6 +20,7 @@
 #include "support/vpm_process.h"
 #include "render/run/run.h"
 #include "scene/camera.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 namespace fs = std::filesystem;
@@ -134,7 +135,7 @@ std::string box(double g) {
 }
 
 const GatherMeasurement& no_map_candidate(const RunResult& r) {
-    return r.stats.auto_gather->candidates.back();
+    return PhotonMapStats::of(r.stats).auto_gather->candidates.back();
 }
 
 }  // namespace
@@ -144,7 +145,7 @@ TEST(PilotTail, HeavyInAPointLitBoxAtG08AndLightAtG0) {
     o.progress = false;
     const RunResult forward = run(RunConfig::load(box(0.8)), o);
     const RunResult isotropic = run(RunConfig::load(box(0.0)), o);
-    ASSERT_TRUE(forward.stats.auto_gather && isotropic.stats.auto_gather);
+    ASSERT_TRUE(PhotonMapStats::of(forward.stats).auto_gather && PhotonMapStats::of(isotropic.stats).auto_gather);
     const GatherMeasurement& f = no_map_candidate(forward);
     const GatherMeasurement& i = no_map_candidate(isotropic);
     ASSERT_EQ(f.name, kNoMapCandidate);
@@ -155,5 +156,5 @@ TEST(PilotTail, HeavyInAPointLitBoxAtG08AndLightAtG0) {
     EXPECT_LT(i.tail_share, 0.25);
     EXPECT_GT(f.v_camera_rel_se, 4.0 * i.v_camera_rel_se);
     // Charged at its upper bound the continuation still loses to the map at g = 0.8.
-    EXPECT_NE(forward.stats.auto_gather->chosen, kNoMapCandidate);
+    EXPECT_NE(PhotonMapStats::of(forward.stats).auto_gather->chosen, kNoMapCandidate);
 }

@@ -10,6 +10,7 @@
 #include "render/run/run.h"
 #include "render/run/run_config.h"
 #include "render/run/run_outputs.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -59,7 +60,7 @@ TEST(NegativeRadiance, LinearExtinctionAtStrongBackScatteringStaysNonNegativeAnd
     EXPECT_EQ(result.stats.render.nonfinite_samples, 0u);
     EXPECT_EQ(result.stats.render.negative_samples, 0u);   // 0.6% of the samples before the fallback
     EXPECT_EQ(count_negative_pixels(result.image), 0u);
-    ASSERT_TRUE(result.stats.linear_fallbacks.has_value());
-    EXPECT_GT(*result.stats.linear_fallbacks, 0u);
+    ASSERT_TRUE(PhotonMapStats::of(result.stats).linear_fallbacks.has_value());
+    EXPECT_GT(*PhotonMapStats::of(result.stats).linear_fallbacks, 0u);
     EXPECT_GT(result.image.mean(), 0.0);
 }

@@ -16,6 +16,7 @@
 #include "render/run/run_stats.h"
 #include "support/furnace.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -60,9 +61,9 @@ TEST(Passes, FurnaceMeanOverPassesCorrectedUnbiasedClassicHighByKOverKMinusOne) 
     EXPECT_NEAR(excess.mean(), excess_theory, 3.0 * excess.se());
     EXPECT_GT(excess.mean(), 8.0 * excess.se());
     // Each pass emitted its own photons.
-    ASSERT_TRUE(corrected.stats.photons.has_value());
-    EXPECT_EQ(corrected.stats.photons->emitted, uint64_t(40000 * passes));
-    EXPECT_LT(corrected.stats.photons->energy.relative_imbalance(), 1e-9);
+    ASSERT_TRUE(PhotonMapStats::of(corrected.stats).photons.has_value());
+    EXPECT_EQ(PhotonMapStats::of(corrected.stats).photons->emitted, uint64_t(40000 * passes));
+    EXPECT_LT(PhotonMapStats::of(corrected.stats).photons->energy.relative_imbalance(), 1e-9);
 }
 
 TEST(Passes, DeterministicOnAnyThreadCountAndPassesDiffer) {
@@ -164,9 +165,9 @@ TEST(Passes, FurnaceMarchGatherCorrectedUnbiased) {
     EXPECT_GT(excess.mean(), 8.0 * excess.se());   // the classic bias is still there
     // Every ray gathers, up to 4 queries per camera sample (fewer once ratio tracking's roulette
     // ends the transmittance); the collision estimator makes at most one.
-    ASSERT_TRUE(r.stats.volume_estimates.has_value());
-    EXPECT_LE(r.stats.volume_estimates->queries, uint64_t(16 * 16 * 12 * 4));
-    EXPECT_GT(r.stats.volume_estimates->queries, uint64_t(16 * 16 * 12 * 2));
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).volume_estimates.has_value());
+    EXPECT_LE(PhotonMapStats::of(r.stats).volume_estimates->queries, uint64_t(16 * 16 * 12 * 4));
+    EXPECT_GT(PhotonMapStats::of(r.stats).volume_estimates->queries, uint64_t(16 * 16 * 12 * 2));
 }
 
 TEST(Passes, ShrinkScheduleFollowsKnausZwickerAndStaysUnbiased) {
@@ -237,7 +238,7 @@ TEST(Passes, PinnedPhotonCountThatCannotFitTheLimitIsWarnedAbout) {
     const RunResult tight = furnace("photons.count=20000", "render.time_limit=1e-6");
     ASSERT_FALSE(tight.stats.warnings.empty());
     EXPECT_NE(tight.stats.warnings[0].find("photons.count = 20000 is set"), std::string::npos) << tight.stats.warnings[0];
-    EXPECT_EQ(tight.stats.photons->emitted, 20000u);   // honoured all the same
+    EXPECT_EQ(PhotonMapStats::of(tight.stats).photons->emitted, 20000u);   // honoured all the same
     const RunResult roomy = furnace("photons.count=1000", "render.time_limit=0.2");   // ~1e-3 s of counted work
     for (const auto& w : roomy.stats.warnings) EXPECT_EQ(w.find("photons.count"), std::string::npos) << w;
     // A gather the plan does not size, at the default count: named as the default, with the way out.
@@ -264,9 +265,9 @@ TEST(Passes, PinnedSamplesThatCannotFitTheLimitAreWarnedAbout) {
                    o);
     };
     const RunResult tight = sphere("render.spp=64", "render.time_limit=1e-6");
-    ASSERT_TRUE(tight.stats.auto_gather);
-    EXPECT_TRUE(tight.stats.auto_gather->size_photons);
-    EXPECT_FALSE(tight.stats.auto_gather->size_samples);
+    ASSERT_TRUE(PhotonMapStats::of(tight.stats).auto_gather);
+    EXPECT_TRUE(PhotonMapStats::of(tight.stats).auto_gather->size_photons);
+    EXPECT_FALSE(PhotonMapStats::of(tight.stats).auto_gather->size_samples);
     EXPECT_EQ(tight.stats.gather_used, "collision");
     EXPECT_EQ(tight.stats.render.samples, 64u * 64u);   // honoured all the same
     bool said = false;

@@ -6,6 +6,7 @@
 #include "render/integrator_registry.h"
 #include "render/photon_map/photon_map_integrator.h"
 #include "render/run/run_config.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -112,8 +113,8 @@ TEST(RunConfig, PhotonMapIntegratorRunsItsOwnPhotonPass) {
     PassContext context;
     context.progress = false;
     integrator->prepare(context, stats);
-    ASSERT_TRUE(stats.photons.has_value());   // the sphere is a medium: the pass ran
-    EXPECT_EQ(stats.photons->emitted, 100000u);
+    ASSERT_TRUE(PhotonMapStats::of(stats).photons.has_value());   // the sphere is a medium: the pass ran
+    EXPECT_EQ(PhotonMapStats::of(stats).photons->emitted, 100000u);
     EXPECT_GT(stats.seconds("trace"), 0.0);
 }
 

@@ -13,6 +13,7 @@
 #include "core/progress.h"
 #include "photon/estimate/bounded_radius.h"
 #include "render/photon_map/photon_map_settings.h"
+#include "render/run/run_record.h"
 #include "render/run/run_stats.h"
 #include "transport/transmittance_at_points.h"
 
@@ -232,8 +233,8 @@ void PhotonBeamsGather::report_build(RunStats* stats, std::ostream* log) const {
 
 void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
     PhotonBeamsGatherStats total = stats();   // this pass's sizes, the run's times and counts
-    if (run.photon_beams) {
-        const PhotonBeamsGatherStats& before = *run.photon_beams;
+    if (const PhotonBeamsGatherStats* found = run.sections.find<PhotonBeamsGatherStats>()) {
+        const PhotonBeamsGatherStats& before = *found;
         total.widths_seconds += before.widths_seconds;
         total.widths_tested += before.widths_tested;
         total.bvh_seconds += before.bvh_seconds;
@@ -244,7 +245,7 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
         total.band_zeros += before.band_zeros;
         total.tracking_lookups += before.tracking_lookups;
     }
-    run.photon_beams = total;
+    run.sections.get<PhotonBeamsGatherStats>() = total;
     if (log) {
         const double q = total.queries ? double(total.queries) : 1.0;
         *log << "photon_beams: " << total.queries << " segment queries weighed " << total.crossed << " beams ("
@@ -297,6 +298,30 @@ std::unique_ptr<SegmentGather> build_photon_beams_gather(SegmentGatherInputs& in
                                                       in.max_radius, in.settings.max_radius_mfp);
     in.beams.clear();
     return gather;
+}
+
+void PhotonBeamsGatherStats::write(RunRecord& record) const {
+    record.set("photons.photon_beams.widths", widths);
+    record.set("photons.photon_beams.k", k);
+    record.set("photons.photon_beams.recorded", recorded);
+    record.set("photons.photon_beams.beams", beams);
+    record.set("photons.photon_beams.pieces", pieces);
+    record.set("photons.photon_beams.piece_length", piece_length);
+    record.set("photons.photon_beams.bvh_bytes", bvh_bytes);
+    record.set("photons.photon_beams.bytes_per_beam", bytes_per_beam);
+    record.set("photons.photon_beams.widths_seconds", widths_seconds);
+    record.set("photons.photon_beams.widths_tested", widths_tested);
+    record.set("photons.photon_beams.bvh_seconds", bvh_seconds);
+    record.set("photons.photon_beams.queries", queries);
+    record.set("photons.photon_beams.crossed", crossed);
+    record.set("photons.photon_beams.tested", tested);
+    record.set("photons.photon_beams.starved", starved);
+    record.set("photons.photon_beams.band_zeros", band_zeros);
+    record.set("photons.photon_beams.widths_bounded", widths_bounded);
+    record.set("photons.photon_beams.widths_extrapolated", widths_extrapolated);
+    record.set("photons.photon_beams.widths_typical", widths_typical);
+    record.set("photons.photon_beams.beams_left_out", beams_left_out);
+    record.set("photons.photon_beams.tracking_lookups", tracking_lookups);
 }
 
 }  // namespace vpm

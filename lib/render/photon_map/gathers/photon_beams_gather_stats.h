@@ -3,9 +3,11 @@
 #include <cstdint>
 #include <string>
 
+#include "render/run/stats_section.h"
+
 namespace vpm {
 
-struct PhotonBeamsGatherStats {
+struct PhotonBeamsGatherStats : StatsSectionOf<PhotonBeamsGatherStats> {
     std::string widths;              // photons.beam_widths: "balloon" | "sample_point"
     uint64_t k = 0;                  // photons.k of the last pass (photons.schedule may shrink it)
     uint64_t recorded = 0;           // beams the photon pass recorded (last pass)
@@ -30,6 +32,8 @@ struct PhotonBeamsGatherStats {
     uint64_t widths_typical = 0;
     uint64_t beams_left_out = 0;
     uint64_t tracking_lookups = 0;   // sigma_t lookups of the camera transmittance's ratio tracking
+
+    void write(RunRecord& record) const override;   // photons.photon_beams.*
 };
 
 }  // namespace vpm

@@ -10,6 +10,7 @@
 #include "core/progress.h"
 #include "photon/map/photon_radii.h"
 #include "render/photon_map/photon_map_settings.h"
+#include "render/run/run_record.h"
 #include "render/run/run_stats.h"
 #include "scene/media/homogeneous_medium.h"
 
@@ -203,14 +204,14 @@ void PointBeamGather::report_build(RunStats* stats, std::ostream* log) const {
 
 void PointBeamGather::add_to(RunStats& run, std::ostream* log) const {
     PointBeamGatherStats total = stats();   // this pass's sizes, the run's times and counts
-    if (run.beam) {
-        total.radii_seconds += run.beam->radii_seconds;
-        total.bvh_seconds += run.beam->bvh_seconds;
-        total.queries += run.beam->queries;
-        total.crossed += run.beam->crossed;
-        total.tracking_lookups += run.beam->tracking_lookups;
+    if (const PointBeamGatherStats* before = run.sections.find<PointBeamGatherStats>()) {
+        total.radii_seconds += before->radii_seconds;
+        total.bvh_seconds += before->bvh_seconds;
+        total.queries += before->queries;
+        total.crossed += before->crossed;
+        total.tracking_lookups += before->tracking_lookups;
     }
-    run.beam = total;
+    run.sections.get<PointBeamGatherStats>() = total;
     if (log)
         *log << "beam: " << total.queries << " segment queries crossed " << total.crossed << " photon discs ("
              << (total.queries ? double(total.crossed) / double(total.queries) : 0.0) << " per query)\n";
@@ -219,6 +220,20 @@ void PointBeamGather::add_to(RunStats& run, std::ostream* log) const {
 std::unique_ptr<SegmentGather> build_point_beam_gather(SegmentGatherInputs& in) {
     return std::make_unique<PointBeamGather>(in.scene, in.volume, size_t(in.settings.beam_k), in.settings.estimator.kernel(),
                                              in.max_radius, in.settings.max_radius_mfp, in.disc_scale);
+}
+
+void PointBeamGatherStats::write(RunRecord& record) const {
+    record.set("photons.beam.k", k);
+    record.set("photons.beam.photons", photons);
+    record.set("photons.beam.bvh_bytes", bvh_bytes);
+    record.set("photons.beam.bvh_bytes_per_photon", bvh_bytes_per_photon);
+    record.set("photons.beam.map_bytes_per_photon", map_bytes_per_photon);
+    record.set("photons.beam.total_bytes_per_photon", total_bytes_per_photon);
+    record.set("photons.beam.radii_seconds", radii_seconds);
+    record.set("photons.beam.bvh_seconds", bvh_seconds);
+    record.set("photons.beam.queries", queries);
+    record.set("photons.beam.crossed", crossed);
+    record.set("photons.beam.tracking_lookups", tracking_lookups);
 }
 
 }  // namespace vpm

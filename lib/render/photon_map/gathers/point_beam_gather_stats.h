@@ -3,9 +3,11 @@
 // point map's, the build time of the radii and the BVH, and queries against photons crossed.
 #include <cstdint>
 
+#include "render/run/stats_section.h"
+
 namespace vpm {
 
-struct PointBeamGatherStats {
+struct PointBeamGatherStats : StatsSectionOf<PointBeamGatherStats> {
     uint64_t k = 0;                  // photons.beam_k
     uint64_t photons = 0;            // photons with a finite radius (in the BVH)
     uint64_t bvh_bytes = 0;          // the BVH (balls + nodes; the radii live in its balls) and, with a
@@ -18,6 +20,8 @@ struct PointBeamGatherStats {
     uint64_t queries = 0;            // camera segments answered by one BVH query
     uint64_t crossed = 0;            // photon discs they crossed
     uint64_t tracking_lookups = 0;   // sigma_t lookups of the ratio tracking in non-homogeneous media
+
+    void write(RunRecord& record) const override;   // photons.beam.*
 };
 
 }  // namespace vpm

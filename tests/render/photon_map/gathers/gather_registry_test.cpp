@@ -12,6 +12,7 @@
 #include "render/photon_map/gathers/gather_registry.h"
 #include "render/run/run.h"
 #include "render/run/run_config.h"
+#include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
 
@@ -50,9 +51,9 @@ TEST(GatherRegistry, TheAutomaticPlanMeasuresTheMarkedGathers) {
     RunOptions o;
     o.progress = false;
     const RunResult r = run(config, o);
-    ASSERT_TRUE(r.stats.auto_gather);
+    ASSERT_TRUE(PhotonMapStats::of(r.stats).auto_gather);
     std::set<std::string> measured, marked;
-    for (const GatherMeasurement& m : r.stats.auto_gather->candidates) measured.insert(m.name);
+    for (const GatherMeasurement& m : PhotonMapStats::of(r.stats).auto_gather->candidates) measured.insert(m.name);
     for (const GatherEntry& e : gather_entries())
         if (e.plan_measures) marked.insert(e.name);
     EXPECT_EQ(measured, marked);

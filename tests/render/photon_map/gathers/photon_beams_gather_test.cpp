@@ -16,6 +16,7 @@
 #include "render/run/run.h"
 #include "render/run/run_config.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/gathers/photon_beams_gather_stats.h"
 
 using namespace vpm;
 
@@ -69,10 +70,10 @@ TEST(PhotonBeamsGather, SameImageOnOneAndTwoThreadsInAGrid) {
                        o);
         };
         const RunResult a = image(1), b = image(2);
-        ASSERT_TRUE(a.stats.photon_beams.has_value());
-        EXPECT_GT(a.stats.photon_beams->queries, 0u);
-        EXPECT_GT(a.stats.photon_beams->crossed, 0u);
-        EXPECT_GT(a.stats.photon_beams->tracking_lookups, 0u);
+        ASSERT_TRUE(a.stats.sections.find<PhotonBeamsGatherStats>() != nullptr);
+        EXPECT_GT(a.stats.sections.find<PhotonBeamsGatherStats>()->queries, 0u);
+        EXPECT_GT(a.stats.sections.find<PhotonBeamsGatherStats>()->crossed, 0u);
+        EXPECT_GT(a.stats.sections.find<PhotonBeamsGatherStats>()->tracking_lookups, 0u);
         EXPECT_GT(a.image.mean(), 0.0);
         ASSERT_EQ(a.image.rgb.size(), b.image.rgb.size());
         for (size_t i = 0; i < a.image.rgb.size(); ++i) ASSERT_EQ(a.image.rgb[i], b.image.rgb[i]) << widths << " " << i;
@@ -187,9 +188,9 @@ TEST(PhotonBeamsGather, StarvedSegmentsGoOnAsTheCollisionGathersDo) {
     RunOptions o;
     o.progress = false;
     const RunResult r = run(config, o);
-    ASSERT_TRUE(r.stats.photon_beams.has_value());
-    EXPECT_EQ(r.stats.photon_beams->starved, r.stats.photon_beams->queries);
-    EXPECT_EQ(r.record.json()["photons"]["photon_beams"]["starved"].get<uint64_t>(), r.stats.photon_beams->starved);
+    ASSERT_TRUE(r.stats.sections.find<PhotonBeamsGatherStats>() != nullptr);
+    EXPECT_EQ(r.stats.sections.find<PhotonBeamsGatherStats>()->starved, r.stats.sections.find<PhotonBeamsGatherStats>()->queries);
+    EXPECT_EQ(r.record.json()["photons"]["photon_beams"]["starved"].get<uint64_t>(), r.stats.sections.find<PhotonBeamsGatherStats>()->starved);
 }
 
 namespace {
@@ -219,8 +220,8 @@ TEST(PhotonBeamsGather, DenseCubeBalloonMatchesThePathTracer) {
     RunOptions o;
     o.progress = false;
     const RunResult r = run(config, o);
-    ASSERT_TRUE(r.stats.photon_beams.has_value());
-    const auto& b = *r.stats.photon_beams;
+    ASSERT_TRUE(r.stats.sections.find<PhotonBeamsGatherStats>() != nullptr);
+    const auto& b = *r.stats.sections.find<PhotonBeamsGatherStats>();
     EXPECT_GT(b.starved, b.queries / 2);   // most segments go on: the map is too coarse for the medium
     EXPECT_LT(b.starved, b.queries);
     const nlohmann::json j = r.record.json()["photons"]["photon_beams"];
@@ -238,8 +239,8 @@ TEST(PhotonBeamsGather, EverySamplePointBeamKeepsABoundedWidthOrTheRunIsRefused)
     const RunResult r = run(dense_cube({"render.width=8", "render.height=8", "render.spp=1",
                                         "photons.gather=\"photon_beams\"", "photons.beam_widths=\"sample_point\""}),
                             o);
-    ASSERT_TRUE(r.stats.photon_beams.has_value());
-    const auto& b = *r.stats.photon_beams;
+    ASSERT_TRUE(r.stats.sections.find<PhotonBeamsGatherStats>() != nullptr);
+    const auto& b = *r.stats.sections.find<PhotonBeamsGatherStats>();
     ASSERT_TRUE(r.stats.gather_used);
     EXPECT_EQ(*r.stats.gather_used, "photon_beams");
     EXPECT_GT(b.recorded, 1000u);
@@ -274,8 +275,8 @@ TEST(PhotonBeamsGather, SamplePointWarnsWhereSegmentsCrossAlmostNoBeam) {
     const RunResult r = run(dense_cube({"media.0.sigma_t_scale=1e4", "render.width=8", "render.height=8", "render.spp=1",
                                         "photons.gather=\"photon_beams\"", "photons.beam_widths=\"sample_point\""}),
                             o);
-    ASSERT_TRUE(r.stats.photon_beams.has_value());
-    EXPECT_LT(r.stats.photon_beams->crossed, r.stats.photon_beams->queries);
+    ASSERT_TRUE(r.stats.sections.find<PhotonBeamsGatherStats>() != nullptr);
+    EXPECT_LT(r.stats.sections.find<PhotonBeamsGatherStats>()->crossed, r.stats.sections.find<PhotonBeamsGatherStats>()->queries);
     size_t warned = 0;
     for (const std::string& w : r.stats.warnings) warned += w.find("beams each on average (fewer than 1)") != std::string::npos;
     EXPECT_EQ(warned, 1u);

@@ -21,6 +21,7 @@
 #include "render/run/run.h"
 #include "render/run/run_config.h"
 #include "support/render_statistics.h"
+#include "render/photon_map/gathers/point_beam_gather_stats.h"
 
 using namespace vpm;
 
@@ -106,9 +107,9 @@ TEST(PointBeamGather, SameImageOnOneAndTwoThreadsInAGrid) {
                    o);
     };
     const RunResult a = image(1), b = image(2);
-    ASSERT_TRUE(a.stats.beam.has_value());
-    EXPECT_GT(a.stats.beam->queries, 0u);
-    EXPECT_GT(a.stats.beam->crossed, 0u);
+    ASSERT_TRUE(a.stats.sections.find<PointBeamGatherStats>() != nullptr);
+    EXPECT_GT(a.stats.sections.find<PointBeamGatherStats>()->queries, 0u);
+    EXPECT_GT(a.stats.sections.find<PointBeamGatherStats>()->crossed, 0u);
     EXPECT_GT(a.image.mean(), 0.0);
     ASSERT_EQ(a.image.rgb.size(), b.image.rgb.size());
     for (size_t i = 0; i < a.image.rgb.size(); ++i) ASSERT_EQ(a.image.rgb[i], b.image.rgb[i]) << i;
