@@ -115,13 +115,6 @@ void warn_once_per_run(const Scene& scene, const PhotonMapSettings& ps, const Pa
                        "\" gathers photons from both sides of a glass interface (its discs and beams are not split by "
                        "region, docs/interface_regions.md); \"collision\" and \"march\" are",
                    context.log);
-    // Structured photon sets read high in a scattering medium (docs/stratified_sampling.md).
-    if (ps.sampler != SamplerKind::independent && scene.has_media())
-        stats.warn(std::string("photons.sampler = \"") + sampler_name(ps.sampler) +
-                       "\": in a scattering medium the kNN estimate over these photons reads high, up to about 2% at "
-                       "k = 8 in the furnace and more than over \"independent\" photons (cause open, "
-                       "docs/stratified_sampling.md)",
-                   context.log);
 }
 
 }  // namespace

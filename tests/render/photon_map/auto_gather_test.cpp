@@ -296,18 +296,20 @@ TEST_P(AutoGatherIntegrators, SameChoicesAtScale1e3) {
 
 TEST(AutoGather, FurnaceStaysUnbiasedWithThePlan) {
     // configs/uniform_furnace.toml (radiance 0.5 everywhere) without spp and count: the plan sizes
-    // both; one pass per run (the limit is below it), six independent runs.
+    // both; one pass per run (the limit is below it), 40 independent runs. The estimates count walks,
+    // exact at any k: photon neighbours read high here by the walks' clustering term (k 8: +0.84% +-
+    // 0.05% of the image, docs/walk_correlation.md), which is the estimate's, not the plan's.
     const std::string f = write("furnace.toml",
                                 "[render]\nwidth = 12\nheight = 12\nintegrator = \"photon_map\"\ntime_limit = 1e-9\n\n"
                                 "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = 90\n\n"
-                                "[photons]\nk = 8\ndirect = \"photon_map\"\nmax_radius_mfp = 0\n\n"
+                                "[photons]\nk = 8\ndirect = \"photon_map\"\nmax_radius_mfp = 0\nneighbours = \"walks\"\n\n"
                                 "[[lights]]\ntype = \"environment\"\nradiance = 0.5\n\n"
                                 "[[media]]\ntype = \"homogeneous\"\nshape = \"sphere\"\nradius = 6.0\nsigma_t_scale = 0.6\nalbedo = 1.0\n");
     const RunConfig config = RunConfig::load(f);
-    const test::Sample s = test::repeated_run_brightness(config, 16);
+    const test::Sample s = test::repeated_run_brightness(config, 40);
     std::printf("furnace: %.5f +- %.5f (exact 0.5)\n", s.mean(), s.se());
     EXPECT_NEAR(s.mean(), 0.5, 3.0 * s.se());
-    EXPECT_LT(s.se(), 0.01) << "too noisy to tell 3%";
+    EXPECT_LT(s.se(), 0.006) << "too noisy to tell 3.6%";
 }
 
 TEST(AutoGather, GatherKeyNamesItsValues) {
