@@ -189,10 +189,10 @@ TEST(PhotonWalks, AtMost32BytesPerPhotonWithTheWalks) {
     EXPECT_LE(per, 32.0) << "measured " << per << " bytes per photon";
 }
 
-// The tracer labels every photon with its path index: one walk's photons are consecutive, a walk's
-// label mod kWalkGroups is its group, the map holds exactly the walks that stored a volume photon,
-// and all of it is the same on 1 and 2 threads (the batches are merged in order).
-TEST(PhotonWalks, TracerLabelsWalksTheSameOnAnyThreadCount) {
+namespace {
+
+// A ball of fog (sigma_t 3, albedo 0.8, g 0.4) under a constant sky: walks of a few collisions.
+std::unique_ptr<Scene> fog_ball_under_a_sky() {
     const std::string text = R"(
 [camera]
 position = [0, 0, 5]
@@ -208,7 +208,16 @@ sigma_t_scale = 3
 g = 0.4
 albedo = 0.8
 )";
-    auto scene = RunConfig::build(parse_config(text, "walks.toml", VPM_SOURCE_DIR "/configs")).scene;
+    return RunConfig::build(parse_config(text, "walks.toml", VPM_SOURCE_DIR "/configs")).scene;
+}
+
+}  // namespace
+
+// The tracer labels every photon with its path index: one walk's photons are consecutive, a walk's
+// label mod kWalkGroups is its group, the map holds exactly the walks that stored a volume photon,
+// and all of it is the same on 1 and 2 threads (the batches are merged in order).
+TEST(PhotonWalks, TracerLabelsWalksTheSameOnAnyThreadCount) {
+    auto scene = fog_ball_under_a_sky();
     PhotonTraceSettings s;
     s.count = 70000;   // more than the first chunk of batches
     s.progress = false;
@@ -236,22 +245,7 @@ albedo = 0.8
 // threads; every volume photon (a collision) ends a flight of its own walk, the beam stored before
 // it, so one walk's beams and photons form one chain.
 TEST(PhotonWalks, TracerLabelsBeamsWithTheirWalk) {
-    const std::string text = R"(
-[camera]
-position = [0, 0, 5]
-look_at = [0, 0, 0]
-[[lights]]
-type = "environment"
-radiance = 0.1
-[[media]]
-type = 'homogeneous'
-shape = 'sphere'
-radius = 1
-sigma_t_scale = 3
-g = 0.4
-albedo = 0.8
-)";
-    auto scene = RunConfig::build(parse_config(text, "beam_walks.toml", VPM_SOURCE_DIR "/configs")).scene;
+    auto scene = fog_ball_under_a_sky();
     PhotonTraceSettings s;
     s.count = 20000;
     s.progress = false;
