@@ -4,21 +4,24 @@
 //
 // The half-space of bench/halfspace_bias.sh (albedo 0.5, sigma_t 1, box [-10,10]x[-10,0]x[-10,10],
 // a directional light straight down, photons.count photons a map, photons.extinction = "linear").
-// Every map is traced by vpm's own photon pass (stream offset = map index), and every estimate is
+// Every map is traced by vpm's own photon pass (stream offset = map index; the camera where the bench's
+// is, since the directional light aims nested shares of its photons at what the camera sees,
+// scene/lights/emission_bounds.h: the photon count under the camera, and so r_k, depend on it), and every estimate is
 // vpm's VolumeEstimator with the scene's BallExtinction, at query points under the middle of the lit
 // face (a 5 x 5 lateral grid in [-2, 2]^2) at depths z_j = (j + 1/2) dz. On the same maps:
 //
 //   photons   the tracer's photons, photon-neighbour corrected (k)  (the renderer's default)
 //   walks     the tracer's photons, walk-neighbour corrected (k)
-//   moved     every photon moved to a uniform lateral place in the box, depth kept, each its own
-//             walk: independent points with the box's depth profile; photon-neighbour corrected (k)
+//   moved     the photons of the middle 16 x 16 of the face, each moved to a uniform lateral place
+//             in it, depth kept, each its own walk: independent points with the middle's depth
+//             profile; photon-neighbour corrected (k)
 //   fixed     the tracer's photons, every photon within r0 (the estimator's rule (a))
 //   fixed_m   the moved photons within r0
 //   F(r), C(r)  on the moved photons: the fixed-radius estimate and the photon count in a ball of
 //             radius r, for r on a grid (the prediction below)
-//   truth     the power density of the photons in depth bins of width dz centred on z_j (the
-//             middle 16 x 16 of the face for "photons"/"walks"/"fixed", the whole face for the
-//             moved maps), over 4 pi: an estimate of the incident radiance without any ball
+//   truth     the power density of the photons in depth bins of width dz centred on z_j (truth_mid:
+//             the middle 16 x 16 of the face, every estimate's truth; truth_all: the whole face), over
+//             4 pi: an estimate of the incident radiance without any ball
 //
 // For independent points (a Poisson process of mean density lambda), given r_k the k - 1 inner photons
 // are i.i.d. over the ball, so E[corrected | r_k] = (k - 1) F(r_k) / Lambda(r_k), F(r) the fixed-radius
@@ -55,6 +58,7 @@ namespace {
 
 constexpr double kAlbedo = 0.5;
 constexpr double kHalfWidth = 10.0;
+constexpr double kMiddle = 8.0;   // the middle of the face: |x|, |z| < 8, 2 mfp from the side faces
 
 // Mean and standard error over independent maps.
 struct Moments {
@@ -107,7 +111,8 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--dump") == 0) dump = std::fopen(argv[i + 1], "w");
     const RunConfig config = RunConfig::load(
         VPM_SOURCE_DIR "/configs/semi_infinite.toml",
-        {"media.0.albedo=0.5", "media.0.min=[-10, -10, -10]", "media.0.max=[10, 0, 10]", "render.integrator=photon_map",
+        {"media.0.albedo=0.5", "media.0.min=[-10, -10, -10]", "media.0.max=[10, 0, 10]", "camera.position=[0, 200, 0]",
+         "render.integrator=photon_map",
          "photons.gather=collision", "photons.direct=photon_map", "photons.count=" + std::to_string(count),
          "photons.k=" + std::to_string(k), "render.threads=1"});
     const PhotonMapSettings& settings = photon_map_settings(config);
@@ -116,13 +121,13 @@ int main(int argc, char** argv) {
     for (double r = 0.2; r <= 1.6 + 1e-9; r += 0.05) radii.push_back(r);
     const size_t nr = radii.size();
     if (dump) {
-        std::fprintf(dump, "map,depth,photons,walks,moved,fixed,fixed_m,truth_mid,truth_all,rk_moved");
+        std::fprintf(dump, "map,depth,photons,walks,moved,fixed,fixed_m,truth_mid,truth_all,rk_moved,rk_photons");
         for (double r : radii) std::fprintf(dump, ",F%.2f,C%.2f", r, r);
         std::fprintf(dump, "\n");
     }
 
-    enum Column { photons, walks, moved, fixed, fixed_m, truth_mid, truth_all, rk_moved, kColumns };
-    const char* names[kColumns] = {"photons", "walks", "moved", "fixed", "fixed_m", "truth_mid", "truth_all", "rk_moved"};
+    enum Column { photons, walks, moved, fixed, fixed_m, truth_mid, truth_all, rk_moved, rk_photons, kColumns };
+    const char* names[kColumns] = {"photons", "walks", "moved", "fixed", "fixed_m", "truth_mid", "truth_all", "rk_moved", "rk_photons"};
     const size_t nd = static_cast<size_t>(depths);
     std::vector<std::array<Moments, kColumns>> by_depth(nd);
     std::vector<std::vector<Moments>> F(nd, std::vector<Moments>(nr)), C(nd, std::vector<Moments>(nr));
@@ -153,16 +158,22 @@ int main(int argc, char** argv) {
             const int bin = int(std::floor(-p.y() / dz));
             if (bin >= 0 && bin < depths) {
                 all[size_t(bin)] += in[i].power[0];
-                if (std::abs(p.x()) < 8.0 && std::abs(p.z()) < 8.0) mid[size_t(bin)] += in[i].power[0];
+                if (std::abs(p.x()) < kMiddle && std::abs(p.z()) < kMiddle) mid[size_t(bin)] += in[i].power[0];
             }
         }
-        for (size_t i = 0; i < in.size(); ++i) {
-            in[i].position.x() = (2.0 * rng.uniform() - 1.0) * kHalfWidth;
-            in[i].position.z() = (2.0 * rng.uniform() - 1.0) * kHalfWidth;
-            in[i].walk = i;
-            in[i].group = uint8_t(i % kWalkGroups);
-        }
-        const PhotonMap shuffled(in);
+        // The photons of the middle 16 x 16, each moved to a uniform place in it: the middle's depth
+        // profile (truth_mid, shared with the tracer's photons), independent points.
+        std::vector<PhotonInput> middle;
+        for (const PhotonInput& p : in)
+            if (std::abs(p.position.x()) < kMiddle && std::abs(p.position.z()) < kMiddle) {
+                PhotonInput q = p;
+                q.position.x() = (2.0 * rng.uniform() - 1.0) * kMiddle;
+                q.position.z() = (2.0 * rng.uniform() - 1.0) * kMiddle;
+                q.walk = middle.size();
+                q.group = uint8_t(q.walk % kWalkGroups);
+                middle.push_back(q);
+            }
+        const PhotonMap shuffled(middle);
         auto estimator_for = [&](const PhotonMap& map, size_t kk, double max_radius, Neighbourhood hood) {
             return VolumeEstimator{map, DecisionMap{}, kk, settings.estimator, max_radius, 0.0,
                                    ExtinctionNormalisation::linear, false, ball, hood};
@@ -184,6 +195,7 @@ int main(int argc, char** argv) {
                     const Vec3 x(-2.0 + a, -z, -2.0 + b);
                     auto value = [&](const VolumeEstimator& e) { return e.estimate(x, w_o, 0.0, 1.0, scratch, counts).incident[0]; };
                     v[photons] += value(e_photons);
+                    v[rk_photons] += std::sqrt(scratch.buffers.list[k - 1].d2);
                     v[walks] += value(e_walks);
                     v[moved] += value(e_moved);
                     v[rk_moved] += std::sqrt(scratch.buffers.list[k - 1].d2);   // the list: the k nearest, sorted
@@ -196,7 +208,7 @@ int main(int argc, char** argv) {
                     }
                 }
             for (double& x : v) x /= q;
-            v[truth_mid] = mid[size_t(j)] / (16.0 * 16.0 * dz) / (4.0 * kPi);
+            v[truth_mid] = mid[size_t(j)] / (4.0 * kMiddle * kMiddle * dz) / (4.0 * kPi);
             v[truth_all] = all[size_t(j)] / (4.0 * kHalfWidth * kHalfWidth * dz) / (4.0 * kPi);
             const double w = kAlbedo * std::exp(-z) * dz;
             for (int col = 0; col < kColumns; ++col) {

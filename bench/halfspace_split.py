@@ -2,11 +2,11 @@
 """The half-space's bias split into its parts (issue 56 item 4), from bench_halfspace_split --dump.
 
   ./build/bench_halfspace_split --maps 1200 --k 32 --dump out/split_k32.csv > out/split_k32.txt
-  python3 bench/halfspace_split.py out/split_k32.csv K [DEPTH_STEP]
+  python3 bench/halfspace_split.py out/split_k32.csv K [DEPTH_STEP] [MOVED_TRUTH]
 
 For every column of the dump, the camera's integral sum_j albedo exp(-z_j) dz v(z_j) is formed per map
-and divided by the same integral of the map's own depth histogram (truth_mid for the tracer's photons,
-truth_all for the moved ones); the figures are ratios of means over maps, minus 1, with paired
+and divided by the same integral of the map's own depth histogram (truth_mid; MOVED_TRUTH names the
+moved maps' column, truth_mid unless given); the figures are ratios of means over maps, minus 1, with paired
 delta-method standard errors. "pred" is the derivation for independent points: at each depth the
 fixed-radius mean F(r) at the radius whose mean count C(r) is T ~ Gamma(k - 1, 1), averaged over T
 (F and C from the moved maps, interpolated in r; depths whose count grid does not reach T's 0.999
@@ -20,27 +20,43 @@ import numpy as np
 from scipy import stats
 
 
-def ratio(num, den):
-    """mean(num) / mean(den) - 1 with its paired delta-method standard error (rows = maps)."""
+def influence(num, den):
+    """mean(num) / mean(den) - 1 and each map's influence on it (delta method; rows = maps)."""
     r = num.mean() / den.mean()
-    d = (num - r * den) / den.mean()
-    return r - 1.0, d.std(ddof=1) / math.sqrt(len(num))
+    return r - 1.0, (num - r * den) / den.mean()
+
+
+def ratio(num, den):
+    """mean(num) / mean(den) - 1 with its standard error over maps."""
+    e, d = influence(num, den)
+    return e, d.std(ddof=1) / math.sqrt(len(num))
+
+
+def difference(a, ta, b, tb):
+    """(mean(a) / mean(ta)) - (mean(b) / mean(tb)) with its paired standard error over maps."""
+    ea, da = influence(a, ta)
+    eb, db = influence(b, tb)
+    return ea - eb, (da - db).std(ddof=1) / math.sqrt(len(a))
 
 
 def main():
     path, k = sys.argv[1], int(sys.argv[2])
     step = int(sys.argv[3]) if len(sys.argv) > 3 else 5
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    maps = np.unique(data["map"]).astype(int)
-    depths = np.unique(data["depth"])
-    nm, nd = len(maps), len(depths)
-    names = data.dtype.names
+    mt = sys.argv[4] if len(sys.argv) > 4 else "truth_mid"   # the moved maps' truth
+    with open(path) as f:
+        names = f.readline().strip().split(",")
+    table = np.loadtxt(path, delimiter=",", skiprows=1)
+    column = {n: i for i, n in enumerate(names)}
+    depths = np.unique(table[:, column["depth"]])
+    nd = len(depths)
+    nm = len(table) // nd   # complete maps only
+    table = table[: nm * nd]
     radii = np.array([float(n[1:]) for n in names if n.startswith("F")])
 
     def grid(name):   # (maps, depths)
-        return data[name].reshape(nm, nd)
+        return table[:, column[name]].reshape(nm, nd)
 
-    cols = {n: grid(n) for n in ("photons", "walks", "moved", "fixed", "fixed_m", "truth_mid", "truth_all", "rk_moved")}
+    cols = {n: grid(n) for n in ("photons", "walks", "moved", "fixed", "fixed_m", "truth_mid", "truth_all", "rk_moved", "rk_photons")}
     Fr = np.stack([grid(f"F{r:.2f}") for r in radii], axis=2)   # (maps, depths, radii)
     Cr = np.stack([grid(f"C{r:.2f}") for r in radii], axis=2)
     Fm, Cm = Fr.mean(axis=0), Cr.mean(axis=0)   # the fixed-radius mean and count at each depth
@@ -68,21 +84,28 @@ def main():
     print(f"camera integral of truth_mid {cam['truth_mid'].mean():.6g}, truth_all {cam['truth_all'].mean():.6g} "
           f"(closed form 0.0311476 over z in 0..{z[-1] + (z[1] - z[0]) / 2:g})")
     lines = [("photons (renderer default)", "photons", "truth_mid"), ("walks", "walks", "truth_mid"),
-             ("fixed r0 (tracer's photons)", "fixed", "truth_mid"), ("moved (independent), kNN", "moved", "truth_all"),
-             ("pred: Gamma(k-1) mix of F", "pred", "truth_all"), ("fixed r0 (moved)", "fixed_m", "truth_all")]
+             ("fixed r0 (tracer's photons)", "fixed", "truth_mid"), ("moved (independent), kNN", "moved", mt),
+             ("pred: Gamma(k-1) mix of F", "pred", mt), ("fixed r0 (moved)", "fixed_m", mt)]
     for label, a, b in lines:
         e, s = ratio(cam[a], cam[b])
         print(f"  {label:32s} {100 * e:+.2f}% +- {100 * s:.2f}%")
-    t = cam["truth_all"].mean()
+    truth_of = {"photons": "truth_mid", "walks": "truth_mid", "fixed": "truth_mid", "moved": mt, "pred": mt,
+                "fixed_m": mt}
+    print("  paired differences of the relative errors:")
     for label, a, b in (("photons - moved (clustering)", "photons", "moved"), ("walks - moved", "walks", "moved"),
-                        ("moved - pred", "moved", "pred"), ("fixed - fixed_m (profile)", "fixed", "fixed_m")):
-        d = (cam[a] - cam[b]) / t
-        print(f"  {label:32s} {100 * d.mean():+.2f}% +- {100 * d.std(ddof=1) / math.sqrt(nm):.2f}%")
-    print("depth, r_k(moved), photons, walks, moved, pred, fixed(r0), fixed_m(r0): % against the histogram, +- SE")
+                        ("photons - walks", "photons", "walks"), ("moved - pred", "moved", "pred"),
+                        ("moved - fixed_m", "moved", "fixed_m"), ("fixed - fixed_m", "fixed", "fixed_m")):
+        e, se = difference(cam[a], cam[truth_of[a]], cam[b], cam[truth_of[b]])
+        print(f"  {label:32s} {100 * e:+.2f}% +- {100 * se:.2f}%")
+    print("depth, r_k (tracer's photons), r_k (moved), photons, walks, moved, pred, fixed(r0), fixed_m(r0): "
+          "% against the histogram, +- SE")
     for j in range(0, nd, step):
-        row = [f"{z[j]:.2f}", f"{cols['rk_moved'][:, j].mean():.3f}"]
-        for a, b in (("photons", "truth_mid"), ("walks", "truth_mid"), ("moved", "truth_all"), ("pred", "truth_all"),
-                     ("fixed", "truth_mid"), ("fixed_m", "truth_all")):
+        row = [f"{z[j]:.2f}", f"{cols['rk_photons'][:, j].mean():.3f}", f"{cols['rk_moved'][:, j].mean():.3f}"]
+        for a, b in (("photons", "truth_mid"), ("walks", "truth_mid"), ("moved", mt), ("pred", mt),
+                     ("fixed", "truth_mid"), ("fixed_m", mt)):
+            if a == "pred" and j not in covered:
+                row.append("-")
+                continue
             num = pred[:, j] if a == "pred" else cols[a][:, j]
             e, s = ratio(num, cols[b][:, j])
             row.append(f"{100 * e:+.2f} +- {100 * s:.2f}")
