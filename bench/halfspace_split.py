@@ -2,7 +2,7 @@
 """The half-space's bias split into its parts (issue 56 item 4), from bench_halfspace_split --dump.
 
   ./build/bench_halfspace_split --maps 1200 --k 32 --dump out/split_k32.csv > out/split_k32.txt
-  python3 bench/halfspace_split.py out/split_k32.csv K [DEPTH_STEP] [MOVED_TRUTH]
+  python3 bench/halfspace_split.py out/split_k32.csv K [DEPTH_STEP] [MOVED_TRUTH] [SCALE]
 
 For every column of the dump, the camera's integral sum_j albedo exp(-z_j) dz v(z_j) is formed per map
 and divided by the same integral of the map's own depth histogram (truth_mid; MOVED_TRUTH names the
@@ -10,8 +10,8 @@ moved maps' column, truth_mid unless given); the figures are ratios of means ove
 delta-method standard errors. "pred" is the derivation for independent points: at each depth the
 fixed-radius mean F(r) at the radius whose mean count C(r) is T ~ Gamma(k - 1, 1), averaged over T
 (F and C from the moved maps, interpolated in r; depths whose count grid does not reach T's 0.999
-quantile keep the measured "moved" value and are reported). Then the same by depth, every
-DEPTH_STEP-th depth (default 5).
+quantile keep the measured "moved" value and are reported); with SCALE, pred is for SCALE times the
+photons per map (C scaled, F unchanged). Then the same by depth, every DEPTH_STEP-th depth (default 5).
 """
 import math
 import sys
@@ -43,6 +43,8 @@ def main():
     path, k = sys.argv[1], int(sys.argv[2])
     step = int(sys.argv[3]) if len(sys.argv) > 3 else 5
     mt = sys.argv[4] if len(sys.argv) > 4 else "truth_mid"   # the moved maps' truth
+    # pred at SCALE times the photons (the count C(r) scaled, the power density F(r) unchanged)
+    scale = float(sys.argv[5]) if len(sys.argv) > 5 else 1.0
     with open(path) as f:
         names = f.readline().strip().split(",")
     table = np.loadtxt(path, delimiter=",", skiprows=1)
@@ -59,7 +61,7 @@ def main():
     cols = {n: grid(n) for n in ("photons", "walks", "moved", "fixed", "fixed_m", "truth_mid", "truth_all", "rk_moved", "rk_photons")}
     Fr = np.stack([grid(f"F{r:.2f}") for r in radii], axis=2)   # (maps, depths, radii)
     Cr = np.stack([grid(f"C{r:.2f}") for r in radii], axis=2)
-    Fm, Cm = Fr.mean(axis=0), Cr.mean(axis=0)   # the fixed-radius mean and count at each depth
+    Fm, Cm = Fr.mean(axis=0), scale * Cr.mean(axis=0)   # the fixed-radius mean and count at each depth
 
     # The Gamma(k - 1) mixture of F over radii, per map's F (the mean count C from all maps): paired
     # with the other columns map by map.
