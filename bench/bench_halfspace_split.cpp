@@ -19,6 +19,8 @@
 //   fixed_m   the moved photons within r0
 //   F(r), C(r)  on the moved photons: the fixed-radius estimate and the photon count in a ball of
 //             radius r, for r on a grid (the prediction below)
+//   W(r)      on the tracer's photons: the number of walks with a photon within r (the walk form's
+//             prediction: the same mixture with walks as the units)
 //   truth     the power density of the photons in depth bins of width dz centred on z_j (truth_mid:
 //             the middle 16 x 16 of the face, every estimate's truth; truth_all: the whole face), over
 //             4 pi: an estimate of the incident radiance without any ball
@@ -122,7 +124,7 @@ int main(int argc, char** argv) {
     const size_t nr = radii.size();
     if (dump) {
         std::fprintf(dump, "map,depth,photons,walks,moved,fixed,fixed_m,truth_mid,truth_all,rk_moved,rk_photons");
-        for (double r : radii) std::fprintf(dump, ",F%.2f,C%.2f", r, r);
+        for (double r : radii) std::fprintf(dump, ",F%.2f,C%.2f,W%.2f", r, r, r);
         std::fprintf(dump, "\n");
     }
 
@@ -137,6 +139,8 @@ int main(int argc, char** argv) {
 
     std::optional<LightAllocation> allocation;
     EstimateScratch scratch;
+    std::vector<uint64_t> stamp;   // per walk id: the query that last met it
+    uint64_t stamp_id = 0;
     EstimateCounts counts;
     const Vec3 w_o(0.0, 1.0, 0.0);
     for (int m = 0; m < maps; ++m) {
@@ -188,7 +192,7 @@ int main(int argc, char** argv) {
         for (int j = 0; j < depths; ++j) {
             const double z = (j + 0.5) * dz;
             std::array<double, kColumns> v{};
-            std::vector<double> f(nr, 0.0), c(nr, 0.0);
+            std::vector<double> f(nr, 0.0), c(nr, 0.0), walks_in(nr, 0.0);
             int q = 0;
             for (int a = 0; a < 5; ++a)
                 for (int b = 0; b < 5; ++b, ++q) {
@@ -206,6 +210,19 @@ int main(int argc, char** argv) {
                         f[i] += value(e);
                         c[i] += double(scratch.buffers.list.size());   // every photon within radii[i]
                     }
+                    // The walks of the tracer's photons first met within each radius (the walk form's
+                    // Lambda_w(R), section 2 of docs/walk_correlation.md).
+                    ++stamp_id;
+                    real.knn(x, real.size(), radii.back(), scratch.buffers.list);
+                    for (size_t n = 0; n < scratch.buffers.list.size(); ++n) {
+                        const uint32_t walk = real.walk(scratch.buffers.list[n].index);
+                        if (walk >= stamp.size()) stamp.resize(size_t(walk) + 1, 0);
+                        if (stamp[walk] == stamp_id) continue;
+                        stamp[walk] = stamp_id;
+                        const double d = std::sqrt(scratch.buffers.list[n].d2);
+                        for (size_t i = 0; i < nr; ++i)
+                            if (d <= radii[i]) walks_in[i] += 1.0;
+                    }
                 }
             for (double& x : v) x /= q;
             v[truth_mid] = mid[size_t(j)] / (4.0 * kMiddle * kMiddle * dz) / (4.0 * kPi);
@@ -218,7 +235,7 @@ int main(int argc, char** argv) {
             if (dump) {
                 std::fprintf(dump, "%d,%.4f", m, z);
                 for (double x : v) std::fprintf(dump, ",%.9g", x);
-                for (size_t i = 0; i < nr; ++i) std::fprintf(dump, ",%.9g,%.6g", f[i] / q, c[i] / q);
+                for (size_t i = 0; i < nr; ++i) std::fprintf(dump, ",%.9g,%.6g,%.6g", f[i] / q, c[i] / q, walks_in[i] / q);
                 std::fprintf(dump, "\n");
             }
             for (size_t i = 0; i < nr; ++i) {
