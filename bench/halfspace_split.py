@@ -68,19 +68,29 @@ def main():
     u = (np.arange(4000) + 0.5) / 4000
     T = stats.gamma.ppf(u, k - 1)
     top = stats.gamma.ppf(0.999, k - 1)
-    pred = cols["moved"].copy()
-    covered = []
-    for j in range(nd):
-        if Cm[j, -1] < top or Cm[j, 0] > T[0]:
-            continue
-        covered.append(j)
-        r_of_T = np.interp(T, Cm[j], radii)
-        for m in range(nm):
-            pred[m, j] = np.interp(r_of_T, radii, Fr[m, j]).mean()
+    def mixture(counts, fallback):
+        """Per map and depth: F averaged over the radius at which `counts` (mean over maps) is T."""
+        out, done = fallback.copy(), []
+        for j in range(nd):
+            if counts[j, -1] < top or counts[j, 0] > T[0]:
+                continue
+            done.append(j)
+            r_of_T = np.interp(T, counts[j], radii)
+            for m in range(nm):
+                out[m, j] = np.interp(r_of_T, radii, Fr[m, j]).mean()
+        return out, done
+
+    pred, covered = mixture(Cm, cols["moved"])
+    has_walks = "W0.20" in column
+    if has_walks:   # the walk form: the same mixture over the walks met within r
+        Wm = np.stack([grid(f"W{r:.2f}") for r in radii], axis=2).mean(axis=0)
+        pred_walks, covered_walks = mixture(Wm, cols["walks"])
     z = depths
     w = 0.5 * np.exp(-z) * (z[1] - z[0])
     cam = {n: (v * w).sum(axis=1) for n, v in cols.items()}
     cam["pred"] = (pred * w).sum(axis=1)
+    if has_walks:
+        cam["pred_walks"] = (pred_walks * w).sum(axis=1)
     print(f"{path}: {nm} maps, k {k}; pred from F, C at depths {z[covered[0]]:.2f}..{z[covered[-1]]:.2f} "
           f"(camera weight covered {w[covered].sum() / w.sum() * 100:.1f}% of sum exp(-z) dz; the rest measured)")
     print(f"camera integral of truth_mid {cam['truth_mid'].mean():.6g}, truth_all {cam['truth_all'].mean():.6g} "
@@ -88,27 +98,32 @@ def main():
     lines = [("photons (renderer default)", "photons", "truth_mid"), ("walks", "walks", "truth_mid"),
              ("fixed r0 (tracer's photons)", "fixed", "truth_mid"), ("moved (independent), kNN", "moved", mt),
              ("pred: Gamma(k-1) mix of F", "pred", mt), ("fixed r0 (moved)", "fixed_m", mt)]
+    if has_walks:
+        lines.append(("pred_walks: walks' Gamma(k-1) mix", "pred_walks", "truth_mid"))
+        print(f"  (pred_walks from F, W at depths {z[covered_walks[0]]:.2f}..{z[covered_walks[-1]]:.2f}; "
+              f"camera weight covered {w[covered_walks].sum() / w.sum() * 100:.1f}%, the rest measured)")
     for label, a, b in lines:
         e, s = ratio(cam[a], cam[b])
         print(f"  {label:32s} {100 * e:+.2f}% +- {100 * s:.2f}%")
     truth_of = {"photons": "truth_mid", "walks": "truth_mid", "fixed": "truth_mid", "moved": mt, "pred": mt,
-                "fixed_m": mt}
+                "fixed_m": mt, "pred_walks": "truth_mid"}
     print("  paired differences of the relative errors:")
     for label, a, b in (("photons - moved (clustering)", "photons", "moved"), ("walks - moved", "walks", "moved"),
                         ("photons - walks", "photons", "walks"), ("moved - pred", "moved", "pred"),
-                        ("moved - fixed_m", "moved", "fixed_m"), ("fixed - fixed_m", "fixed", "fixed_m")):
+                        ("moved - fixed_m", "moved", "fixed_m"), ("fixed - fixed_m", "fixed", "fixed_m")) + \
+            ((("walks - pred_walks", "walks", "pred_walks"),) if has_walks else ()):
         e, se = difference(cam[a], cam[truth_of[a]], cam[b], cam[truth_of[b]])
         print(f"  {label:32s} {100 * e:+.2f}% +- {100 * se:.2f}%")
-    print("depth, r_k (tracer's photons), r_k (moved), photons, walks, moved, pred, fixed(r0), fixed_m(r0): "
-          "% against the histogram, +- SE")
+    print("depth, r_k (tracer's photons), r_k (moved), photons, walks, moved, pred, fixed(r0), fixed_m(r0)"
+          + (", pred_walks" if has_walks else "") + ": % against the histogram, +- SE")
     for j in range(0, nd, step):
         row = [f"{z[j]:.2f}", f"{cols['rk_photons'][:, j].mean():.3f}", f"{cols['rk_moved'][:, j].mean():.3f}"]
         for a, b in (("photons", "truth_mid"), ("walks", "truth_mid"), ("moved", mt), ("pred", mt),
-                     ("fixed", "truth_mid"), ("fixed_m", mt)):
-            if a == "pred" and j not in covered:
+                     ("fixed", "truth_mid"), ("fixed_m", mt)) + ((("pred_walks", "truth_mid"),) if has_walks else ()):
+            if (a == "pred" and j not in covered) or (a == "pred_walks" and j not in covered_walks):
                 row.append("-")
                 continue
-            num = pred[:, j] if a == "pred" else cols[a][:, j]
+            num = pred[:, j] if a == "pred" else pred_walks[:, j] if a == "pred_walks" else cols[a][:, j]
             e, s = ratio(num, cols[b][:, j])
             row.append(f"{100 * e:+.2f} +- {100 * s:.2f}")
         print(" | ".join(row))
