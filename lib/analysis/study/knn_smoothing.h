@@ -32,8 +32,9 @@ struct ClippedBallMeans {
     double mass_rate = 0.0;      // dLambda / dr
 };
 
-// F, Lambda and dLambda/dr of the ball of radius r > 0 at depth z >= 0 (Gauss-Legendre, 64 nodes a
-// slice range: exact for polynomial densities up to degree 125).
+// F, Lambda and dLambda/dr of the ball of radius r > 0 at depth z >= 0 (Gauss-Legendre, 64 nodes over
+// the slices' range: exact for polynomial densities of degree up to 124, the slice area and the weight
+// adding 3).
 ClippedBallMeans clipped_ball_means(const DepthDensity& density, double z, double r);
 
 // E[corrected] at depth z for k >= 2: F averaged over the radius at which Lambda = T ~ Gamma(k - 1).
