@@ -33,9 +33,12 @@
 // the fixed-radius mean at a random radius whose ball holds a Gamma(k - 1) count. The columns pred
 // and moved compare it with the measurement (bench/halfspace_split.py forms it from F and C).
 //
-//   bench_halfspace_split [--maps 400] [--k 32] [--r0 0.9] [--count 8000] [--depths 60] [--dz 0.1]
-// prints CSV: one row per depth with every quantity's mean over maps and its standard error, then
-// one row "camera" with the camera's integral sum_j albedo exp(-z_j) dz of each (per map, then mean).
+//   rk_photons, rk_moved  the mean r_k of the tracer's photons and of the moved ones
+//
+//   bench_halfspace_split [--maps 400] [--k 32] [--r0 0.9] [--count 8000] [--depths 60] [--dz 0.1] [--dump FILE]
+// prints CSV: one row per depth with every quantity's mean over maps and its standard error (W in the
+// dump only), then one row "camera" with the camera's integral sum_j albedo exp(-z_j) dz of each (per
+// map, then mean). --dump writes every map's values for bench/halfspace_split.py.
 #include <array>
 #include <cmath>
 #include <cstdio>
