@@ -2,6 +2,7 @@
 """The half-space's bias against the number of passes (issue 56), from bench/halfspace_passes.sh's runs.
 
     python3 bench/halfspace_passes.py OUT [VARIANT ...]      (OUT as given to halfspace_passes.sh)
+    python3 bench/halfspace_passes.py OUT --reference OUT/ref.passes.csv [VARIANT ...]   (bench/cube_passes.sh)
 
 For each variant (a directory OUT/VARIANT of runs sSEED.passes.csv / sSEED.json, independent seeds) and
 N in 64, 128, 256: the N-pass image mean (a run's first N passes; a pass's radius depends on its index
@@ -17,6 +18,10 @@ leading order the schedule is built for: smoothing ~ m_i^(2/3)) or p = 0.97 (the
 +0.76% at 0.5, +1.34% at 0.9); clustering(k) = 0.73% (k / 32)^-0.71 (the walk clustering measured at k 32
 and k 8, +0.73% and +1.95%, interpolated as a power law; below k 8 an extrapolation, and independent of s,
 which is not known).
+
+With --reference (a path-traced run's passes.csv: its mean image mean is the truth, its SE over passes is
+printed) the model columns are replaced by the schedule's own prediction for a smoothing bias ~ r^2: the
+fixed variant's measured bias times the mean of m_i^(2/3) over the passes (docs/progressive.md section 1).
 """
 import csv, json, math, os, sys
 
@@ -55,14 +60,31 @@ def load(d):
     return runs
 
 
+def measure_ratio(i, alpha=4 / 7):   # m_i of docs/progressive.md section 1
+    return math.exp(math.lgamma(i + 1 + alpha) - math.lgamma(1 + alpha) - math.lgamma(i + 2))
+
+
 def main():
-    if len(sys.argv) < 2:
+    global CLOSED
+    args = sys.argv[1:]
+    if not args:
         sys.exit(__doc__)
-    out = sys.argv[1]
-    variants = sys.argv[2:] or sorted(v for v in os.listdir(out) if os.path.isdir(os.path.join(out, v)))
-    print("| variant | passes | seeds | image mean - closed form (mean +- SE over seeds) | RMS error of one run | model p = 2 | model p = 0.97 |")
+    reference = None
+    if "--reference" in args:
+        j = args.index("--reference"); reference = args[j + 1]; del args[j:j + 2]
+        x = [float(r["image_mean"]) for r in csv.DictReader(open(reference))]
+        CLOSED, se = mean_se(x)
+        print(f"reference {reference}: image mean {CLOSED:.7g} +- {se / CLOSED * 100:.3f}% ({len(x)} passes)\n")
+    out = args[0]
+    variants = args[1:] or sorted(v for v in os.listdir(out) if os.path.isdir(os.path.join(out, v)))
+    truth = "closed form" if reference is None else "reference"
+    models = "model p = 2 | model p = 0.97" if reference is None else "fixed x mean m_i^(2/3) | (same)"
+    print(f"| variant | passes | seeds | image mean - {truth} (mean +- SE over seeds) | RMS error of one run | {models} |")
     print("|---|---|---|---|---|---|---|")
     bins = []
+    fixed_bias = float("nan")
+    if reference is not None:
+        variants = sorted(variants, key=lambda v: v != "fixed")   # fixed first: the other rows' model uses it
     for v in variants:
         runs = load(os.path.join(out, v))
         if len(runs) < 2: continue
@@ -70,7 +92,11 @@ def main():
         ks = radii.get("k") or [32] * max(NS)
         ss = radii.get("volume_scale") or [1.0] * max(NS)
         def model(a, b, p):
+            if reference is not None:   # fixed's bias times the mean of m_i^(2/3) (an r^2 smoothing)
+                return fixed_bias * sum(measure_ratio(i) ** (2 / 3) if v != "fixed" else 1.0 for i in range(a, b)) / (b - a)
             return sum(smoothing(ks[i], ss[i], p) + clustering(ks[i]) for i in range(a, b)) / (b - a)
+        if v == "fixed":
+            fixed_bias = mean_se([(sum(x[:max(NS)]) / max(NS) / CLOSED - 1) * 100 for x, _ in runs])[0]
         for n in NS:
             e = [(sum(x[:n]) / n / CLOSED - 1) * 100 for x, _ in runs]
             m, se = mean_se(e)
@@ -86,7 +112,7 @@ def main():
         m, se = mean_se(d)
         bins.append(f"| {v} | 256-pass mean - 64-pass mean (paired) | | | {m:+.2f}% +- {se:.2f}% | {model(0, 256, 2) - model(0, 64, 2):+.2f}% | {model(0, 256, 0.97) - model(0, 64, 0.97):+.2f}% |")
     print()
-    print("| variant | passes | k | s | mean of these passes - closed form | model p = 2 | model p = 0.97 |")
+    print(f"| variant | passes | k | s | mean of these passes - {truth} | {models} |")
     print("|---|---|---|---|---|---|---|")
     print("\n".join(bins))
 
