@@ -17,7 +17,8 @@ section 6, with F ~ r^p and the count ~ r^3), S32 = +1.36% (k 32, measured and d
 leading order the schedule is built for: smoothing ~ m_i^(2/3)) or p = 0.97 (the renderer's fixed radii:
 +0.76% at 0.5, +1.34% at 0.9); clustering(k) = 0.73% (k / 32)^-0.71 (the walk clustering measured at k 32
 and k 8, +0.73% and +1.95%, interpolated as a power law; below k 8 an extrapolation, and independent of s,
-which is not known).
+which is not known). A variant whose name holds "walks" (photons.neighbours = "walks") has no clustering
+term and the walk ball's smoothing, W32 = +1.62% at k 32 (derived, section 6), for S32.
 
 With --reference (a path-traced run's passes.csv: its mean image mean is the truth, its SE over passes is
 printed) the model columns are replaced by the schedule's own prediction for a smoothing bias ~ r^2: the
@@ -26,7 +27,7 @@ fixed variant's measured bias times the mean of m_i^(2/3) over the passes (docs/
 import csv, json, math, os, sys
 
 CLOSED = 0.031147627
-S32, C32, C_EXP = 1.36, 0.73, math.log(1.95 / 0.73) / math.log(32 / 8)
+S32, W32, C32, C_EXP = 1.36, 1.62, 0.73, math.log(1.95 / 0.73) / math.log(32 / 8)
 NS = (64, 128, 256)
 BINS = ((0, 64), (64, 128), (128, 256))
 
@@ -35,8 +36,8 @@ def gamma_moment(a, q):   # E[T^q], T ~ Gamma(a, 1)
     return math.exp(math.lgamma(a + q) - math.lgamma(a))
 
 
-def smoothing(k, s, p):
-    return S32 * s ** p * gamma_moment(k - 1, p / 3) / gamma_moment(31, p / 3)
+def smoothing(k, s, p, base=S32):
+    return base * s ** p * gamma_moment(k - 1, p / 3) / gamma_moment(31, p / 3)
 
 
 def clustering(k):
@@ -94,6 +95,8 @@ def main():
         def model(a, b, p):
             if reference is not None:   # fixed's bias times the mean of m_i^(2/3) (an r^2 smoothing)
                 return fixed_bias * sum(measure_ratio(i) ** (2 / 3) if v != "fixed" else 1.0 for i in range(a, b)) / (b - a)
+            if "walks" in v:
+                return sum(smoothing(ks[i], ss[i], p, W32) for i in range(a, b)) / (b - a)
             return sum(smoothing(ks[i], ss[i], p) + clustering(ks[i]) for i in range(a, b)) / (b - a)
         if v == "fixed":
             fixed_bias = mean_se([(sum(x[:max(NS)]) / max(NS) / CLOSED - 1) * 100 for x, _ in runs])[0]
