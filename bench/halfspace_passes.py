@@ -57,7 +57,7 @@ def load(d):
         if len(rows) < max(NS): continue
         x = [float(r["image_mean"]) for r in rows]
         radii = json.load(open(os.path.join(d, f.replace(".passes.csv", ".json"))))["photons"].get("radii", {})
-        runs.append((x, radii))
+        runs.append((x, radii, f))
     return runs
 
 
@@ -84,6 +84,7 @@ def main():
     print("|---|---|---|---|---|---|---|")
     bins = []
     fixed_bias = float("nan")
+    models_of = {}
     if reference is not None:
         variants = sorted(variants, key=lambda v: v != "fixed")   # fixed first: the other rows' model uses it
     for v in variants:
@@ -92,28 +93,48 @@ def main():
         radii = runs[0][1]
         ks = radii.get("k") or [32] * max(NS)
         ss = radii.get("volume_scale") or [1.0] * max(NS)
-        def model(a, b, p):
+        def model(a, b, p, v=v, ks=ks, ss=ss):
             if reference is not None:   # fixed's bias times the mean of m_i^(2/3) (an r^2 smoothing)
                 return fixed_bias * sum(measure_ratio(i) ** (2 / 3) if v != "fixed" else 1.0 for i in range(a, b)) / (b - a)
             if "walks" in v:
                 return sum(smoothing(ks[i], ss[i], p, W32) for i in range(a, b)) / (b - a)
             return sum(smoothing(ks[i], ss[i], p) + clustering(ks[i]) for i in range(a, b)) / (b - a)
+        models_of[v] = model
         if v == "fixed":
-            fixed_bias = mean_se([(sum(x[:max(NS)]) / max(NS) / CLOSED - 1) * 100 for x, _ in runs])[0]
+            fixed_bias = mean_se([(sum(x[:max(NS)]) / max(NS) / CLOSED - 1) * 100 for x, _, _ in runs])[0]
         for n in NS:
-            e = [(sum(x[:n]) / n / CLOSED - 1) * 100 for x, _ in runs]
+            e = [(sum(x[:n]) / n / CLOSED - 1) * 100 for x, _, _ in runs]
             m, se = mean_se(e)
             rms = math.sqrt(sum(a * a for a in e) / len(e))
             print(f"| {v} | {n} | {len(runs)} | {m:+.2f}% +- {se:.2f}% | {rms:.2f}% | {model(0, n, 2):+.2f}% | {model(0, n, 0.97):+.2f}% |")
         for a, b in BINS:
-            e = [(sum(x[a:b]) / (b - a) / CLOSED - 1) * 100 for x, _ in runs]
+            e = [(sum(x[a:b]) / (b - a) / CLOSED - 1) * 100 for x, _, _ in runs]
             m, se = mean_se(e)
             kr = f"{ks[b - 1]}-{ks[a]}" if ks[a] != ks[b - 1] else f"{ks[a]}"
             sr = f"{min(ss[a:b]):.2f}-{max(ss[a:b]):.2f}"
             bins.append(f"| {v} | {a}-{b - 1} | {kr} | {sr} | {m:+.2f}% +- {se:.2f}% | {model(a, b, 2):+.2f}% | {model(a, b, 0.97):+.2f}% |")
-        d = [((sum(x[:256]) / 256 - sum(x[:64]) / 64) / CLOSED) * 100 for x, _ in runs]
+        d = [((sum(x[:256]) / 256 - sum(x[:64]) / 64) / CLOSED) * 100 for x, _, _ in runs]
         m, se = mean_se(d)
         bins.append(f"| {v} | 256-pass mean - 64-pass mean (paired) | | | {m:+.2f}% +- {se:.2f}% | {model(0, 256, 2) - model(0, 64, 2):+.2f}% | {model(0, 256, 0.97) - model(0, 64, 0.97):+.2f}% |")
+    # The variants share the seeds (render.seed 1..SEEDS: the same photon maps), so their differences are paired.
+    print()
+    print(f"| variant - the first named | passes | seeds | difference (paired by seed) | {models} |")
+    print("|---|---|---|---|---|---|")
+    base = {f: x for x, _, f in load(os.path.join(out, variants[0]))}
+    m0 = models_of.get(variants[0])
+    for v in variants[1:]:
+        mv = models_of.get(v)
+        def dm(a, b):
+            if not (m0 and mv): return "| |"
+            return f"{mv(a, b, 2) - m0(a, b, 2):+.2f}% | {mv(a, b, 0.97) - m0(a, b, 0.97):+.2f}% |"
+        runs = [(x, base[f]) for x, _, f in load(os.path.join(out, v)) if f in base]
+        if len(runs) < 2: continue
+        for n in NS:
+            m, se = mean_se([(sum(x[:n]) - sum(y[:n])) / n / CLOSED * 100 for x, y in runs])
+            print(f"| {v} - {variants[0]} | {n} | {len(runs)} | {m:+.2f}% +- {se:.2f}% | {dm(0, n)}")
+        for a, b in BINS:
+            m, se = mean_se([(sum(x[a:b]) - sum(y[a:b])) / (b - a) / CLOSED * 100 for x, y in runs])
+            print(f"| {v} - {variants[0]} | {a}-{b - 1} | {len(runs)} | {m:+.2f}% +- {se:.2f}% | {dm(a, b)}")
     print()
     print(f"| variant | passes | k | s | mean of these passes - {truth} | {models} |")
     print("|---|---|---|---|---|---|---|")
