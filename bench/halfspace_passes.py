@@ -54,7 +54,9 @@ def load(d):
     for f in sorted(os.listdir(d)):
         if not f.endswith(".passes.csv"): continue
         rows = list(csv.DictReader(open(os.path.join(d, f))))
-        if len(rows) < max(NS): continue
+        if len(rows) < max(NS):
+            print(f"{d}/{f}: {len(rows)} passes, fewer than {max(NS)}: left out", file=sys.stderr)
+            continue
         x = [float(r["image_mean"]) for r in rows]
         radii = json.load(open(os.path.join(d, f.replace(".passes.csv", ".json"))))["photons"].get("radii", {})
         runs.append((x, radii, f))
