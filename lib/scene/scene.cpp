@@ -39,9 +39,11 @@ std::vector<int> read_interior_media(std::vector<Params>& shapes, size_t media) 
     for (size_t i = 0; i < shapes.size(); ++i) {
         Params& p = shapes[i];
         if (!p.has("interior_medium")) continue;
-        if (media == 0)
-            p.fail("interior_medium", "the scene has no [[media]] table to put inside this shape; allowed: the index of a [[media]] table");
-        const int64_t n = p.integer("interior_medium", Range::closed(0.0, double(media - 1)));
+        const int64_t n = p.integer("interior_medium");
+        if (n < 0 || uint64_t(n) >= media)
+            p.fail("interior_medium", "value " + std::to_string(n) + " is not a [[media]] table of this scene; allowed: " +
+                                          (media == 0 ? std::string("none (the scene has no [[media]])")
+                                                      : "0 to " + std::to_string(media - 1) + " (the 0-based index of a [[media]] table)"));
         for (size_t j = 0; j < i; ++j)
             if (interior[j] == int(n))
                 p.fail("interior_medium", "[[media]] table " + std::to_string(n) + " is already the interior medium of shape " +
