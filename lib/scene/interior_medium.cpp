@@ -116,9 +116,10 @@ InteriorMedium::BallSide InteriorMedium::ball_side(const Vec3& x, double r) cons
 }
 
 bool InteriorMedium::uniform_lens(const Vec3& x, double r, double& sigma, ClipMoments& lens) const {
-    if (!shape_geometry_.sphere || !homogeneous_ || !homogeneous_->contains_ball(x, r)) return false;
+    if (!homogeneous_ || !homogeneous_->contains_ball(x, r)) return false;
     sigma = homogeneous_->sigma_t_value();
-    lens = ball_ball_moments(r, shape_geometry_.center - x, shape_geometry_.radius);
+    lens = shape_geometry_.sphere ? ball_ball_moments(r, shape_geometry_.center - x, shape_geometry_.radius)
+                                  : shape_ball_moments(surfaces_, x, r, shape_);
     return true;
 }
 

@@ -32,9 +32,10 @@ public:
     double transmittance(const Ray& ray, double tmax, Rng& rng) const override;
     double sigma_t(const Vec3& p) const override;
     // Closed forms: the inner medium's for a ball wholly inside a sphere shape, 0 for a ball wholly
-    // outside the shape, and a sphere's lens (scene/media/ball_clip_moments.h) for a ball crossing a
-    // sphere shape where a homogeneous inner medium is uniform; otherwise none (the caller
-    // integrates sigma_t, which is clipped).
+    // outside the shape, and for a ball crossing the shape where a homogeneous inner medium is
+    // uniform, sigma_t times the ball's part inside: a sphere's lens (scene/media/ball_clip_moments.h)
+    // or a mesh's by the region points (shape_ball_moments); otherwise none (the caller integrates
+    // sigma_t, which is clipped).
     bool ball_integral(const Vec3& x, double r, double& integral) const override;
     bool ball_moments(const Vec3& x, double r, double& m0, Vec3& m1, Eigen::Matrix3d& m2) const override;
     void majorant_pieces(const Ray& ray, double tmax, const MajorantVisitor& visit) const override;
@@ -54,8 +55,8 @@ private:
     // Where a ball lies against the shape: wholly inside, wholly outside, or crossing its surface.
     enum class BallSide { inside, outside, crossing };
     BallSide ball_side(const Vec3& x, double r) const;
-    // A ball crossing a sphere shape inside a homogeneous inner medium's uniform part: its sigma_t
-    // and the ball's lens with the sphere (about x).
+    // A ball crossing the shape inside a homogeneous inner medium's uniform part: its sigma_t and
+    // the moments of the ball's part inside the shape (about x).
     bool uniform_lens(const Vec3& x, double r, double& sigma, ClipMoments& lens) const;
 
     std::unique_ptr<Medium> inner_;

@@ -139,6 +139,28 @@ TEST(InteriorMedium, MeshHoldsTheMediumByParity) {
     EXPECT_EQ(scene->optical_depth(Ray{Vec3(0.7, 0.2, 5), Vec3(0, 0, -1)}, kInfinity), 0.0);
 }
 
+TEST(InteriorMedium, MeshBallIntegralsCountThePartInside) {
+    const auto scene = test::scene_from_config(std::string(kLight) + fog(2.0) + kGlassBox);
+    const Medium& m = *scene->media[0];
+    const double r = 0.1, ball = 4.0 / 3.0 * kPi * r * r * r;
+    double in = 0.0;
+    ASSERT_TRUE(m.ball_integral(Vec3(0.1, 0, 0), r, in));   // wholly inside the box: every point counts
+    EXPECT_NEAR(in, 2.0 * ball, 1e-12);
+    double m0 = 0.0;
+    Vec3 m1;
+    Eigen::Matrix3d m2;
+    ASSERT_TRUE(m.ball_moments(Vec3(0.1, 0, 0), r, m0, m1, m2));
+    EXPECT_EQ(m1, Vec3::Zero());   // centre-symmetric points
+    // Through a face: the ball less its cap beyond x = 0.5 (height 0.05), to the 256 points' resolution
+    // (BallFractionIsTheLensVolumeAndItsQuadrature: about 1% of the ball).
+    const double h = 0.05, cap = kPi * h * h * (3 * r - h) / 3.0;
+    ASSERT_TRUE(m.ball_integral(Vec3(0.45, 0, 0), r, in));
+    EXPECT_NEAR(in / (2.0 * ball), 1.0 - cap / ball, 0.02);
+    ASSERT_TRUE(m.ball_moments(Vec3(0.45, 0, 0), r, m0, m1, m2));
+    EXPECT_DOUBLE_EQ(m0, in);
+    EXPECT_LT(m1.x(), 0.0);   // the part inside lies towards -x
+}
+
 TEST(InteriorMedium, BadKeysAreOneErrorEach) {
     const std::string glass = kGlassSphere;
     // Not a [[media]] table: the error names the key and the allowed indices.
