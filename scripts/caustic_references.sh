@@ -14,7 +14,7 @@ seconds="${1:-2700}"
 out="${2:-bench/caustic_references}"
 vpm="${3:-build/vpm}"
 mkdir -p "$out"
-scenes="water_caustics glass_bulb_smoke mirror_ball_haze smoke_glass_flask"
+scenes="water_caustics glass_bulb_smoke mirror_ball_haze smoke_glass_flask smoke_in_glass_bottle"
 half() {
     local scene="$1" half="$2" seed="$3" image="$out/${1}_$2.exr"
     local args=(render "configs/$scene.toml" -q --threads 1 --set render.integrator=path --set render.seed="$seed"

@@ -17,6 +17,9 @@ Geometries (all non-absorbing, under a constant sky, every collision stored: dir
             (corrected): the radiance is 1 everywhere outside glass.
   camera_in_glass
             the glass sphere with the camera inside it: exact eta^2 = 2.25 (corrected).
+  interior, interior_camera_in_glass
+            the fog inside the glass sphere only (`interior_medium = 0`, docs/interior_medium.md),
+            seen from outside (exact 1) and from inside the glass (exact 2.25).
 
 Usage:
   scripts/furnace_matrix.py --vpm build/vpm [--target-se 0.003] [--only SUBSTRING ...] [--out PATH]
@@ -113,6 +116,8 @@ GEOMETRIES = {
     "ball": (CAMERA_OUTSIDE + FOG, 1.0, ball_estimated_share()),
     "glass": (CAMERA_OUTSIDE + FOG + glass_sphere(0, 1.0), 1.0, None),
     "camera_in_glass": (CAMERA_IN_GLASS + FOG + glass_sphere(0, 1.0), 2.25, None),
+    "interior": (CAMERA_OUTSIDE + FOG + glass_sphere(0, 1.0) + "interior_medium = 0\n", 1.0, None),
+    "interior_camera_in_glass": (CAMERA_IN_GLASS + FOG + glass_sphere(0, 1.0) + "interior_medium = 0\n", 2.25, None),
     "touching": (CAMERA_OUTSIDE + FOG + glass_sphere(-0.6, 0.6) + glass_sphere(0.6, 0.6), 1.0, None),
     "mirror": (CAMERA_OUTSIDE + FOG + MIRROR, 1.0, None),
     "white_box": (CAMERA_OUTSIDE + FOG + WHITE_BOX, 1.0, None),
@@ -128,7 +133,7 @@ ESTIMATE_FACTOR = {"classic": lambda k: k / (k - 1), "corrected": lambda k: 1.0,
 ESTIMATORS = {"collision": ("classic", "corrected", "mse_optimal"), "march": ("classic", "corrected", "mse_optimal"),
               "point_beam": ("corrected",), "photon_beams": ("classic", "corrected")}
 POINT_GATHERS = ("collision", "march")
-GLASS_GEOMETRIES = ("glass", "camera_in_glass", "touching")
+GLASS_GEOMETRIES = ("glass", "camera_in_glass", "touching", "interior", "interior_camera_in_glass")
 
 
 def known_deviation(geometry, gather):
@@ -225,7 +230,7 @@ def cells():
         out += [(c, None) for c, _ in ball_estimators(gather, 0)]
         if gather in POINT_GATHERS:
             out.append((Cell("ball", gather, "corrected", 8), None))
-    for geometry in ("glass", "camera_in_glass", "touching", "mirror", "white_box"):
+    for geometry in ("glass", "camera_in_glass", "touching", "interior", "interior_camera_in_glass", "mirror", "white_box"):
         out += [(Cell(geometry, gather, "corrected", 32), None) for gather in GATHERS]
     for sampler in ("independent", "stratified", "sobol"):   # issue 57, item 3
         for k in (4, 8):
@@ -238,7 +243,7 @@ def cells():
 # the pilots (docs/furnace_matrix.md): one map of 50,000 photons scatters by 2-5% in the ball (the
 # point gathers at k 4 the most), 7% seen from inside the glass; a beam map costs ~10x a point map.
 POINT_MAPS, BEAM_MAPS = 64, 16
-CI_GEOMETRIES = {"glass": ("glass", "touching", "camera_in_glass"), "surfaces": ("mirror", "white_box")}
+CI_GEOMETRIES = {"glass": ("glass", "touching", "camera_in_glass", "interior"), "surfaces": ("mirror", "white_box")}
 
 
 def ci_cells(group):

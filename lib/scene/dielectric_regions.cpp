@@ -112,4 +112,18 @@ double region_ball_fraction(const Surfaces* surfaces, const Vec3& x, double r, R
     return in > 0 ? double(in) / double(kRegionBallPoints) : 1.0;
 }
 
+ClipMoments shape_ball_moments(const Surfaces& surfaces, const Vec3& x, double r, int shape) {
+    const RegionMask region = region_at(&surfaces, x), bit = RegionMask(1) << shape;
+    const double w = (4.0 / 3.0) * kPi * r * r * r / kRegionBallPoints;
+    ClipMoments m;
+    for (const Vec3& u : unit_ball_points()) {
+        if (!(region_along(surfaces, x, region, x + r * u) & bit)) continue;
+        const Vec3 d = r * u;
+        m.m0 += w;
+        m.m1 += w * d;
+        m.m2 += w * (d * d.transpose());
+    }
+    return m;
+}
+
 }  // namespace vpm

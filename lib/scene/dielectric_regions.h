@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "core/math.h"
+#include "scene/media/ball_clip_moments.h"
 #include "scene/surfaces/surfaces.h"
 
 namespace vpm {
@@ -35,5 +36,12 @@ inline RegionMask region_after_specular(RegionMask region, const SurfaceHit& hit
 // region read by toggling x's region at the glass crossings of the segment from x to it.
 constexpr int kRegionBallPoints = 256;
 double region_ball_fraction(const Surfaces* surfaces, const Vec3& x, double r, RegionMask region);
+
+// The volume moments about x of the part of B(x, r) inside closed dielectric shape `shape` (a mesh's
+// inside for an interior medium's ball integral, scene/interior_medium.h): m0 the volume, m1 the
+// integral of p - x, m2 of (p - x)(p - x)^T. The kRegionBallPoints fixed points above, each inside
+// by the shape's bit of its region read from x's (region_at) along the segment; centre-symmetric,
+// so a ball wholly on one side has m1 exactly 0.
+ClipMoments shape_ball_moments(const Surfaces& surfaces, const Vec3& x, double r, int shape);
 
 }  // namespace vpm

@@ -4,6 +4,7 @@
 
 #include "scene/camera_region.h"
 #include "scene/emission_guides.h"
+#include "scene/interior_medium.h"
 #include "scene/lights/light_registry.h"
 #include "scene/media/optical_depth_profile.h"
 #include "scene/media/medium_registry.h"
@@ -29,6 +30,51 @@ void focus_lights_at_infinity(Scene& scene) {
         if (scene.lights[i]->at_infinity() && scene.lights[i]->set_emission_focus(region))
             scene.build_log.push_back("light " + std::to_string(i) + ": half of its photons aimed at the region the camera sees, " +
                                       format_bounds(region) + " (scene/lights/emission_bounds.h)");
+}
+
+// Each shape's `interior_medium` (-1 where unset), read before Surfaces::create finishes the tables:
+// an index of a [[media]] table, named by one shape at most.
+std::vector<int> read_interior_media(std::vector<Params>& shapes, size_t media) {
+    std::vector<int> interior(shapes.size(), -1);
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        Params& p = shapes[i];
+        if (!p.has("interior_medium")) continue;
+        const int64_t n = p.integer("interior_medium");
+        if (n < 0 || uint64_t(n) >= media)
+            p.fail("interior_medium", "value " + std::to_string(n) + " is not a [[media]] table of this scene; allowed: " +
+                                          (media == 0 ? std::string("none (the scene has no [[media]])")
+                                                      : "0 to " + std::to_string(media - 1) + " (the 0-based index of a [[media]] table)"));
+        for (size_t j = 0; j < i; ++j)
+            if (interior[j] == int(n))
+                p.fail("interior_medium", "[[media]] table " + std::to_string(n) + " is already the interior medium of shape " +
+                                              std::to_string(j) + " (" + shapes[j].where("interior_medium") +
+                                              "); a medium can be inside one shape only");
+        interior[i] = int(n);
+    }
+    return interior;
+}
+
+// Replaces each interior medium by the same medium confined to its shape, which must be a closed
+// dielectric (its inside is a region, scene/dielectric_regions.h).
+void confine_interior_media(Scene& scene, const std::vector<Params>& shapes, const std::vector<int>& interior) {
+    bool any = false;
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        if (interior[i] < 0) continue;
+        const auto& dielectrics = scene.surfaces->dielectric_shapes();
+        int shape = -1;
+        for (size_t d = 0; d < dielectrics.size(); ++d)
+            if (dielectrics[d].table == i) shape = int(d);
+        if (shape < 0)
+            shapes[i].fail("interior_medium", "needs a closed glass shape: material = \"dielectric\" on a box, sphere or closed mesh");
+        auto& medium = scene.media[size_t(interior[i])];
+        medium = std::make_unique<InteriorMedium>(std::move(medium), *scene.surfaces, shape);
+        scene.build_log.push_back("medium " + std::to_string(interior[i]) + ": " + medium->describe());
+        any = true;
+    }
+    if (!any) return;
+    // What the media fill is now their shapes' inside.
+    scene.bounds = scene.surfaces->bounds();
+    for (const auto& m : scene.media) scene.bounds.extend(m->bounds());
 }
 
 }  // namespace
@@ -79,9 +125,11 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
 
     std::vector<Params> shapes = root.tables("shapes");
     if (!shapes.empty()) {
+        const std::vector<int> interior = read_interior_media(shapes, scene->media.size());
         scene->surfaces = Surfaces::create(shapes);
         scene->bounds.extend(scene->surfaces->bounds());
         scene->build_log.push_back("Embree: " + scene->surfaces->describe());
+        confine_interior_media(*scene, shapes, interior);
     } else {
         scene->build_log.push_back("Embree: not built (no shapes)");
     }

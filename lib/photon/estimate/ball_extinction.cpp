@@ -133,6 +133,10 @@ double ball_mean_by_rule(const Medium& m, const Vec3& x, double r, BallRule rule
 BallExtinction::BallExtinction(const std::vector<std::unique_ptr<Medium>>& media) {
     for (const auto& m : media) {
         Entry e{m.get(), m->bounds(), 0.0, Vec3::Zero(), Eigen::Matrix3d::Zero(), nullptr};
+        if (m->interior_of() >= 0) {
+            e.shape = RegionMask(1) << m->interior_of();
+            interior_media_ = true;
+        }
         const double v = box_volume(e.box);
         if (m->continuous() && v > 0.0 && std::isfinite(v)) e.lattice = std::make_shared<LazyLattice>();
         if (v > 0.0 && std::isfinite(v)) {
@@ -233,29 +237,48 @@ void BallExtinction::entry_integrals(const Entry& e, const Vec3& x, const double
     if (lookups) *lookups += looked_up;
 }
 
-double BallExtinction::integral(const Vec3& x, double r, uint64_t* lookups) const {
+BallExtinction::RegionWeights BallExtinction::region_weights(const Vec3& x, const double* r, int n,
+                                                             const BallRegion* region) const {
+    RegionWeights w;
+    if (!region) return w;
+    w.on = true;
+    w.region = region->region;
+    bool everywhere = false;
+    for (const Entry& e : entries_) everywhere = everywhere || e.shape == 0;
+    if (everywhere)
+        for (int j = 0; j < n; ++j) w.share[j] = region_ball_fraction(region->interfaces, x, r[j], region->region);
+    return w;
+}
+
+double BallExtinction::integral(const Vec3& x, double r, uint64_t* lookups, const BallRegion* region) const {
+    const RegionWeights w = region_weights(x, &r, 1, region);
     double total = 0.0;
     for (const Entry& e : entries_) {
+        if (w.on && w.of(e, 0) == 0.0) continue;
         double v = 0.0;
         entry_integrals(e, x, &r, &v, 1, lookups);
-        total += v;
+        total += w.on ? w.of(e, 0) * v : v;
     }
     return total;
 }
 
-std::array<double, 2> BallExtinction::integrals(const Vec3& x, double ra, double rb, uint64_t* lookups) const {
+std::array<double, 2> BallExtinction::integrals(const Vec3& x, double ra, double rb, uint64_t* lookups,
+                                                const BallRegion* region) const {
     std::array<double, 2> total{0.0, 0.0};
     const double r[2] = {ra, rb};
+    const RegionWeights w = region_weights(x, r, 2, region);
     for (const Entry& e : entries_) {
+        if (w.on && w.of(e, 0) == 0.0 && w.of(e, 1) == 0.0) continue;
         double v[2] = {0.0, 0.0};
         entry_integrals(e, x, r, v, 2, lookups);
-        total[0] += v[0];
-        total[1] += v[1];
+        total[0] += w.on ? w.of(e, 0) * v[0] : v[0];
+        total[1] += w.on ? w.of(e, 1) * v[1] : v[1];
     }
     return total;
 }
 
-void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoments* out, uint64_t* lookups) const {
+void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoments* out, uint64_t* lookups,
+                               const BallRegion* region) const {
     // Sums of sigma_t, sigma_t d and sigma_t d d^T (d = p - x) over all media, then centred; per
     // radius, except that the clipped quadrature's points cover the largest radius's cube and serve
     // every radius that needs them (one pass of lookups).
@@ -269,8 +292,13 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
             s2 += w * (d * d.transpose());
         }
     };
-    Sums sums[2];
+    Sums total[2];
+    const RegionWeights weights = region_weights(x, r, n, region);
     for (const Entry& e : entries_) {
+        // A region query sums each medium's moments apart and adds them by its weight.
+        Sums own[2];
+        Sums* sums = weights.on ? own : total;
+        if (weights.on && weights.of(e, 0) == 0.0 && (n < 2 || weights.of(e, 1) == 0.0)) continue;
         bool clipped[2] = {false, false};
         double r_clip = 0.0;
         for (int j = 0; j < n; ++j) {
@@ -348,50 +376,58 @@ void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoment
             clipped[j] = true;
             r_clip = std::max(r_clip, rj);
         }
-        if (!(r_clip > 0.0)) continue;
-        const Bounds3 c = cube_in_box(e.box, x, r_clip);
-        const double vc = box_volume(c);
-        if (!(vc > 0.0)) continue;
-        const Vec3 extent = c.hi - c.lo;
-        const double w = vc / kClippedPoints;
-        const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
-        const double r2max = std::max(r2a, r2b);
-        for (const Vec3& h : clipped_points()) {
-            const Vec3 p = c.lo + h.cwiseProduct(extent);
-            const double d2 = (p - x).squaredNorm();
-            if (d2 > r2max) continue;
-            if (lookups) *lookups += 1;   // the points looked up, as entry_integrals counts them
-            const double sw = w * e.medium->sigma_t(p);
-            if (d2 <= r2a) sums[0].add(sw, p - x);
-            if (d2 <= r2b) sums[1].add(sw, p - x);
+        const Bounds3 c = r_clip > 0.0 ? cube_in_box(e.box, x, r_clip) : Bounds3{};
+        const double vc = r_clip > 0.0 ? box_volume(c) : 0.0;
+        if (vc > 0.0) {
+            const Vec3 extent = c.hi - c.lo;
+            const double w = vc / kClippedPoints;
+            const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
+            const double r2max = std::max(r2a, r2b);
+            for (const Vec3& h : clipped_points()) {
+                const Vec3 p = c.lo + h.cwiseProduct(extent);
+                const double d2 = (p - x).squaredNorm();
+                if (d2 > r2max) continue;
+                if (lookups) *lookups += 1;   // the points looked up, as entry_integrals counts them
+                const double sw = w * e.medium->sigma_t(p);
+                if (d2 <= r2a) sums[0].add(sw, p - x);
+                if (d2 <= r2b) sums[1].add(sw, p - x);
+            }
         }
+        if (weights.on)
+            for (int j = 0; j < n; ++j) {
+                const double wj = weights.of(e, j);
+                total[j].s0 += wj * own[j].s0;
+                total[j].s1 += wj * own[j].s1;
+                total[j].s2 += wj * own[j].s2;
+            }
     }
     for (int j = 0; j < n; ++j) {
         BallMoments& m = out[j];
         m = BallMoments{};
-        m.m0 = sums[j].s0;
+        m.m0 = total[j].s0;
         if (!(m.m0 > 0.0)) continue;
-        m.offset = sums[j].s1 / m.m0;
-        m.cov = sums[j].s2 / m.m0 - m.offset * m.offset.transpose();
+        m.offset = total[j].s1 / m.m0;
+        m.cov = total[j].s2 / m.m0 - m.offset * m.offset.transpose();
     }
 }
 
-BallMoments BallExtinction::moments(const Vec3& x, double r, uint64_t* lookups) const {
+BallMoments BallExtinction::moments(const Vec3& x, double r, uint64_t* lookups, const BallRegion* region) const {
     BallMoments m;
-    moments_n(x, &r, 1, &m, lookups);
+    moments_n(x, &r, 1, &m, lookups, region);
     return m;
 }
 
-std::array<BallMoments, 2> BallExtinction::moments(const Vec3& x, double ra, double rb, uint64_t* lookups) const {
+std::array<BallMoments, 2> BallExtinction::moments(const Vec3& x, double ra, double rb, uint64_t* lookups,
+                                                   const BallRegion* region) const {
     std::array<BallMoments, 2> m;
     const double r[2] = {ra, rb};
-    moments_n(x, r, 2, m.data(), lookups);
+    moments_n(x, r, 2, m.data(), lookups, region);
     return m;
 }
 
-double BallExtinction::mean(const Vec3& x, double r, uint64_t* lookups) const {
+double BallExtinction::mean(const Vec3& x, double r, uint64_t* lookups, const BallRegion* region) const {
     const double volume = (4.0 / 3.0) * kPi * r * r * r;
-    return volume > 0.0 ? integral(x, r, lookups) / volume : 0.0;
+    return volume > 0.0 ? integral(x, r, lookups, region) / volume : 0.0;
 }
 
 }  // namespace vpm

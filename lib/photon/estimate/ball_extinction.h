@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "scene/dielectric_regions.h"
 #include "scene/media/medium.h"
 
 namespace vpm {
@@ -60,27 +61,45 @@ struct BallMoments {
 
 struct LazyLattice;   // ball_extinction.cpp
 
+// The region of a query among closed glass shapes (scene/dielectric_regions.h), in a scene with
+// interior media (scene/interior_medium.h). The photons a region's map holds lit only the part of
+// the ball in that region, so the extinction that normalises them is the integral over
+// B(x, r) ∩ region: an interior medium counts in its own shape's region alone, clipped to the
+// shape (exact when no other glass surface crosses the ball), and a medium that is everywhere
+// counts by the share of the ball in the region (region_ball_fraction: exact where its sigma_t
+// is the same on both sides of the interface, as VolumeEstimator divides without interior media).
+struct BallRegion {
+    const Surfaces* interfaces = nullptr;
+    RegionMask region = 0;
+};
+
 class BallExtinction {
 public:
     explicit BallExtinction(const std::vector<std::unique_ptr<Medium>>& media);
     // Copies share the mass lattices (built once, by whichever copy first needs one).
     // Mean over B(x, r) of the summed sigma_t of all media (overlapping media add). lookups: when
     // not null, the sigma_t evaluations made are added to it (the auto gather's cost count).
-    double mean(const Vec3& x, double r, uint64_t* lookups = nullptr) const;
-    // The integral of sigma_t over B(x, r).
-    double integral(const Vec3& x, double r, uint64_t* lookups = nullptr) const;
+    // region: when not null, over B(x, r) ∩ region instead (BallRegion).
+    double mean(const Vec3& x, double r, uint64_t* lookups = nullptr, const BallRegion* region = nullptr) const;
+    // The integral of sigma_t over B(x, r) (over B(x, r) ∩ region when region is not null).
+    double integral(const Vec3& x, double r, uint64_t* lookups = nullptr, const BallRegion* region = nullptr) const;
     // The integrals over B(x, ra) and B(x, rb), each what integral() gives, except that where both
     // need the clipped quadrature they share its points over the larger ball's cube (one pass).
-    std::array<double, 2> integrals(const Vec3& x, double ra, double rb, uint64_t* lookups = nullptr) const;
+    std::array<double, 2> integrals(const Vec3& x, double ra, double rb, uint64_t* lookups = nullptr,
+                                    const BallRegion* region = nullptr) const;
+    // Whether some medium is confined to a closed shape (Medium::interior_of()): then region
+    // queries differ from plain ones.
+    bool has_interior_media() const { return interior_media_; }
     // The moments above by the same quadratures (the lattice's for wide balls crossing a continuous
     // medium's box, as integral()); the ball's by the degree-5 rule in a
     // continuous medium, else by its 32 points and their antipodes (64; a homogeneous shape's jump
     // needs more than 15 points). Both symmetric: a ball of constant sigma_t has offset exactly 0.
     // lookups: as integral()'s, the sigma_t evaluations and lattice visits made (the plan's counted
     // work: uncounted, the march's ball moments were 31% of its render in the thin blob).
-    BallMoments moments(const Vec3& x, double r, uint64_t* lookups = nullptr) const;
+    BallMoments moments(const Vec3& x, double r, uint64_t* lookups = nullptr, const BallRegion* region = nullptr) const;
     // The moments of B(x, ra) and B(x, rb), sharing the clipped quadrature's points as integrals().
-    std::array<BallMoments, 2> moments(const Vec3& x, double ra, double rb, uint64_t* lookups = nullptr) const;
+    std::array<BallMoments, 2> moments(const Vec3& x, double ra, double rb, uint64_t* lookups = nullptr,
+                                       const BallRegion* region = nullptr) const;
 
 private:
     struct Entry {
@@ -90,10 +109,22 @@ private:
         Vec3 centroid = Vec3::Zero();   // of sigma_t over the box
         Eigen::Matrix3d second = Eigen::Matrix3d::Zero();   // integral of sigma_t (p - centroid)(p - centroid)^T over the box
         std::shared_ptr<LazyLattice> lattice;   // continuous media: built on the first wide crossing ball
+        RegionMask shape = 0;   // the bit of the closed shape an interior medium is confined to; 0: everywhere
     };
-    void moments_n(const Vec3& x, const double* r, int n, BallMoments* out, uint64_t* lookups) const;
+    // Each entry's weight in a query of `region` over the balls of radii r[0..n): 0 for an interior
+    // medium of another region, 1 for one of this region, the ball's share in the region for a
+    // medium that is everywhere. Null: no region query (every weight 1).
+    struct RegionWeights {
+        bool on = false;
+        double share[2] = {1.0, 1.0};
+        RegionMask region = 0;
+        double of(const Entry& e, int j) const { return e.shape ? ((region & e.shape) ? 1.0 : 0.0) : share[j]; }
+    };
+    RegionWeights region_weights(const Vec3& x, const double* r, int n, const BallRegion* region) const;
+    void moments_n(const Vec3& x, const double* r, int n, BallMoments* out, uint64_t* lookups, const BallRegion* region) const;
     void entry_integrals(const Entry& e, const Vec3& x, const double* r, double* out, int n, uint64_t* lookups) const;
     std::vector<Entry> entries_;
+    bool interior_media_ = false;
 };
 
 }  // namespace vpm

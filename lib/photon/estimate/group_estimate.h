@@ -56,10 +56,11 @@ inline size_t leave_half_out_gather(size_t k) { return k + 2 * size_t(std::ceil(
 // max_radius). linear: h as in linear_estimate.h, else h = 1 (and h = 1 where the linear sum of the
 // two halves is negative, as linear_estimate.h falls back). lookups as BallExtinction::integral.
 // scale in (0, 1] (radius_schedule.h): each half's ball is that times the other half's m-th radius,
-// still independent of the half it counts, so each term stays exact (docs/progressive.md).
+// still independent of the half it counts, so each term stays exact (docs/progressive.md). region:
+// each ball's extinction over its part in the query's region (BallRegion), when not null.
 inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool complete, size_t k, double max_radius,
                                     const PhotonMap& map, const Vec3& x, const BallExtinction& ball, bool linear,
-                                    uint64_t* lookups = nullptr, double scale = 1.0) {
+                                    uint64_t* lookups = nullptr, double scale = 1.0, const BallRegion* region = nullptr) {
     GroupEstimate out;
     const size_t m = half_rank(k);
     size_t count[2] = {0, 0}, end[2] = {found, found};   // list index of each half's m-th photon
@@ -81,8 +82,8 @@ inline GroupEstimate leave_half_out(const GatherBuffers& buf, size_t found, bool
     }
     std::array<double, 2> m0{0.0, 0.0};
     std::array<BallMoments, 2> mo;
-    if (linear) mo = ball.moments(x, r[0], r[1], lookups);
-    else m0 = ball.integrals(x, r[0], r[1], lookups);
+    if (linear) mo = ball.moments(x, r[0], r[1], lookups, region);
+    else m0 = ball.integrals(x, r[0], r[1], lookups, region);
     Rgb plain = Rgb::Zero();   // the h = 1 sum, for the fallback
     for (int h = 0; h < 2; ++h) {
         const double r2 = r[h] * r[h];

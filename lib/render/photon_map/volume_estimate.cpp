@@ -51,7 +51,9 @@ VolumeEstimate VolumeEstimator::estimate(const Vec3& x, const Vec3& w_o, double 
     if (bound < max_radius) result.rule = bounded_query(s, k);   // the mean-free-path bound is in force
     if (result.rule == BoundedQuery::use_estimate) {
         result.incident = normalised(s, x, w_o, g, bound, sigma_t, scratch, counts);
-        if (interfaces) result.incident /= region_ball_fraction(interfaces, x, s.radius, region);
+        // The ball's share in x's region: the extinction of a region query counts it already.
+        if (interfaces && !(region_extinction() && uses_ball_extinction(s)))
+            result.incident /= region_ball_fraction(interfaces, x, s.radius, region);
     }
     return result;
 }
@@ -65,6 +67,12 @@ VolumeEstimator::DecisionBall VolumeEstimator::decision_ball(double radius) cons
     return d;
 }
 
+bool VolumeEstimator::region_extinction() const { return interfaces && ball.has_interior_media(); }
+
+bool VolumeEstimator::uses_ball_extinction(const Estimate<Rgb>& s) const {
+    return extinction != ExtinctionNormalisation::point && s.radius > 0.0;
+}
+
 size_t VolumeEstimator::gather_count() const { return leave_group_out ? leave_half_out_gather(k) : k; }
 
 Rgb VolumeEstimator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec3& w_o, double g, double bound,
@@ -73,6 +81,8 @@ Rgb VolumeEstimator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec
     // smoke only if it is tiny; then use the point.
     if (extinction == ExtinctionNormalisation::point || !(s.radius > 0.0)) return s.value / sigma_t;
     const bool linear = extinction == ExtinctionNormalisation::linear;
+    const BallRegion in_region{interfaces, region};
+    const BallRegion* query_region = region_extinction() ? &in_region : nullptr;
     GatherBuffers& buffers = scratch.buffers;
     if (leave_group_out && s.kind == EstimateCase::knn) {
         // The list was gathered with gather_count() neighbours; rarely more are needed.
@@ -80,7 +90,7 @@ Rgb VolumeEstimator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec
         bool complete = found < gather_count() || found == map.size();
         for (;;) {
             const GroupEstimate e = leave_half_out(buffers, found, complete, k, bound, map, x, ball, linear,
-                                                   &counts.lookups, estimator.radius_scale());
+                                                   &counts.lookups, estimator.radius_scale(), query_region);
             if (e.used) {
                 if (e.linear_fell_back) ++counts.linear_fallbacks;
                 return e.value;
@@ -99,11 +109,12 @@ Rgb VolumeEstimator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec
         }
     }
     if (linear) {
-        const BallMoments m = ball.moments(x, s.radius, &counts.lookups);
+        const BallMoments m = ball.moments(x, s.radius, &counts.lookups, query_region);
         if (m.m0 > 0.0) return linear_estimate(s, estimator, buffers, map, x, m, scratch.linear_weights, &counts.linear_fallbacks);
-        return s.value / sigma_t;
+        return s.value / (query_region ? sigma_t * region_ball_fraction(interfaces, x, s.radius, region) : sigma_t);
     }
-    const double mean = ball.mean(x, s.radius, &counts.lookups);
+    const double mean = ball.mean(x, s.radius, &counts.lookups, query_region);
+    if (query_region && !(mean > 0.0)) return s.value / (sigma_t * region_ball_fraction(interfaces, x, s.radius, region));
     return s.value / (mean > 0.0 ? mean : sigma_t);
 }
 

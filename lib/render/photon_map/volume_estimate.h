@@ -91,6 +91,10 @@ private:
     DecisionBall decision_ball(double radius) const;
     // The kNN list to gather: k, or more for the leave-group-out halves.
     size_t gather_count() const;
+    // Whether the ball's extinction is over its part in x's region (scene with interior media,
+    // photon/estimate/ball_extinction.h: BallRegion), and whether the estimate s used it.
+    bool region_extinction() const;
+    bool uses_ball_extinction(const Estimate<Rgb>& s) const;
     // Step 4: S normalised by the extinction (s over the ball of radius `bound` for leave-group-out).
     Rgb normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec3& w_o, double g, double bound, double sigma_t,
                    EstimateScratch& scratch, EstimateCounts& counts) const;

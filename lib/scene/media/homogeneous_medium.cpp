@@ -36,6 +36,12 @@ bool HomogeneousMedium::clip(const Ray& ray, double tmax, double& t0, double& t1
     return t0 < t1;
 }
 
+bool HomogeneousMedium::contains_ball(const Vec3& x, double r) const {
+    if (shape_ == Shape::sphere) return (x - center_).norm() + r <= radius_;
+    const Vec3 half = Vec3::Constant(r);
+    return bounds_.contains(x - half) && bounds_.contains(x + half);
+}
+
 double HomogeneousMedium::sample_free_flight(const Ray& ray, double tmax, Rng& rng) const {
     double t0, t1;
     if (sigma_t_ <= 0.0 || !clip(ray, tmax, t0, t1)) return kInfinity;

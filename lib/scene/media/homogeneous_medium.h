@@ -32,6 +32,10 @@ public:
     void optical_depth_profile(const Ray& ray, double tmax, OpticalDepthProfile& out) const override;   // one piece
     std::string describe() const override;
 
+    // Whether B(x, r) lies inside the shape, where sigma_t is sigma_t_value() throughout.
+    bool contains_ball(const Vec3& x, double r) const;
+    double sigma_t_value() const { return sigma_t_; }
+
     // The parameter interval of the ray inside the shape, clipped to [0, tmax].
     bool clip(const Ray& ray, double tmax, double& t0, double& t1) const;
 

@@ -59,6 +59,10 @@ public:
     // sigma_t has no jump anywhere (it falls to 0 continuously at the bounds, like a trilinear
     // grid), so a quadrature of a ball crossing the bounds needs no clipping.
     virtual bool continuous() const { return false; }
+    // The closed dielectric shape (its index among Surfaces::dielectric_shapes(), the bit of a region:
+    // scene/dielectric_regions.h) this medium is confined to, or -1 for a medium that is where its
+    // table puts it (scene/interior_medium.h).
+    virtual int interior_of() const { return -1; }
 
     // The majorant along [0, tmax]: visit(ta, tb, majorant) for consecutive pieces in order of t,
     // each with majorant >= sigma_t on it (pieces with majorant 0 may be left out); stops when visit

@@ -43,6 +43,21 @@ public:
         return add(ta, tb, tracking::CubicBernstein{{density, density, density, density}});
     }
 
+    // Appends the pieces of `other` shifted by `shift` in t (after every piece so far, so shift must
+    // put them there). Returns false once the total depth has reached kEnoughDepth.
+    bool append_shifted(const OpticalDepthProfile& other, double shift) {
+        const double factor = other.scale_ / scale_;   // other's densities in this profile's scale
+        for (const Piece& q : other.pieces_) {
+            tracking::CubicBernstein cubic = q.cubic;
+            for (double& c : cubic.c) c *= factor;
+            pieces_.push_back(Piece{q.ta + shift, q.len, total_, q.depth, cubic});
+            total_ += q.depth;
+            if (!(total_ < kEnoughDepth)) return false;
+        }
+        return true;
+    }
+    double scale() const { return scale_; }
+
     // Optical depth over all pieces (may be cut at kEnoughDepth, or +inf on overflow).
     double total() const { return total_; }
     bool empty() const { return pieces_.empty(); }

@@ -225,14 +225,17 @@ Geometry read_shape(Params& p) {
 class EmbreeSurfaces final : public Surfaces {
 public:
     explicit EmbreeSurfaces(std::vector<Geometry> shapes) {
+        size_t table = 0;
         for (Geometry& g : shapes) {
             ++counts_[g.type];
+            const size_t this_table = table++;
             if (g.material->needs_closed_shape()) {
                 g.dielectric = int(dielectrics_.size());
                 DielectricShape d;
                 d.sphere = g.type == "sphere";
                 d.center = g.center;
                 d.radius = g.radius;
+                d.table = this_table;
                 if (d.sphere) {
                     d.bounds.extend(g.center - Vec3::Constant(g.radius));
                     d.bounds.extend(g.center + Vec3::Constant(g.radius));

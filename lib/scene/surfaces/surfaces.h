@@ -43,6 +43,7 @@ struct DielectricShape {
     Vec3 center = Vec3::Zero();   // sphere
     double radius = 0.0;          // sphere
     Bounds3 bounds;
+    size_t table = 0;             // the index of its [[shapes]] table
 };
 
 // Regions are masks of 64 bits, one per closed dielectric shape.
