@@ -43,9 +43,12 @@ inline bool linear_sum_negative(const Rgb& v) { return (v.array() < 0.0).any(); 
 
 // Incident radiance (sigma_t-normalised estimate) at x from the estimate s gathered into buf with
 // estimator e, the ball's moments m (m.m0 > 0), and the map for the photon positions. fallbacks (may
-// be null) counts the estimates that fell back to the ball normalisation (negative corrected sum).
+// be null) counts the estimates that fell back to the ball normalisation (negative corrected sum);
+// keep_negative (photons.extinction = "linear_signed") returns them as they are instead, counted the
+// same way: no fallback, so the mean stays exact for a linear radiance, and an estimate may be negative.
 inline Rgb linear_estimate(const Estimate<Rgb>& s, const Estimator& e, const GatherBuffers& buf, const PhotonMap& map,
-                           const Vec3& x, const BallMoments& m, std::vector<Rgb>& scratch, uint64_t* fallbacks = nullptr) {
+                           const Vec3& x, const BallMoments& m, std::vector<Rgb>& scratch, uint64_t* fallbacks = nullptr,
+                           bool keep_negative = false) {
     const double volume = ball_volume(3, s.radius);
     const double mean = m.m0 / volume;
     const bool used = s.kind == EstimateCase::knn || s.kind == EstimateCase::extended ||
@@ -66,7 +69,8 @@ inline Rgb linear_estimate(const Estimate<Rgb>& s, const Estimator& e, const Gat
     const Neighbours<Rgb> n{scratch.data(), buf.d2.data(), s.k_used, s.knn_radius, knn_volume, 3};
     const Rgb value = s.kind == EstimateCase::fixed_radius ? e.fixed_radius(n) : e.apply(n);
     if (linear_sum_negative(value)) {
-        if (fallbacks) ++*fallbacks;
+        if (fallbacks) ++*fallbacks;   // with keep_negative: the negative estimates kept
+        if (keep_negative) return value / mean;
         return s.value / mean;
     }
     return value / mean;

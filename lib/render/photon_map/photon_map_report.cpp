@@ -46,6 +46,13 @@ void PhotonMapIntegrator::collect(RunStats& stats, std::ostream* log) const {
             *log << "linear: " << fallbacks << " of " << pm.volume_estimates->queries << " estimates fell back to the "
                  << "ball normalisation (their linear-corrected sum was negative; photon/estimate/linear_estimate.h)\n";
     }
+    if (settings_.extinction == ExtinctionNormalisation::linear_signed) {
+        const uint64_t negatives = t.estimates.linear_fallbacks;
+        pm.linear_negatives = negatives;
+        if (negatives && log)
+            *log << "linear_signed: " << negatives << " of " << pm.volume_estimates->queries
+                 << " estimates were negative and kept (unbiased; the image may hold negative pixels)\n";
+    }
     if (decision_.map()) pm.decision_queries = t.estimates.decisions;
     if (log)
         *log << "estimates: " << pm.volume_estimates->to_string() << "; camera paths continued past a collision "

@@ -72,9 +72,10 @@ void check_leave_group_out(Params& p, const PhotonMapSettings& s) {
         p.fail("clustering", std::string("\"leave_group_out\" applies to photons.estimator = \"corrected\" with photons.kernel = "
                              "\"constant\" and photons.extinction = \"linear\" or \"ball\" (got estimator \"") +
                                  s.estimator.name() + "\", kernel \"" + s.estimator.kernel().name() + "\", extinction \"" +
-                                 (s.extinction == ExtinctionNormalisation::point      ? "point"
-                                  : s.extinction == ExtinctionNormalisation::ball ? "ball"
-                                                                                  : "linear") +
+                                 (s.extinction == ExtinctionNormalisation::point           ? "point"
+                                  : s.extinction == ExtinctionNormalisation::ball          ? "ball"
+                                  : s.extinction == ExtinctionNormalisation::linear_signed ? "linear_signed"
+                                                                                           : "linear") +
                                  "\"); set photons.clustering = \"ignore\" or change those keys");
     if (s.k % 2)
         p.fail("k", "photons.clustering = \"leave_group_out\" bounds each half of the walk groups by the other half's (k / 2)-th "
@@ -174,7 +175,8 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.forced_collisions = p.boolean("forced_collisions", s.forced_collisions);
     s.extinction = p.choice("extinction", s.extinction,
                             {{"point", ExtinctionNormalisation::point}, {"ball", ExtinctionNormalisation::ball},
-                             {"linear", ExtinctionNormalisation::linear}});
+                             {"linear", ExtinctionNormalisation::linear},
+                             {"linear_signed", ExtinctionNormalisation::linear_signed}});
     s.max_radius_mfp = p.real("max_radius_mfp", s.max_radius_mfp, Range::at_least(0.0));
     s.allocation = p.choice("allocation", s.allocation,
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
@@ -215,7 +217,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
 
 bool PhotonMapSettings::leaves_group_out() const {
     return clustering == Clustering::leave_group_out && estimator.traits().leave_group_out &&
-           estimator.kernel().is_constant() && extinction != ExtinctionNormalisation::point;
+           estimator.kernel().is_constant() && (extinction == ExtinctionNormalisation::ball || extinction == ExtinctionNormalisation::linear);
 }
 
 double PhotonMapSettings::alpha_for(int dim) const {

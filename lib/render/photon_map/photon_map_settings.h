@@ -18,7 +18,8 @@ namespace vpm {
 class Params;
 
 enum class DirectLighting { nee, photon_map };
-enum class ExtinctionNormalisation { ball, point, linear };
+// linear_signed: the linear weights with negative estimates kept (no fallback: unbiased, not non-negative).
+enum class ExtinctionNormalisation { ball, point, linear, linear_signed };
 enum class Clustering { ignore, leave_group_out };
 enum class PhotonAllocationRule { importance, power };
 enum class BeamWidths;   // render/photon_map/gathers/photon_beams_gather.h

@@ -219,6 +219,7 @@ void PhotonMapStats::write(RunRecord& record) const {
     if (photons) write_photon_pass(*photons, record);
     if (continued_paths) record.set("photons.continued_paths", *continued_paths);
     if (linear_fallbacks) record.set("photons.linear_fallbacks", *linear_fallbacks);
+    if (linear_negatives) record.set("photons.linear_negative_estimates", *linear_negatives);
     if (decision_queries) record.set("photons.decision_queries", *decision_queries);
     if (decision_map_photons) record.set("photons.decision_map_photons", *decision_map_photons);
     if (march_wide_queries) record.set("photons.march_wide_queries", *march_wide_queries);

@@ -107,6 +107,7 @@ struct PhotonMapStats : StatsSectionOf<PhotonMapStats> {
     std::optional<EstimatorStats> surface_estimates;   // surface photon map queries (when any)
     std::optional<uint64_t> continued_paths;           // photon map: camera paths continued (bounded radius)
     std::optional<uint64_t> linear_fallbacks;          // photons.extinction = "linear": negative sums replaced
+    std::optional<uint64_t> linear_negatives;          // "linear_signed": negative estimates kept
     std::optional<uint64_t> decision_queries;          // photon map: queries of the bound's decision map
     std::optional<uint64_t> decision_map_photons;      // photon map: the decision map's stored photons
     std::optional<uint64_t> march_wide_queries;        // gather = "march": queries beyond max_radius_mfp

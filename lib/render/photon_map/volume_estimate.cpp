@@ -80,7 +80,7 @@ Rgb VolumeEstimator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec
     // S estimates sigma_t times the incident radiance. The ball can miss every quadrature point's
     // smoke only if it is tiny; then use the point.
     if (extinction == ExtinctionNormalisation::point || !(s.radius > 0.0)) return s.value / sigma_t;
-    const bool linear = extinction == ExtinctionNormalisation::linear;
+    const bool linear = extinction == ExtinctionNormalisation::linear || extinction == ExtinctionNormalisation::linear_signed;
     const BallRegion in_region{interfaces, region};
     const BallRegion* query_region = region_extinction() ? &in_region : nullptr;
     GatherBuffers& buffers = scratch.buffers;
@@ -110,7 +110,9 @@ Rgb VolumeEstimator::normalised(const Estimate<Rgb>& s, const Vec3& x, const Vec
     }
     if (linear) {
         const BallMoments m = ball.moments(x, s.radius, &counts.lookups, query_region);
-        if (m.m0 > 0.0) return linear_estimate(s, estimator, buffers, map, x, m, scratch.linear_weights, &counts.linear_fallbacks);
+        if (m.m0 > 0.0)
+            return linear_estimate(s, estimator, buffers, map, x, m, scratch.linear_weights, &counts.linear_fallbacks,
+                                   extinction == ExtinctionNormalisation::linear_signed);
         return s.value / (query_region ? sigma_t * region_ball_fraction(interfaces, x, s.radius, region) : sigma_t);
     }
     const double mean = ball.mean(x, s.radius, &counts.lookups, query_region);
