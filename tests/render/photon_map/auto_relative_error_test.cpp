@@ -42,8 +42,11 @@ TEST(AutoRelativeError, GlassBulbKeepsThePhotonMapOnOneAndTwoThreads) {
     for (size_t c = 0; c < x.candidates.size(); ++c)
         if (!x.candidates[c].uses_map) path = c;
     ASSERT_LT(path, x.candidates.size());
-    for (size_t c = 0; c < x.candidates.size(); ++c)
-        if (x.candidates[c].name == x.chosen) EXPECT_LT(10.0 * x.score[c], x.score[path]);
+    for (size_t c = 0; c < x.candidates.size(); ++c) {
+        if (x.candidates[c].name == x.chosen) {
+            EXPECT_LT(10.0 * x.score[c], x.score[path]);
+        }
+    }
     // Counts only: the same figures and choice whatever the threads.
     EXPECT_EQ(x.chosen, y.chosen);
     EXPECT_EQ(a.stats.integrator_used, b.stats.integrator_used);
