@@ -81,27 +81,36 @@ void DensityGrid::set_voxel(const Vec3i& ijk, float value) {
 
 void DensityGrid::finalize() {
     if (blocks_.empty()) return;
-    // Dense blocks holding one value throughout (e.g. all-zero leaves of a simulation's padding)
-    // become constants: less memory, and lookups there need no data access.
-    {
-        std::vector<float> kept;
-        kept.reserve(data_.size());
-        for (Block& b : blocks_) {
-            if (b.dense < 0) continue;
-            const float* v = data_.data() + static_cast<size_t>(b.dense) * kVoxels;
-            bool uniform = true;
-            for (int i = 1; i < kVoxels && uniform; ++i) uniform = (v[i] == v[0]);
-            if (uniform && std::isfinite(v[0])) {
-                b.value = v[0];
-                b.dense = -1;
-            } else {
-                b.dense = static_cast<int32_t>(kept.size() / kVoxels);
-                kept.insert(kept.end(), v, v + kVoxels);
-            }
+    compact_uniform_blocks();
+    find_value_range();
+    find_majorants(block_voxel_maxima());
+    find_walk_majorants();
+    find_active_bounds();
+}
+
+// Dense blocks holding one value throughout (e.g. all-zero leaves of a simulation's padding)
+// become constants: less memory, and lookups there need no data access.
+void DensityGrid::compact_uniform_blocks() {
+    std::vector<float> kept;
+    kept.reserve(data_.size());
+    for (Block& b : blocks_) {
+        if (b.dense < 0) continue;
+        const float* v = data_.data() + static_cast<size_t>(b.dense) * kVoxels;
+        bool uniform = true;
+        for (int i = 1; i < kVoxels && uniform; ++i) uniform = (v[i] == v[0]);
+        if (uniform && std::isfinite(v[0])) {
+            b.value = v[0];
+            b.dense = -1;
+        } else {
+            b.dense = static_cast<int32_t>(kept.size() / kVoxels);
+            kept.insert(kept.end(), v, v + kVoxels);
         }
-        data_.swap(kept);
-        data_.shrink_to_fit();
     }
+    data_.swap(kept);
+    data_.shrink_to_fit();
+}
+
+void DensityGrid::find_value_range() {
     max_value_ = 0.0f;
     min_value_ = 0.0f;
     bool first = true;
@@ -117,7 +126,10 @@ void DensityGrid::finalize() {
         }
         first = false;
     }
-    // Block maxima of the voxels themselves (the ring is added below).
+}
+
+// Block maxima of the voxels themselves (find_majorants adds the ring).
+std::vector<float> DensityGrid::block_voxel_maxima() const {
     std::vector<float> own(blocks_.size());
     for (size_t i = 0; i < blocks_.size(); ++i) {
         const Block& b = blocks_[i];
@@ -128,6 +140,10 @@ void DensityGrid::finalize() {
             own[i] = *std::max_element(v, v + kVoxels);
         }
     }
+    return own;
+}
+
+void DensityGrid::find_majorants(const std::vector<float>& own) {
     for (int bx = 0; bx < nblocks_.x(); ++bx)
         for (int by = 0; by < nblocks_.y(); ++by)
             for (int bz = 0; bz < nblocks_.z(); ++bz) {
@@ -164,30 +180,36 @@ void DensityGrid::finalize() {
                 majorant_[i] = std::max(m, 0.0f);
                 if (all_const && uniform && majorant_[i] > 0.0f) sub_[i] = kUniform;
                 if (all_const || !(majorant_[i] > 0.0f)) continue;
-                // Sub-block level: max of the 27 voxels each 2^3-cell sub-block's trilinear stencil
-                // reads (the point is clamped into the closed sub-block, see density_in).
-                const int x0 = (block_lo_.x() + bx) * kDim, y0 = (block_lo_.y() + by) * kDim,
-                          z0 = (block_lo_.z() + bz) * kDim;
-                float vox[kDim + 1][kDim + 1][kDim + 1];
-                for (int x = 0; x <= kDim; ++x)
-                    for (int y = 0; y <= kDim; ++y)
-                        for (int z = 0; z <= kDim; ++z) vox[x][y][z] = voxel(x0 + x, y0 + y, z0 + z);
-                if (sub_majorant_.size() / 64 >= static_cast<size_t>(INT32_MAX))
-                    throw std::length_error("DensityGrid: too many refined blocks");
-                sub_[i] = static_cast<int32_t>(sub_majorant_.size() / 64);
-                for (int sx = 0; sx < 4; ++sx)
-                    for (int sy = 0; sy < 4; ++sy)
-                        for (int sz = 0; sz < 4; ++sz) {
-                            float sm = 0.0f;
-                            for (int x = 2 * sx; x <= 2 * sx + 2; ++x)
-                                for (int y = 2 * sy; y <= 2 * sy + 2; ++y)
-                                    for (int z = 2 * sz; z <= 2 * sz + 2; ++z) sm = std::max(sm, vox[x][y][z]);
-                            sub_majorant_.push_back(sm);
-                        }
+                refine_sub_majorants(i, bx, by, bz);
             }
     sub_majorant_.shrink_to_fit();
-    // The walk's majorants: max over the voxels 8B .. 8B+8 that interpolation reads inside the
-    // closed block region (no ring: walk_segments' lookups clamp into that region).
+}
+
+// Sub-block level: max of the 27 voxels each 2^3-cell sub-block's trilinear stencil reads (the
+// point is clamped into the closed sub-block, see density_in).
+void DensityGrid::refine_sub_majorants(size_t i, int bx, int by, int bz) {
+    const int x0 = (block_lo_.x() + bx) * kDim, y0 = (block_lo_.y() + by) * kDim, z0 = (block_lo_.z() + bz) * kDim;
+    float vox[kDim + 1][kDim + 1][kDim + 1];
+    for (int x = 0; x <= kDim; ++x)
+        for (int y = 0; y <= kDim; ++y)
+            for (int z = 0; z <= kDim; ++z) vox[x][y][z] = voxel(x0 + x, y0 + y, z0 + z);
+    if (sub_majorant_.size() / 64 >= static_cast<size_t>(INT32_MAX))
+        throw std::length_error("DensityGrid: too many refined blocks");
+    sub_[i] = static_cast<int32_t>(sub_majorant_.size() / 64);
+    for (int sx = 0; sx < 4; ++sx)
+        for (int sy = 0; sy < 4; ++sy)
+            for (int sz = 0; sz < 4; ++sz) {
+                float sm = 0.0f;
+                for (int x = 2 * sx; x <= 2 * sx + 2; ++x)
+                    for (int y = 2 * sy; y <= 2 * sy + 2; ++y)
+                        for (int z = 2 * sz; z <= 2 * sz + 2; ++z) sm = std::max(sm, vox[x][y][z]);
+                sub_majorant_.push_back(sm);
+            }
+}
+
+// The walk's majorants: max over the voxels 8B .. 8B+8 that interpolation reads inside the closed
+// block region (no ring: walk_segments' lookups clamp into that region).
+void DensityGrid::find_walk_majorants() {
     walk_majorant_.assign(blocks_.size(), 0.0f);
     for (int bx = 0; bx < nblocks_.x(); ++bx)
         for (int by = 0; by < nblocks_.y(); ++by)
@@ -198,7 +220,7 @@ void DensityGrid::finalize() {
                 if (sub_[i] >= 0) {
                     const float* sm = sub_majorants(sub_[i]);
                     m = *std::max_element(sm, sm + 64);
-                } else {   // the block and its neighbours are constants (see above)
+                } else {   // the block and its neighbours are constants (see find_majorants)
                     for (int dx = 0; dx <= 1; ++dx)
                         for (int dy = 0; dy <= 1; ++dy)
                             for (int dz = 0; dz <= 1; ++dz) {
@@ -209,6 +231,10 @@ void DensityGrid::finalize() {
                 }
                 walk_majorant_[i] = std::max(m, 0.0f);
             }
+}
+
+// The index box of the blocks with a non-zero walk majorant, within the grid's index bounds.
+void DensityGrid::find_active_bounds() {
     active_bounds_ = Bounds3{};
     for (int bx = 0; bx < nblocks_.x(); ++bx)
         for (int by = 0; by < nblocks_.y(); ++by)

@@ -260,6 +260,14 @@ private:
         return (static_cast<size_t>(bx) * nblocks_.y() + by) * nblocks_.z() + bz;
     }
     size_t block_index_abs(const Vec3i& block) const;
+    // The steps of finalize(), in order.
+    void compact_uniform_blocks();
+    void find_value_range();
+    std::vector<float> block_voxel_maxima() const;
+    void find_majorants(const std::vector<float>& own);
+    void refine_sub_majorants(size_t i, int bx, int by, int bz);
+    void find_walk_majorants();
+    void find_active_bounds();
 
     Vec3i voxel_lo_ = Vec3i::Zero(), voxel_hi_ = Vec3i::Constant(-1);
     Vec3i block_lo_ = Vec3i::Zero();

@@ -1,6 +1,7 @@
 #include "io/mesh_io.h"
 
 #include <algorithm>
+#include <functional>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -213,11 +214,19 @@ TriangleMesh load_obj(const std::string& path) {
     return mesh;
 }
 
-TriangleMesh load_ply(const std::string& path) {
-    const std::string data = read_all(path);
-    auto fail = [&](const std::string& what) -> void { throw FileError(path + ": " + what); };
+namespace {
 
-    // --- header
+// A PLY header: its format (0 ascii, 1 binary little endian, 2 binary big endian), its elements and
+// where the body starts.
+struct PlyHeader {
+    int format = -1;
+    std::vector<PlyElement> elements;
+    size_t body = 0;
+};
+
+PlyHeader read_ply_header(const std::string& path, const std::string& data) {
+    auto fail = [&](const std::string& what) -> void { throw FileError(path + ": " + what); };
+    PlyHeader h;
     size_t pos = 0;
     auto next_line = [&](std::string& out) {
         if (pos >= data.size()) return false;
@@ -230,8 +239,8 @@ TriangleMesh load_ply(const std::string& path) {
     };
     std::string line;
     if (!next_line(line) || line != "ply") fail("not a PLY file (missing \"ply\" magic line)");
-    int format = -1;
-    std::vector<PlyElement> elements;
+    int& format = h.format;
+    std::vector<PlyElement>& elements = h.elements;
     bool ended = false;
     while (next_line(line)) {
         std::istringstream ls(line);
@@ -279,29 +288,49 @@ TriangleMesh load_ply(const std::string& path) {
     }
     if (!ended) fail("header has no end_header");
     if (format < 0) fail("header has no format line");
+    h.body = pos;
+    return h;
+}
 
-    // --- body
+// Where an element's properties are: the vertex coordinates' and the face index list's indices (-1: none).
+struct PlyLayout {
+    int xyz[3] = {-1, -1, -1};
+    int indices = -1;
+};
+
+PlyLayout ply_layout(const PlyElement& e, const std::function<void(const std::string&)>& fail) {
+    PlyLayout l;
+    const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    for (size_t k = 0; k < e.props.size(); ++k) {
+        const PlyProperty& p = e.props[k];
+        if (is_vertex && !p.is_list) {
+            if (p.name == "x") l.xyz[0] = static_cast<int>(k);
+            if (p.name == "y") l.xyz[1] = static_cast<int>(k);
+            if (p.name == "z") l.xyz[2] = static_cast<int>(k);
+        }
+        if (is_face && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+            if (!ply_is_integer(p.type)) fail("face indices must be integers");
+            l.indices = static_cast<int>(k);
+        }
+    }
+    return l;
+}
+
+}  // namespace
+
+TriangleMesh load_ply(const std::string& path) {
+    const std::string data = read_all(path);
+    auto fail = [&](const std::string& what) -> void { throw FileError(path + ": " + what); };
+    const PlyHeader header = read_ply_header(path, data);
     TriangleMesh mesh;
-    PlyBody body(path, data, pos, format);
+    PlyBody body(path, data, header.body, header.format);
     bool have_vertex = false, have_face = false;
     std::vector<uint32_t> poly;
-    std::vector<std::array<uint32_t, 3>> tris;
-    for (const PlyElement& e : elements) {
+    for (const PlyElement& e : header.elements) {
         const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-        int xyz[3] = {-1, -1, -1};
-        int indices = -1;
-        for (size_t k = 0; k < e.props.size(); ++k) {
-            const PlyProperty& p = e.props[k];
-            if (is_vertex && !p.is_list) {
-                if (p.name == "x") xyz[0] = static_cast<int>(k);
-                if (p.name == "y") xyz[1] = static_cast<int>(k);
-                if (p.name == "z") xyz[2] = static_cast<int>(k);
-            }
-            if (is_face && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) {
-                if (!ply_is_integer(p.type)) fail("face indices must be integers");
-                indices = static_cast<int>(k);
-            }
-        }
+        const PlyLayout layout = ply_layout(e, fail);
+        const int* xyz = layout.xyz;
+        const int indices = layout.indices;
         if (is_vertex) {
             if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) fail("vertex element lacks x, y or z");
             have_vertex = true;

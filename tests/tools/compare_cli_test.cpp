@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
 #include <nlohmann/json.hpp>
 
@@ -166,4 +167,40 @@ TEST(CompareCli, RenderWritesAVarianceImageThatCompareUses) {
     o = run_vpm("render " + config + small + " -o " + quote(dir.path / "ref.exr"), dir.path);
     ASSERT_EQ(o.code, 0) << o.err;
     EXPECT_FALSE(fs::exists(dir.path / "ref.variance.exr"));
+}
+
+// --exclude-lights CONFIG leaves out the pixels where the config's scene shows an area light
+// (configs/glass_sphere_fog.toml: its light's glint through the glass ball); a missing file is a usage
+// error, an unreadable config or images of another aspect ratio one clear error naming it.
+TEST(CompareCli, ExcludeLightsLeavesOutTheSeenLightAndNamesABadConfig) {
+    ScratchDir dir;
+    Image ref(64, 64), img(64, 64);
+    for (auto& x : ref.rgb) x = 0.5f;
+    for (auto& x : img.rgb) x = 0.5f;
+    write_exr(dir.path / "ref.exr", ref);
+    write_exr(dir.path / "img.exr", img);
+    const std::string files = quote(dir.path / "img.exr") + " " + quote(dir.path / "ref.exr");
+    const std::string glass = quote(std::string(VPM_SOURCE_DIR) + "/configs/glass_sphere_fog.toml");
+    Outcome o = run_vpm("compare --json --exclude-lights " + glass + " " + files, dir.path);
+    ASSERT_EQ(o.code, 0) << o.err;
+    const int pixels = nlohmann::json::parse(o.out)["pixels"].get<int>();
+    EXPECT_LT(pixels, 64 * 64);
+    EXPECT_GT(pixels, 64 * 64 / 2);
+
+    o = run_vpm("compare --exclude-lights " + quote(dir.path / "missing.toml") + " " + files, dir.path);
+    EXPECT_EQ(o.code, 2);
+    EXPECT_NE(o.err.find("--exclude-lights"), std::string::npos) << o.err;
+
+    std::ofstream(dir.path / "bad.toml") << "[camera\n";
+    o = run_vpm("compare --exclude-lights " + quote(dir.path / "bad.toml") + " " + files, dir.path);
+    EXPECT_EQ(o.code, 1);
+    EXPECT_NE(o.err.find("bad.toml"), std::string::npos) << o.err;
+
+    write_exr(dir.path / "wide.exr", flat(0.5f));
+    write_exr(dir.path / "wide_ref.exr", flat(0.5f));
+    o = run_vpm("compare --exclude-lights " + glass + " " + quote(dir.path / "wide.exr") + " " +
+                    quote(dir.path / "wide_ref.exr"),
+                dir.path);
+    EXPECT_EQ(o.code, 1);
+    EXPECT_NE(o.err.find("aspect"), std::string::npos) << o.err;
 }

@@ -173,6 +173,8 @@ TEST(RenderCli, KAboveTheStoredCountWarnsAndIsBounded) {
     const auto j = nlohmann::json::parse(in);
     EXPECT_EQ(j["photons"]["estimate_cases"]["queries"].get<uint64_t>(), 0u);
     EXPECT_LT(j["photons"]["stored"].get<uint64_t>(), 65536u);
+    // The record says so as well (a run under -q has no log).
+    EXPECT_NE(j["warnings"].dump().find("photons.k = 65536 exceeds the "), std::string::npos) << j.dump();
     // The paths go on past the map, continued one by one (the photon map never drops its map).
     const uint64_t continued = j["photons"]["continued_paths"].get<uint64_t>() +
                                j["photons"].value("march_wide_queries", uint64_t(0));

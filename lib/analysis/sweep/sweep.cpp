@@ -138,19 +138,24 @@ std::vector<const PlannedRun*> runs_to_do(const SweepPlan& plan, const SweepOpti
     return todo;
 }
 
+// A scene's reference as the runs are scored against it.
+struct SweepReference {
+    Image image;
+    std::string column;                 // runs.csv's reference column: the file, relative to OUT when rendered there
+    std::optional<uint64_t> samples;    // its camera samples, from its sidecar
+};
+using SweepReferences = std::map<std::string, SweepReference>;   // by scene hash
+
 // Renders (once per scene hash, cached in OUT/references/) or reads every reference `runs` need.
 void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::vector<const PlannedRun*>& runs,
-                     std::map<std::string, Image>& references, std::map<std::string, std::string>& reference_column,
-                     std::map<std::string, std::optional<uint64_t>>& reference_samples,
-                     const std::function<void(const std::string&)>& log) {
+                     SweepReferences& references, const std::function<void(const std::string&)>& log) {
     const SweepSpec& spec = plan.spec;
     for (const PlannedRun* r : runs) {
         if (references.count(r->scene)) continue;
         if (!spec.reference_file.empty()) {
-            references[r->scene] = read_exr(spec.reference_file);
-            reference_column[r->scene] = fs::absolute(spec.reference_file).string();
-            reference_samples[r->scene] = recorded_samples(spec.reference_file);
-            if (!reference_samples[r->scene])
+            references[r->scene] = {read_exr(spec.reference_file), fs::absolute(spec.reference_file).string(),
+                                    recorded_samples(spec.reference_file)};
+            if (!references[r->scene].samples)
                 log("sweep: " + spec.reference_file.string() + " has no sidecar with render.samples: the runs' samples "
                     "cannot be checked against the reference's");
             continue;
@@ -174,9 +179,7 @@ void load_references(const SweepPlan& plan, const SweepOptions& opt, const std::
             write_run_outputs(path, res, rs.exposure);
             log("sweep: reference " + r->scene + " in " + fixed(res.stats.render.seconds, 1) + " s");
         }
-        references[r->scene] = read_exr(path);
-        reference_column[r->scene] = rel.string();
-        reference_samples[r->scene] = recorded_samples(path);
+        references[r->scene] = {read_exr(path), rel.string(), recorded_samples(path)};
     }
 }
 
@@ -250,6 +253,47 @@ void write_sweep_sidecar(const SweepSpec& spec, const SweepOptions& opt, const S
     rec.write(opt.out / (opts_sidecar_name(opt.shard, opt.shards)));
 }
 
+// A run rendered, written to OUT/images/ with its sidecar, and scored against its reference.
+struct ScoredRun {
+    std::vector<std::string> row;   // its runs.csv row
+    RunStats stats;
+    RunError error;
+    double wall = 0.0;
+};
+
+// Null when the sweep was cancelled during the run (nothing written).
+std::optional<ScoredRun> render_and_score(const PlannedRun& run, const SweepSpec& spec, const SweepOptions& opt,
+                                          const SweepReference& reference) {
+    const RunConfig config = RunConfig::build(load_config(spec.scene.string(), run.overrides));
+    RunOptions ro;
+    ro.progress = false;
+    ro.stream_offset = run.stream_offset;
+    ro.cancelled = opt.cancelled;
+    const Timer run_timer;
+    RunResult res = vpm::run(config, ro);
+    ScoredRun scored;
+    scored.wall = run_timer.seconds();
+    if (opt.cancelled && opt.cancelled()) return std::nullopt;
+    const fs::path image_rel = fs::path("images") / (run.hash + ".exr");
+    write_exr(opt.out / image_rel, res.image);
+    res.record.write(opt.out / fs::path("images") / (run.hash + ".json"));   // the run's own sidecar
+    scored.error = run_error(res.image, reference.image);
+    scored.row = run_row(run, res, scored.wall, scored.error, image_rel, reference.column);
+    scored.stats = std::move(res.stats);
+    return scored;
+}
+
+// The run as the progress log names it: its method and axis values (and what ran instead).
+std::string run_label(const PlannedRun& run, const SweepSpec& spec, const RunStats& stats) {
+    std::string what = run.method;
+    for (size_t a = 0; a < spec.axes.size(); ++a)
+        if (!run.values[a].empty() && spec.axes[a].key != "photons.estimator")
+            what += " " + spec.axes[a].name + "=" + run.values[a];
+    if (run.method == "path") what += " spp=" + std::to_string(run.spp);
+    if (const std::string ran = ran_instead(run.method, stats); !ran.empty()) what += " [" + ran + "]";
+    return what;
+}
+
 }  // namespace
 
 SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
@@ -276,16 +320,14 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
         std::to_string(outcome.skipped) + " already done, " + std::to_string(todo.size()) + " to run");
 
     // References: rendered once per scene hash, cached in the folder.
-    std::map<std::string, Image> references;
-    std::map<std::string, std::string> reference_column;
-    std::map<std::string, std::optional<uint64_t>> reference_samples;
+    SweepReferences references;
     std::vector<const PlannedRun*> need_reference = todo;
     if (opt.references_only) {
         need_reference.clear();
         for (const auto& r : plan.runs) need_reference.push_back(&r);
         todo.clear();
     }
-    load_references(plan, opt, need_reference, references, reference_column, reference_samples, log);
+    load_references(plan, opt, need_reference, references, log);
     auto cancelled = [&opt] { return opt.cancelled && opt.cancelled(); };
     if (cancelled()) return outcome;
 
@@ -303,41 +345,24 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& opt) {
             if (i >= todo.size() || cancelled()) return;
             const PlannedRun& run = *todo[i];
             try {
-                const RunConfig config = RunConfig::build(load_config(spec.scene.string(), run.overrides));
-                RunOptions ro;
-                ro.progress = false;
-                ro.stream_offset = run.stream_offset;
-                ro.cancelled = opt.cancelled;
-                const Timer run_timer;
-                RunResult res = vpm::run(config, ro);
-                const double wall = run_timer.seconds();
-                if (cancelled()) return;
-                const fs::path image_rel = fs::path("images") / (run.hash + ".exr");
-                write_exr(opt.out / image_rel, res.image);
-                res.record.write(opt.out / fs::path("images") / (run.hash + ".json"));   // the run's own sidecar
-                const Image& ref = references.at(run.scene);
-                const RunError err = run_error(res.image, ref);
-                const std::vector<std::string> row = run_row(run, res, wall, err, image_rel, reference_column.at(run.scene));
+                std::optional<ScoredRun> scored = render_and_score(run, spec, opt, references.at(run.scene));
+                if (!scored) return;
                 std::lock_guard<std::mutex> lock(mutex);
-                append_csv_row(outcome.csv, row);
+                append_csv_row(outcome.csv, scored->row);
                 ++done;
-                run_seconds += wall;
-                std::string what = run.method;
-                for (size_t a = 0; a < spec.axes.size(); ++a)
-                    if (!run.values[a].empty() && spec.axes[a].key != "photons.estimator")
-                        what += " " + spec.axes[a].name + "=" + run.values[a];
-                if (run.method == "path") what += " spp=" + std::to_string(run.spp);
-                if (const std::string ran = ran_instead(run.method, res.stats); !ran.empty()) what += " [" + ran + "]";
-                if (const auto& rs = reference_samples.at(run.scene))
-                    if (const std::string w = more_samples_warning("run " + run.hash + " (" + what + ")", res.stats.render.samples,
-                                                                   reference_column.at(run.scene), *rs);
+                run_seconds += scored->wall;
+                const std::string what = run_label(run, spec, scored->stats);
+                const SweepReference& ref = references.at(run.scene);
+                if (ref.samples)
+                    if (const std::string w = more_samples_warning("run " + run.hash + " (" + what + ")",
+                                                                   scored->stats.render.samples, ref.column, *ref.samples);
                         !w.empty())
                         log("sweep: " + w);
                 const double el = runs_timer.seconds();
                 const double eta = el / double(done) * double(todo.size() - done);
                 log("sweep: [" + std::to_string(done) + "/" + std::to_string(todo.size()) + "] " + what + " r" +
-                    std::to_string(run.repeat) + ": rel RMSE " + sig(err.rel_rmse) + " in " + fixed(wall, 2) +
-                    " s" + (err.nonfinite_pixels ? ", " + std::to_string(err.nonfinite_pixels) + " NON-FINITE pixels" : "") +
+                    std::to_string(run.repeat) + ": rel RMSE " + sig(scored->error.rel_rmse) + " in " + fixed(scored->wall, 2) +
+                    " s" + (scored->error.nonfinite_pixels ? ", " + std::to_string(scored->error.nonfinite_pixels) + " NON-FINITE pixels" : "") +
                     "; " + fixed(el, 0) + " s elapsed, ETA " + fixed(eta, 0) + " s");
             } catch (...) {
                 std::lock_guard<std::mutex> lock(mutex);

@@ -165,14 +165,10 @@ std::string join(const std::vector<std::string>& v, const char* sep) {
     return s;
 }
 
-}  // namespace
+const char* const kPhotonMap = "render.integrator=\"photon_map\"";
 
-SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::string&)>& log) {
-    SweepPlan plan;
-    plan.spec = spec;
-    const std::string pm = "render.integrator=\"photon_map\"";
-
-    // 1. Every axis value on its own: the error names the axis and the value.
+// Every axis value on its own: the error names the axis and the value.
+void validate_axis_values(const SweepSpec& spec) {
     try {
         build_config(spec, spec.set);
     } catch (const Error& e) {
@@ -182,7 +178,7 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
     for (const auto& ax : spec.axes) {
         for (size_t i = 0; i < ax.values.size(); ++i) {
             auto ov = spec.set;
-            ov.push_back(pm);
+            ov.push_back(kPhotonMap);
             ov.push_back(ax.key + "=" + ax.values[i]);
             try {
                 build_config(spec, ov);
@@ -192,16 +188,55 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
             }
         }
     }
+}
 
-    // 2. The Cartesian product (last axis fastest), and the path tracer points.
-    struct Point {
-        std::vector<std::string> overrides, values;
-        std::string method;
-        int spp;
-        Built built;
-        std::string text;   // run_config_text(built.resolved)
-    };
-    std::vector<Point> points;
+// One configuration of the sweep: an axes combination, or a path tracer point beside it.
+struct SweepPoint {
+    std::vector<std::string> overrides, values;
+    std::string method;
+    int spp = 0;
+    Built built;
+    std::string text;   // run_config_text(built.resolved)
+};
+
+std::string combination_text(const SweepSpec& spec, const std::vector<std::string>& labels) {
+    std::string combo;
+    for (size_t a = 0; a < spec.axes.size(); ++a) combo += (a ? ", " : "") + spec.axes[a].name + " = " + labels[a];
+    return combo;
+}
+
+// The axes combination `idx` (one value index per axis) as a photon-map point, and in `scene_ov` and
+// `scene_vals` its scene's overrides and labels alone (photon-only axes left out: the path tracer's).
+SweepPoint combination_point(const SweepSpec& spec, const std::vector<size_t>& idx, std::vector<std::string>& scene_ov,
+                             std::vector<std::string>& scene_vals) {
+    SweepPoint p;
+    p.overrides = spec.set;
+    p.overrides.push_back(kPhotonMap);
+    scene_ov = spec.set;
+    scene_vals.clear();
+    for (size_t a = 0; a < spec.axes.size(); ++a) {
+        const auto& ax = spec.axes[a];
+        const std::string o = ax.key + "=" + ax.values[idx[a]];
+        p.overrides.push_back(o);
+        p.values.push_back(ax.labels[idx[a]]);
+        if (!ax.photon_only()) scene_ov.push_back(o);
+        scene_vals.push_back(ax.photon_only() ? "" : ax.labels[idx[a]]);
+    }
+    try {
+        p.built = build_config(spec, p.overrides);
+    } catch (const Error& e) {
+        throw ConfigError(spec.file + ": axes combination " + combination_text(spec, p.values) + ": " + e.what());
+    }
+    p.method = p.built.estimator;
+    p.spp = p.built.spp;
+    p.text = run_config_text(p.built.resolved);
+    return p;
+}
+
+// The Cartesian product (last axis fastest), each combination followed by its path tracer points
+// (one per reference.path_spp, each scene once).
+std::vector<SweepPoint> sweep_points(const SweepSpec& spec) {
+    std::vector<SweepPoint> points;
     std::set<std::string> path_seen;
     std::vector<size_t> idx(spec.axes.size(), 0);
     size_t combos = 1;
@@ -212,44 +247,17 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
             idx[a] = rem % spec.axes[a].values.size();
             rem /= spec.axes[a].values.size();
         }
-        Point p;
-        p.overrides = spec.set;
-        p.overrides.push_back(pm);
-        std::vector<std::string> scene_ov = spec.set, scene_vals;
-        for (size_t a = 0; a < spec.axes.size(); ++a) {
-            const auto& ax = spec.axes[a];
-            const std::string o = ax.key + "=" + ax.values[idx[a]];
-            p.overrides.push_back(o);
-            p.values.push_back(ax.labels[idx[a]]);
-            if (!ax.photon_only()) scene_ov.push_back(o);
-            scene_vals.push_back(ax.photon_only() ? "" : ax.labels[idx[a]]);
-        }
-        try {
-            p.built = build_config(spec, p.overrides);
-        } catch (const Error& e) {
-            std::string combo;
-            for (size_t a = 0; a < spec.axes.size(); ++a)
-                combo += (a ? ", " : "") + spec.axes[a].name + " = " + spec.axes[a].labels[idx[a]];
-            throw ConfigError(spec.file + ": axes combination " + combo + ": " + e.what());
-        }
-        p.method = p.built.estimator;
-        p.spp = p.built.spp;
+        std::vector<std::string> scene_ov, scene_vals;
+        SweepPoint p = combination_point(spec, idx, scene_ov, scene_vals);
         // Values that differ as text but not as a scene (0 and 0.0 for a float key) would
         // render the same configuration twice under two labels.
-        p.text = run_config_text(p.built.resolved);
         for (const auto& q : points)
-            if (q.method != "path" && q.text == p.text) {
-                std::string a, b;
-                for (size_t i = 0; i < spec.axes.size(); ++i) {
-                    a += (i ? ", " : "") + spec.axes[i].name + " = " + q.values[i];
-                    b += (i ? ", " : "") + spec.axes[i].name + " = " + p.values[i];
-                }
-                throw ConfigError(spec.file + ": axes combinations " + a + " and " + b +
-                                  " give the same scene; remove the duplicate value");
-            }
+            if (q.method != "path" && q.text == p.text)
+                throw ConfigError(spec.file + ": axes combinations " + combination_text(spec, q.values) + " and " +
+                                  combination_text(spec, p.values) + " give the same scene; remove the duplicate value");
         points.push_back(p);
         for (int spp : spec.path_spp) {
-            Point q;
+            SweepPoint q;
             q.overrides = scene_ov;
             q.overrides.push_back("render.integrator=\"path\"");
             q.overrides.push_back("render.spp=" + std::to_string(spp));
@@ -265,9 +273,40 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
             points.push_back(q);
         }
     }
+    return points;
+}
+
+// The reference of a run's scene, whatever budget the runs have: its overrides without the photon
+// map's, the time limit and the passes, path traced at reference_spp in independent passes (its
+// variance image: the noise floor in the report), unbounded in depth.
+std::vector<std::string> reference_overrides(const std::vector<std::string>& overrides, int reference_spp) {
+    std::vector<std::string> ro;
+    for (const auto& o : overrides)
+        if (o.rfind("photons.", 0) != 0 && o.rfind("render.time_limit=", 0) != 0 && o.rfind("render.passes=", 0) != 0 &&
+            o.rfind("render.first_pass=", 0) != 0)
+            ro.push_back(o);
+    ro.push_back("render.integrator=\"path\"");
+    const int ref_spp = std::max(reference_spp, 1);
+    ro.push_back("render.spp=" + std::to_string(ref_spp));
+    for (int passes : {16, 8, 4, 2})
+        if (ref_spp % passes == 0) {
+            ro.push_back("render.passes=" + std::to_string(passes));
+            break;
+        }
+    ro.push_back("render.max_depth=-1");
+    return ro;
+}
+
+}  // namespace
+
+SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::string&)>& log) {
+    SweepPlan plan;
+    plan.spec = spec;
+    validate_axis_values(spec);
+    const std::vector<SweepPoint> points = sweep_points(spec);
     if (log) log("sweep: " + std::to_string(points.size()) + " configurations validated");
 
-    // 3. Runs: repeat outermost, so a partial sweep already covers every point once.
+    // Runs: repeat outermost, so a partial sweep already covers every point once.
     for (int r = 0; r < spec.repeats; ++r) {
         for (const auto& p : points) {
             PlannedRun run;
@@ -282,25 +321,7 @@ SweepPlan plan_sweep(const SweepSpec& spec, const std::function<void(const std::
             run.hash = run_hash(p.built.resolved, run.seed, run.stream_offset);
             run.point = hash_hex(run_config_text(p.built.resolved) + "\nseed=" + std::to_string(run.seed));
             run.scene = scene_hash(p.built.resolved);
-            if (!plan.references.count(run.scene)) {
-                // The reference is the scene's, whatever budget the runs have.
-                std::vector<std::string> ro;
-                for (const auto& o : p.overrides)
-                    if (o.rfind("photons.", 0) != 0 && o.rfind("render.time_limit=", 0) != 0 &&
-                        o.rfind("render.passes=", 0) != 0 && o.rfind("render.first_pass=", 0) != 0)
-                        ro.push_back(o);
-                ro.push_back("render.integrator=\"path\"");
-                const int ref_spp = std::max(spec.reference_spp, 1);
-                ro.push_back("render.spp=" + std::to_string(ref_spp));
-                // Independent passes give the reference's variance image (its noise floor in the report).
-                for (int passes : {16, 8, 4, 2})
-                    if (ref_spp % passes == 0) {
-                        ro.push_back("render.passes=" + std::to_string(passes));
-                        break;
-                    }
-                ro.push_back("render.max_depth=-1");
-                plan.references[run.scene] = ro;
-            }
+            if (!plan.references.count(run.scene)) plan.references[run.scene] = reference_overrides(p.overrides, spec.reference_spp);
             plan.runs.push_back(std::move(run));
         }
     }

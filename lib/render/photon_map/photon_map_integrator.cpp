@@ -88,12 +88,14 @@ void PhotonMapIntegrator::prepare(const PassContext& context, RunStats& stats) {
         // k above the stored count: say so once per run (the maps are then not queried).
         const bool volume_short = scene_.has_media() && !gather_entry(settings_.gather).stores_beams && volume_map_starved();
         const bool surface_short = maps_.surface && maps_.surface->size() < pass_.k;
-        if ((volume_short || surface_short) && !photons_.warned_k && context.log) {
-            photons_.warned_k = true;
-            *context.log << "warning: photons.k = " << pass_.k << " exceeds the " << (volume_short ? maps_.volume->size() : maps_.surface->size())
-                         << (volume_short ? " volume" : " surface") << " photons stored in pass " << context.pass
-                         << ": no estimate can use k photons, so camera paths are path traced past every "
-                         << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)\n";
+        if ((volume_short || surface_short) && !photons_.warned_k) {
+            photons_.warned_k = true;   // in the run record too: under -q a starved map would be path traced unseen
+            std::ostringstream w;
+            w << "photons.k = " << pass_.k << " exceeds the " << (volume_short ? maps_.volume->size() : maps_.surface->size())
+              << (volume_short ? " volume" : " surface") << " photons stored in pass " << context.pass
+              << ": no estimate can use k photons, so camera paths are path traced past every "
+              << (volume_short ? "medium collision" : "surface hit") << " instead (lower photons.k or raise photons.count)";
+            stats.warn(w.str(), context.log);
         }
         if (gather_entry(settings_.gather).build) build_segment_gather(log, &stats);
     } else if (log) {

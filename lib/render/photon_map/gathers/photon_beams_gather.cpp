@@ -233,18 +233,7 @@ void PhotonBeamsGather::report_build(RunStats* stats, std::ostream* log) const {
 
 void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
     PhotonBeamsGatherStats total = stats();   // this pass's sizes, the run's times and counts
-    if (const PhotonBeamsGatherStats* found = run.sections.find<PhotonBeamsGatherStats>()) {
-        const PhotonBeamsGatherStats& before = *found;
-        total.widths_seconds += before.widths_seconds;
-        total.widths_tested += before.widths_tested;
-        total.bvh_seconds += before.bvh_seconds;
-        total.queries += before.queries;
-        total.crossed += before.crossed;
-        total.tested += before.tested;
-        total.starved += before.starved;
-        total.band_zeros += before.band_zeros;
-        total.tracking_lookups += before.tracking_lookups;
-    }
+    if (const PhotonBeamsGatherStats* before = run.sections.find<PhotonBeamsGatherStats>()) total.add_run_totals(*before);
     run.sections.get<PhotonBeamsGatherStats>() = total;
     if (log) {
         const double q = total.queries ? double(total.queries) : 1.0;
@@ -298,6 +287,18 @@ std::unique_ptr<SegmentGather> build_photon_beams_gather(SegmentGatherInputs& in
                                                       in.max_radius, in.settings.max_radius_mfp);
     in.beams.clear();
     return gather;
+}
+
+void PhotonBeamsGatherStats::add_run_totals(const PhotonBeamsGatherStats& earlier) {
+    widths_seconds += earlier.widths_seconds;
+    widths_tested += earlier.widths_tested;
+    bvh_seconds += earlier.bvh_seconds;
+    queries += earlier.queries;
+    crossed += earlier.crossed;
+    tested += earlier.tested;
+    starved += earlier.starved;
+    band_zeros += earlier.band_zeros;
+    tracking_lookups += earlier.tracking_lookups;
 }
 
 void PhotonBeamsGatherStats::write(RunRecord& record) const {

@@ -33,6 +33,9 @@ struct PhotonBeamsGatherStats : StatsSectionOf<PhotonBeamsGatherStats> {
     uint64_t beams_left_out = 0;
     uint64_t tracking_lookups = 0;   // sigma_t lookups of the camera transmittance's ratio tracking
 
+    // Adds an earlier pass's run totals (the fields "summed over passes" and the query counts); the
+    // sizes stay this pass's.
+    void add_run_totals(const PhotonBeamsGatherStats& earlier);
     void write(RunRecord& record) const override;   // photons.photon_beams.*
 };
 

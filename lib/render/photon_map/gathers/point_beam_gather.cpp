@@ -204,13 +204,7 @@ void PointBeamGather::report_build(RunStats* stats, std::ostream* log) const {
 
 void PointBeamGather::add_to(RunStats& run, std::ostream* log) const {
     PointBeamGatherStats total = stats();   // this pass's sizes, the run's times and counts
-    if (const PointBeamGatherStats* before = run.sections.find<PointBeamGatherStats>()) {
-        total.radii_seconds += before->radii_seconds;
-        total.bvh_seconds += before->bvh_seconds;
-        total.queries += before->queries;
-        total.crossed += before->crossed;
-        total.tracking_lookups += before->tracking_lookups;
-    }
+    if (const PointBeamGatherStats* before = run.sections.find<PointBeamGatherStats>()) total.add_run_totals(*before);
     run.sections.get<PointBeamGatherStats>() = total;
     if (log)
         *log << "beam: " << total.queries << " segment queries crossed " << total.crossed << " photon discs ("
@@ -220,6 +214,14 @@ void PointBeamGather::add_to(RunStats& run, std::ostream* log) const {
 std::unique_ptr<SegmentGather> build_point_beam_gather(SegmentGatherInputs& in) {
     return std::make_unique<PointBeamGather>(in.scene, in.volume, size_t(in.settings.beam_k), in.settings.estimator.kernel(),
                                              in.max_radius, in.settings.max_radius_mfp, in.disc_scale);
+}
+
+void PointBeamGatherStats::add_run_totals(const PointBeamGatherStats& earlier) {
+    radii_seconds += earlier.radii_seconds;
+    bvh_seconds += earlier.bvh_seconds;
+    queries += earlier.queries;
+    crossed += earlier.crossed;
+    tracking_lookups += earlier.tracking_lookups;
 }
 
 void PointBeamGatherStats::write(RunRecord& record) const {

@@ -21,6 +21,9 @@ struct PointBeamGatherStats : StatsSectionOf<PointBeamGatherStats> {
     uint64_t crossed = 0;            // photon discs they crossed
     uint64_t tracking_lookups = 0;   // sigma_t lookups of the ratio tracking in non-homogeneous media
 
+    // Adds an earlier pass's run totals (the fields "summed over passes" and the query counts); the
+    // sizes stay this pass's.
+    void add_run_totals(const PointBeamGatherStats& earlier);
     void write(RunRecord& record) const override;   // photons.beam.*
 };
 
