@@ -8,8 +8,12 @@
 #include <string>
 
 #include "core/error.h"
+#include "render/plan/relative_error.h"
 
 namespace vpm {
+
+// The auto plan minimises this relMSE (render/plan/relative_error.h): one epsilon for both.
+static_assert(kDefaultMetricEpsilon == kRelativeErrorEpsilon, "the plan's relative error is the relMSE");
 
 namespace {
 

@@ -18,7 +18,7 @@ void log_candidate(std::ostream& log, const GatherMeasurement& m, double pixels)
             << " work units, exceeds half the budget), work " << m.sample_cost << " per sample\n";
         return;
     }
-    log << m.samples << " samples, per-sample variance " << m.v_camera << " (charged at "
+    log << m.samples << " samples, per-sample relative variance " << m.v_camera << " (charged at "
         << 1.0 + kPlanVarianceSigmas * m.v_camera_rel_se << "x: its upper bound), map variance at N/2 " << m.v_map_half << " +- " << m.v_map_half_se
         << ", bias " << m.bias_mean << " +- " << m.bias_se << " (squared, charged: " << m.bias2 << "), mean " << m.mean << " +- " << m.mean_se
         << (m.max_weight > kPlanMaxMarchWeight ? ", not trusted: march weights up to " + std::to_string(m.max_weight) : std::string())
@@ -30,7 +30,7 @@ void log_candidate(std::ostream& log, const GatherMeasurement& m, double pixels)
     log << "\n";
 }
 
-// The figures behind the "auto" integrator's choice: each candidate's error^2 x work (pass_plan.h),
+// The figures behind the "auto" integrator's choice: each candidate's relative error^2 x work (pass_plan.h),
 // the best map gather's against the path tracer's.
 void log_integrator_choice(std::ostream& log, const AutoGatherStats& a, bool no_map) {
     const std::vector<GatherMeasurement>& measured = a.candidates;
@@ -44,7 +44,7 @@ void log_integrator_choice(std::ostream& log, const AutoGatherStats& a, bool no_
         }
     }
     log << "integrator: auto chose " << (no_map ? "the path tracer" : "the photon map (gather \"" + a.chosen + "\")")
-        << ": error^2 x work " << (no_map ? path : best_map) << " against " << (no_map ? best_map : path) << " for "
+        << ": relative error^2 x work " << (no_map ? path : best_map) << " against " << (no_map ? best_map : path) << " for "
         << (no_map ? "the photon map's best gather (\"" + best_name + "\")" : std::string("the path tracer"))
         << " (render.integrator = \"photon_map\" or \"path\" pins it)\n";
 }

@@ -75,7 +75,7 @@ struct AutoGatherStats {
     bool beta_measured = false;
     bool size_photons = false, size_samples = false;
     bool photon_pass = true;       // false: "continue" chosen, no photon pass after the pilot's (render/plan/no_map_candidate.h)
-    std::vector<double> score;     // per candidate: the plan's error^2 x work at its best pass sizes (infinite: not a choice)
+    std::vector<double> score;     // per candidate: the plan's relative error^2 x work (render/plan/relative_error.h) at its best pass sizes (infinite: not a choice)
 };
 
 // The photons a photon-map run traced, per phase, and what used them (no work traced and discarded unsaid).

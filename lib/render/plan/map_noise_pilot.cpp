@@ -8,6 +8,7 @@
 #include "photon/map/walk_group_split.h"
 #include "render/plan/pilot_bias.h"
 #include "render/plan/pilot_pixels.h"
+#include "render/plan/relative_error.h"
 #include "render/plan/pilot_tail.h"
 
 namespace vpm {
@@ -25,10 +26,10 @@ constexpr uint64_t kBackgroundSalt = 0x6261636b67726e64ULL;   // the background 
 size_t at(int j, int s, int most) { return size_t(j) * size_t(most) + size_t(s); }
 
 // Per pixel of `pixels` (samples in slots of `most`): the mean of a's first n samples minus b's,
-// squared, less the samples' share Var(a - b) / n, an unbiased figure of V_map(a) + V_map(b) there.
-// Appended to `t`.
+// squared, less the samples' share Var(a - b) / n, an unbiased figure of V_map(a) + V_map(b) there,
+// times the pixel's weight (render/plan/relative_error.h). Appended to `t`.
 void append_map_variance_of_difference(const std::vector<double>& a, const std::vector<double>& b, int pixels, int n,
-                                       int most, std::vector<double>& t) {
+                                       int most, const std::vector<double>& weight, std::vector<double>& t) {
     for (int j = 0; j < pixels; ++j) {
         double mean = 0.0, m2 = 0.0;
         for (int s = 0; s < n; ++s) {
@@ -37,7 +38,7 @@ void append_map_variance_of_difference(const std::vector<double>& a, const std::
             mean += delta / (s + 1);
             m2 += delta * (d - mean);
         }
-        t.push_back(mean * mean - m2 / (n - 1) / n);
+        t.push_back(weight[size_t(j)] * (mean * mean - m2 / (n - 1) / n));
     }
 }
 
@@ -78,8 +79,8 @@ CountedOperations per_sample(const CountedOperations& before, const CountedOpera
     return o;
 }
 
-// Sum over the pilot pixels of each pixel's sample variance over its n samples (Welford).
-double summed_pixel_variance(const std::vector<double>& values, int n, int most) {
+// Sum over the pilot pixels of each pixel's sample variance over its n samples (Welford), times its weight.
+double summed_pixel_variance(const std::vector<double>& values, int n, int most, const std::vector<double>& weight) {
     double v = 0.0;
     for (int j = 0; j < kPixels; ++j) {
         double mean = 0.0, m2 = 0.0;
@@ -88,14 +89,15 @@ double summed_pixel_variance(const std::vector<double>& values, int n, int most)
             mean += delta / (s + 1);
             m2 += delta * (x - mean);
         }
-        v += m2 / (n - 1);
+        v += weight[size_t(j)] * m2 / (n - 1);
     }
     return v;
 }
 
-// The full map's mean over the pilot pixels, its standard error, and how much of the variance the
-// largest samples hold.
-void add_sample_statistics(const std::vector<double>& values, int n, int most, GatherMeasurement& g) {
+// The full map's mean over the pilot pixels, its standard error, and how much of the (weighted)
+// variance the largest samples hold.
+void add_sample_statistics(const std::vector<double>& values, int n, int most, const std::vector<double>& weight,
+                           GatherMeasurement& g) {
     double sum = 0.0;
     for (int j = 0; j < kPixels; ++j)
         for (int s = 0; s < n; ++s) sum += values[at(j, s, most)];
@@ -114,7 +116,7 @@ void add_sample_statistics(const std::vector<double>& values, int n, int most, G
     for (int j = 0; j < kPixels; ++j)
         for (int s = 0; s < n; ++s) {
             const double d = values[at(j, s, most)] - pixel_mean[size_t(j)];
-            squares.push_back(d * d);
+            squares.push_back(weight[size_t(j)] * d * d);
         }
     g.v_camera_rel_se = mean_of_squares_relative_se(squares);
     g.tail_share = largest_squares_share(std::move(squares), kPilotTailFraction);
@@ -123,19 +125,19 @@ void add_sample_statistics(const std::vector<double>& values, int n, int most, G
 // V_map and the bias from the two half maps' samples (values[1], values[2]) beside the full map's
 // (values[0]), at the pilot pixels and the spread grid.
 void add_map_noise(const std::vector<std::vector<double>>& values, const std::vector<std::vector<double>>& spread_values,
-                   int n, GatherMeasurement& g) {
+                   int n, const std::vector<double>& weight, const std::vector<double>& spread_weight, GatherMeasurement& g) {
     // A map variance the pilot does not resolve is charged at its standard error, not at 0 (or
     // below): at 0 the plan saw a noiseless map and took 256 samples per pass over 1e5 photons,
     // whose map noise then set the image's error (docs/studies/auto_plan.md section 17).
     std::vector<double> t;
-    append_map_variance_of_difference(values[1], values[2], kPixels, n, kPilotSamples, t);
+    append_map_variance_of_difference(values[1], values[2], kPixels, n, kPilotSamples, weight, t);
     append_map_variance_of_difference(spread_values[1], spread_values[2], kSpreadPixels, kPilotSpreadSamples,
-                                      kPilotSpreadSamples, t);
+                                      kPilotSpreadSamples, spread_weight, t);
     double se = 0.0;
     const double v = mean_with_standard_error(t, se);
     g.v_map_half = 0.5 * std::max(v, se);
     g.v_map_half_se = 0.5 * se;
-    const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples);
+    const PilotBias bias = pooled_half_map_bias(values[1], values[2], values[0], kPixels, n, kPilotSamples, weight);
     g.bias2 = bias.bias2;
     g.bias_mean = bias.mean;
     g.bias_se = bias.se;
@@ -167,13 +169,13 @@ std::vector<std::vector<double>> spread_samples(const PilotPixels& where, const 
     return spread_values;
 }
 
-// Sum over the spread grid of each pixel's sample variance.
-double summed_spread_variance(const std::vector<double>& values) {
+// Sum over the spread grid of each pixel's sample variance, times its weight.
+double summed_spread_variance(const std::vector<double>& values, const std::vector<double>& weight) {
     static_assert(kPilotSpreadSamples == 2, "the spread's variance below is that of two samples");
     double vs = 0.0;
     for (int j = 0; j < kSpreadPixels; ++j) {
         const double a = values[at(j, 0, kPilotSpreadSamples)], b = values[at(j, 1, kPilotSpreadSamples)];
-        vs += 0.5 * (a - b) * (a - b);   // the unbiased variance of two samples
+        vs += weight[size_t(j)] * 0.5 * (a - b) * (a - b);   // the unbiased variance of two samples
     }
     return vs;
 }
@@ -209,6 +211,50 @@ int candidate_samples(const PilotBudget& budget, double probe_cost, int budget_m
     return n;
 }
 
+// One candidate's pilot samples: values[m] with map m (the full map, then its halves where traced),
+// n per pilot pixel in slots of `most`; spread[m] the spread grid's (map candidates only).
+struct TracedSamples {
+    std::vector<std::vector<double>> values, spread;
+    int n = 0, most = 0;
+    bool halves_too = false;
+};
+
+// Each pixel's weight in the relative error (render/plan/relative_error.h), at the pilot pixels and
+// the spread grid's.
+struct RelativeWeights {
+    std::vector<double> pixels, spread;
+};
+
+// Per pixel of `pixels` (n samples in slots of `most`) its mean, added to `sum`.
+void add_pixel_means(const std::vector<double>& values, int pixels, int n, int most, std::vector<double>& sum) {
+    for (int j = 0; j < pixels; ++j) {
+        double mean = 0.0;
+        for (int s = 0; s < n; ++s) mean += values[at(j, s, most)];
+        sum[size_t(j)] += mean / n;
+    }
+}
+
+// A pixel's reference R is the mean of the candidates' pixel means (each one estimate of the same
+// pixel, weighted alike whatever its samples: a candidate with many samples whose pixel holds one
+// rare large sample does not set it alone), so the weights are the same for every candidate.
+RelativeWeights relative_weights(const std::vector<TracedSamples>& traced) {
+    RelativeWeights w;
+    w.pixels.assign(size_t(kPixels), 0.0);
+    w.spread.assign(size_t(kSpreadPixels), 0.0);
+    int at_pixels = 0, at_spread = 0;
+    for (const TracedSamples& t : traced) {
+        if (t.n == 0) continue;   // dropped after its probe
+        add_pixel_means(t.values[0], kPixels, t.n, t.most, w.pixels);
+        ++at_pixels;
+        if (t.spread.empty()) continue;
+        add_pixel_means(t.spread[0], kSpreadPixels, kPilotSpreadSamples, kPilotSpreadSamples, w.spread);
+        ++at_spread;
+    }
+    for (double& x : w.pixels) x = relative_error_weight(at_pixels > 0 ? x / at_pixels : 0.0);
+    for (double& x : w.spread) x = relative_error_weight(at_spread > 0 ? x / at_spread : 0.0);
+    return w;
+}
+
 }  // namespace
 
 std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const PhotonMap& map,
@@ -222,6 +268,7 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
     std::vector<PhotonMap> halves;
     const int width = camera.width(), height = camera.height();
     std::vector<GatherMeasurement> out;
+    std::vector<TracedSamples> traced(candidates.size());
     bool one_fits = false;   // an earlier candidate's one-sample pass fits the cap (render/plan/pilot_budget.h)
     // The pixels that can vary (render/plan/pilot_pixels.h): the figures are theirs times f, their share.
     const PilotPixels where = choose_pilot_pixels(width, height, kPilotSide, kPilotSpreadSide, [&](int x, int y) {
@@ -292,21 +339,30 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
         }
         g.samples = n;
         g.max_weight = hooks.counts().march_weight_max;   // over this candidate's traces (and the earlier ones')
-        const double v = summed_pixel_variance(values[0], n, most);
-        g.v_camera = v / kPixels;
-        // The spread grid's samples with each map (the full map, then the halves where traced).
-        std::vector<std::vector<double>> spread_values;
-        if (may_use_halves) {
-            spread_values = spread_samples(where, maps, int(c), hooks, seed, stream, sample);
-            g.v_camera = (v + summed_spread_variance(spread_values[0])) / (kPixels + kSpreadPixels);
-        }
-        add_sample_statistics(values[0], n, most, g);
         g.v_map_quarter = -1.0;
-        if (halves_too) add_map_noise(values, spread_values, n, g);
+        TracedSamples& t = traced[c];
+        t.values = std::move(values);
+        t.n = n;
+        t.most = most;
+        t.halves_too = halves_too;
+        // The spread grid's samples with each map (the full map, then the halves where traced).
+        if (may_use_halves) t.spread = spread_samples(where, maps, int(c), hooks, seed, stream, sample);
+        out.push_back(g);
+    }
+    // The figures, once every candidate's samples give the pixels' weights in the relative error.
+    const RelativeWeights w = relative_weights(traced);
+    for (size_t c = 0; c < out.size(); ++c) {
+        const TracedSamples& t = traced[c];
+        if (out[c].dropped) continue;
+        GatherMeasurement& g = out[c];
+        const double v = summed_pixel_variance(t.values[0], t.n, t.most, w.pixels);
+        g.v_camera = v / kPixels;
+        if (!t.spread.empty()) g.v_camera = (v + summed_spread_variance(t.spread[0], w.spread)) / (kPixels + kSpreadPixels);
+        add_sample_statistics(t.values[0], t.n, t.most, w.pixels, g);
+        if (t.halves_too) add_map_noise(t.values, t.spread, t.n, w.pixels, w.spread, g);
         // Averages over the image: the pixels that can vary, times their share (the rest add 0). The
         // mean stays theirs (the background's radiance need not be 0): it only compares candidates.
         for (double* x : {&g.v_camera, &g.v_map_half, &g.v_map_half_se, &g.bias2, &g.bias_mean, &g.bias_se}) *x *= f;
-        out.push_back(g);
     }
     return out;
 }

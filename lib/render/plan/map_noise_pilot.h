@@ -10,6 +10,8 @@
 //             (the same samples: the difference is the maps' alone), pooled with its sign over the
 //             pixels and charged only where resolved (render/plan/pilot_bias.h),
 //   cost      counted work units per sample with the full map (queries, rays, lookups).
+// The variances and the bias are relative: each pixel's weighted by 1 / (R^2 + 0.01), R its mean over
+// the candidates' samples (render/plan/relative_error.h), so the plan minimises the relMSE per pixel.
 // A per-sample variance alone misses V_map: every sample of a pass sees the same map. Pixels,
 // samples and streams are fixed by the seed, so the figures are the same on any thread count.
 // Each pilot pixel's samples jitter within that one pixel: spread over a block of the image, their

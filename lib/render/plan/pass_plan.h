@@ -4,8 +4,9 @@
 //
 //     error^2 = (V_map(N) + V_camera / S) / P + bias(N)^2,
 //
-// V_camera the per-sample variance of a pixel given the map, V_map(N) the variance of a pixel's
-// mean that comes from the map itself (shared by every sample of a pass, so it falls with N and P
+// each term relative, a pixel's weighted by 1 / (R^2 + 0.01) (render/plan/relative_error.h: the error is
+// the relMSE per pixel the renderer is judged by). V_camera the per-sample variance of a pixel given
+// the map, V_map(N) the variance of a pixel's mean that comes from the map itself (shared by every sample of a pass, so it falls with N and P
 // only). A pass costs C(N, S) = c_photon N + pixels S c_sample in counted work units, so for a
 // fixed time the error^2 x time to minimise is (V_map(N) + V_camera / S) C(N, S). V_map is measured
 // at Np / 2 photons (the pilot's independent half maps; Np, the pilot map's photons, is N0 or fewer:
@@ -17,7 +18,8 @@
 // (V_map + V_camera / S + bias^2) C for a pass longer than the budget (one pass is still made);
 // bias(N)^2 = bias(Np)^2 (Np / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N goes
 // below the configured count N0 only where a budget's pass cannot hold N0's photon pass (kPlanMinPasses). Every input is a count, a variance or a config value: the
-// plan is the same on any machine and thread count, and scale-invariant.
+// plan is the same on any machine and thread count, and invariant to the scene's size (not to its
+// radiance: the relMSE's 0.01 is absolute).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -38,6 +40,7 @@ struct CountedOperations {
 
 struct GatherMeasurement {
     std::string name;             // "collision", "march", "continue" (no map: render/plan/no_map_candidate.h)
+    // Variances and bias of a pixel's luminance, relative (render/plan/relative_error.h).
     double v_camera = 0.0;        // per-sample variance of a pixel's luminance given the map
     double v_map_half = 0.0;      // variance of a pixel's mean from the map at Np / 2 (may be < 0: noise)
     double v_map_quarter = 0.0;   // the same at Np / 4 (not measured: < 0)

@@ -31,7 +31,10 @@ struct PilotBias {
 
 // a, b, f: the two half maps' and the full map's sample values, pixel j's sample s at
 // j * stride + s, for `pixels` pixels of `samples` samples each (at least 2 pixels, 1 sample).
+// weights: per pixel, the weight of its squared error (render/plan/relative_error.h): each pixel's
+// mean difference is taken times its square root, so that bias2 is the relative squared bias; empty: 1.
 PilotBias pooled_half_map_bias(const std::vector<double>& a, const std::vector<double>& b,
-                               const std::vector<double>& f, int pixels, int samples, int stride);
+                               const std::vector<double>& f, int pixels, int samples, int stride,
+                               const std::vector<double>& weights = {});
 
 }  // namespace vpm

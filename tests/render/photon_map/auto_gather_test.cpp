@@ -351,7 +351,7 @@ TEST(AutoGather, NoPhotonPassWhereNoQueryUsesTheMap) {
     EXPECT_FALSE(x.photon_pass);
     EXPECT_EQ(a.stats.integrator_used, "path");
     EXPECT_EQ(a.stats.gather_used, "none");
-    EXPECT_NE(log.str().find("integrator: auto chose the path tracer: error^2 x work"), std::string::npos) << log.str();
+    EXPECT_NE(log.str().find("integrator: auto chose the path tracer: relative error^2 x work"), std::string::npos) << log.str();
     EXPECT_EQ(PhotonMapStats::of(a.stats).photons->emitted, 5000u);             // pass 0's only, of 3
     ASSERT_TRUE(PhotonMapStats::of(a.stats).photon_ledger);
     EXPECT_EQ(PhotonMapStats::of(a.stats).photon_ledger->pilot_only, 5000u);    // it served the pilot alone
