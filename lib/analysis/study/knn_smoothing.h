@@ -1,7 +1,7 @@
 #pragma once
 // The mean of the corrected kNN estimate of independent photons under a lit face, with the local-linear
 // weights of photons.extinction = "linear" (photon/estimate/linear_estimate.h): the smoothing a ball of
-// random radius makes (issue 56 item 4, docs/walk_correlation.md section 6).
+// random radius makes (docs/walk_correlation.md section 6).
 //
 // Points of a Poisson process with density lambda(d), d the depth below a plane face (the medium is
 // d >= 0), a query at depth z. Given r_k the k - 1 inner points are i.i.d. with density lambda over
