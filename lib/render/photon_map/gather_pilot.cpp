@@ -1,7 +1,9 @@
 // photons.gather = "pilot": a pilot per pass renders 8 x 8 camera rays spread over the image, 16
 // samples each on streams of their own, with each candidate gather (collision, march, threshold) and
 // keeps the one with the least variance x cost, the cost from deterministic counts (kNN queries, rays,
-// ball-quadrature lookups): the same choice on any machine, thread count and scale. A member of
+// ball-quadrature lookups): the same choice on any machine, thread count and scale. The variance is
+// relative, each ray's weighted by 1 / (R^2 + eps) as the relMSE weighs its pixel (render/plan/relative_error.h;
+// R: the ray's mean over every candidate's samples), so the brightest rays do not decide alone. A member of
 // PhotonMapIntegrator kept apart from its passes; the automatic plan (auto_gather.cpp) supersedes it.
 #include <vector>
 
@@ -9,6 +11,7 @@
 
 #include "core/sampling/rng.h"
 #include "render/photon_map/photon_map_integrator.h"
+#include "render/plan/relative_error.h"
 #include "scene/media/homogeneous_medium.h"
 
 namespace vpm {
@@ -33,7 +36,7 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
     // Each candidate's work is counted apart from the run's, on counters of its own.
     const Camera& camera = scene_.camera;
     const uint64_t seed = mix64(context.seed ^ 0x70696c6f74ULL);   // streams apart from the camera pass's
-    std::vector<double> variance(kRays);
+    std::vector<std::vector<double>> variance(3, std::vector<double>(kRays)), mean(3, std::vector<double>(kRays));
     int chosen = 0;
     for (int c = 0; c < 3; ++c) {
         const PassMaps maps = pass_maps(pass_, candidates[c], *maps_.volume, maps_.surface, decision_.view(), maps_.volume_regions,
@@ -42,25 +45,27 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
         CounterSet counters;
         tbb::parallel_for(0, kRays, [&](int j) {
             Rng rng(seed, context.stream_offset * uint64_t(kRays) + uint64_t(j));
-            double mean = 0.0, m2 = 0.0;
+            double mean_j = 0.0, m2 = 0.0;
             for (int s = 0; s < kSamples; ++s) {
                 const double x = (j % kSide + rng.uniform()) / kSide * camera.width();
                 const double y = (j / kSide + rng.uniform()) / kSide * camera.height();
                 const Rgb l = path.trace(camera.generate_ray(x, y), 0, rng, counters.local());
                 const double v = all_finite(l) ? 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2] : 0.0;
-                const double d = v - mean;
-                mean += d / (s + 1);
-                m2 += d * (v - mean);
+                const double d = v - mean_j;
+                mean_j += d / (s + 1);
+                m2 += d * (v - mean_j);
             }
-            variance[size_t(j)] = m2 / (kSamples - 1);
+            variance[size_t(c)][size_t(j)] = m2 / (kSamples - 1);
+            mean[size_t(c)][size_t(j)] = mean_j;
         });
         const CameraTotals t = sum_counters(counters);
         const uint64_t queries = t.estimates.stats.queries + t.surface_stats.queries, rays = t.rays,
                        lookups = t.estimates.lookups;
-        double v = 0.0;
-        for (double x : variance) v += x;
-        pilot.variance[size_t(c)] = v / kRays;
         pilot.cost[size_t(c)] = (w_query * double(queries) + w_ray * double(rays) + w_lookup * double(lookups)) / (kRays * kSamples);
+    }
+    for (int j = 0; j < kRays; ++j) {
+        const double weight = relative_error_weight((mean[0][size_t(j)] + mean[1][size_t(j)] + mean[2][size_t(j)]) / 3.0);
+        for (int c = 0; c < 3; ++c) pilot.variance[size_t(c)] += weight * variance[size_t(c)][size_t(j)] / kRays;
     }
     // Least variance x cost; with no variance anywhere (nothing lit in view), least cost.
     for (int c = 1; c < 3; ++c) {
@@ -75,7 +80,7 @@ void PhotonMapIntegrator::choose_gather(const PassContext& context) {
     choice_.pilot = pilot;
     if (context.log && context.first_of_run) {
         *context.log << "gather: the pilot chose \"" << pilot.chosen << "\" (pilot, " << kRays << " rays x " << kSamples
-                     << " samples: variance x cost";
+                     << " samples: relative variance x cost";
         for (int c = 0; c < 3; ++c)
             *context.log << (c ? ", " : " ") << pilot.candidates[size_t(c)] << " " << pilot.variance[size_t(c)] * pilot.cost[size_t(c)];
         *context.log << ")\n";

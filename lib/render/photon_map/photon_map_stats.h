@@ -57,7 +57,7 @@ struct PhotonPassStats {
 // photons.gather = "pilot": what each pass's pilot measured (render/photon_map/gather_pilot.cpp) and chose.
 struct GatherPilotStats {
     std::vector<std::string> candidates;   // "collision", "march", "auto"
-    std::vector<double> variance;          // mean per-sample variance of the luminance over the pilot rays
+    std::vector<double> variance;          // mean per-sample relative variance of the luminance over the pilot rays (each / (R^2 + 0.01))
     std::vector<double> cost;              // deterministic work units per sample
     std::string chosen;                    // the last pass's choice
     std::vector<uint64_t> chosen_count;    // passes that chose each candidate (bounded however many passes)
