@@ -53,8 +53,10 @@ int InteriorMedium::inside_intervals(const Ray& ray, double tmax, double (*t)[2]
     double ta, tb;
     if (!shape_geometry_.bounds.intersect(ray, tmax, ta, tb)) return 0;
     // The shape's crossings along the ray to infinity: inside on [0, first) iff their count is odd
-    // (a ray starting on the surface skips it, so the parity holds there too).
-    double crossing[2 * kMaxIntervals + 1];
+    // (a ray starting on the surface skips it, so the parity holds there too). n crossings make at
+    // most (n + 1) / 2 intervals inside (n odd: the ray starts inside), so 2 kMaxIntervals crossings
+    // fit t's kMaxIntervals.
+    double crossing[2 * kMaxIntervals];
     int n = 0;
     Ray r = ray;
     double travelled = 0.0;
@@ -62,7 +64,7 @@ int InteriorMedium::inside_intervals(const Ray& ray, double tmax, double (*t)[2]
     while (surfaces_.intersect(r, kInfinity, hit)) {
         travelled += hit.t;
         if (hit.dielectric == shape_) {
-            if (n == 2 * kMaxIntervals + 1)
+            if (n == 2 * kMaxIntervals)
                 throw Error("interior_medium: a ray crosses closed shape " + std::to_string(shape_geometry_.table) + " more than " +
                             std::to_string(2 * kMaxIntervals) + " times (scene/interior_medium.h)");
             crossing[n++] = travelled;
