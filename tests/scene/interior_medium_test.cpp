@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "core/error.h"
+#include "core/sampling/rng.h"
 #include "scene/interior_medium.h"
 #include "support/scene_from_config.h"
+#include "support/scratch_dir.h"
 
 using namespace vpm;
 
@@ -183,3 +187,34 @@ TEST(InteriorMedium, BadKeysAreOneErrorEach) {
     EXPECT_NE(e.find("shapes.1.interior_medium"), std::string::npos) << e;
     EXPECT_NE(e.find("already the interior medium of shape 0"), std::string::npos) << e;
 }
+
+// A mesh crossed more often along one ray than the interval buffer holds is refused with one error,
+// not written past the buffer: 33 closed cubes in a row along x (the camera looks across the row)
+// as one glass shape. From inside the first cube 65 crossings lie ahead (33 intervals inside); from
+// inside the third 61 (31), which are counted.
+TEST(InteriorMedium, AMeshCrossedTooOftenIsRefused) {
+    test::ScratchDir dir;
+    const std::filesystem::path obj = dir.path / "row.obj";
+    {
+        std::ofstream out(obj);
+        for (int c = 0; c < 33; ++c) {
+            const double x0 = 0.1 * c, x1 = x0 + 0.05;
+            for (int v = 0; v < 8; ++v)
+                out << "v " << ((v & 1) ? x1 : x0) << " " << ((v & 2) ? 0.5 : -0.5) << " " << ((v & 4) ? 0.5 : -0.5) << "\n";
+            const int b = 8 * c + 1;   // the cube's faces, wound outwards
+            const int f[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+            for (const auto& q : f) out << "f " << b + q[0] << " " << b + q[1] << " " << b + q[2] << " " << b + q[3] << "\n";
+        }
+    }
+    const std::string glass = "[[shapes]]\ntype = \"mesh\"\nfile = \"" + obj.string() +
+                              "\"\nmaterial = \"dielectric\"\nior = 1.5\ninterior_medium = 0\n";
+    const auto scene = test::scene_from_config(std::string(kLight) + fog(1.0) + glass);
+    const Medium& m = *scene->media[0];
+    EXPECT_EQ(m.sigma_t(Vec3(0.025, 0.2, 0.1)), 1.0);
+    Rng rng(1, 0);
+    EXPECT_THROW(m.transmittance(Ray{Vec3(0.025, 0.2, 0.1), Vec3(1, 0, 0)}, kInfinity, rng), Error);
+    // The fog table is a ball of radius 1.5 (at y 0.2, z 0.1 it ends at x 1.4832): from x 0.225 the
+    // rest of the third cube and cubes 3 to 14.
+    EXPECT_NEAR(scene->optical_depth(Ray{Vec3(0.225, 0.2, 0.1), Vec3(1, 0, 0)}, kInfinity), 0.025 + 12 * 0.05, 1e-9);
+}
+
