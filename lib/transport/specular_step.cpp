@@ -7,11 +7,9 @@ namespace vpm {
 
 namespace {
 
-bool sample_specular(const SurfaceHit& hit, Ray& ray, Transport mode, Rng& rng, Rgb& weight) {
+bool sample_specular(const SurfaceHit& hit, Ray& ray, Transport mode, Rng& rng, MaterialSample& s) {
     const double u1 = rng.uniform();
-    MaterialSample s;
     if (!hit.specular->sample(ray.dir, hit.normal, hit.exiting, mode, u1, 0.0, 0.0, s)) return false;
-    weight = s.weight;
     ray = spawn_ray(hit, s.dir);
     return true;
 }
@@ -19,22 +17,24 @@ bool sample_specular(const SurfaceHit& hit, Ray& ray, Transport mode, Rng& rng, 
 }  // namespace
 
 bool camera_specular_step(const SurfaceHit& hit, Ray& ray, Rgb& throughput, EmissionWeighting& emission, int vertices,
-                          int rr_depth, Rng& rng) {
-    Rgb weight;
-    if (!sample_specular(hit, ray, Transport::radiance, rng, weight)) return false;
-    throughput *= weight;
+                          int rr_depth, Rng& rng, double* radiance_scale) {
+    MaterialSample s;
+    if (!sample_specular(hit, ray, Transport::radiance, rng, s)) return false;
+    throughput *= s.weight;
     if ((throughput == 0.0).all()) return false;
     emission = EmissionWeighting::camera();
-    return survive_roulette(throughput, vertices, rr_depth, rng);
+    if (!radiance_scale) return survive_roulette(throughput, vertices, rr_depth, rng);
+    *radiance_scale *= s.radiance_scale;
+    return survive_roulette(throughput, vertices, rr_depth, rng, *radiance_scale);
 }
 
 bool photon_specular_step(const SurfaceHit& hit, Ray& ray, Rgb& power, Rng& rng) {
-    Rgb weight;
-    if (!sample_specular(hit, ray, Transport::power, rng, weight)) return false;
-    const double q = weight.maxCoeff();
+    MaterialSample s;
+    if (!sample_specular(hit, ray, Transport::power, rng, s)) return false;
+    const double q = s.weight.maxCoeff();
     if (q <= 0.0) return false;
     if (q < 1.0 && rng.uniform() >= q) return false;
-    power *= weight / q;
+    power *= s.weight / q;
     return true;
 }
 

@@ -19,8 +19,11 @@ namespace vpm {
 // material, multiplies `throughput` by its weight, sets `ray` to the ray leaving the surface and
 // `emission` to full weight, then plays the walk's Russian roulette (transport/walk_steps.h) with
 // `vertices` scattering events so far. false: the path ends (absorbed, or by the roulette).
+// With `radiance_scale` (the product of the path's 1 / eta^2 factors so far), a refraction
+// multiplies it by its own and the roulette judges throughput / radiance_scale (walk_steps.h);
+// without it, the roulette judges the throughput as it is.
 bool camera_specular_step(const SurfaceHit& hit, Ray& ray, Rgb& throughput, EmissionWeighting& emission, int vertices,
-                          int rr_depth, Rng& rng);
+                          int rr_depth, Rng& rng, double* radiance_scale = nullptr);
 
 // The photon's step: power times the material's weight over the survival probability q = its max
 // channel (as on a Lambertian surface); false: absorbed.

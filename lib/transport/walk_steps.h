@@ -34,7 +34,12 @@ inline Ray diffuse_bounce(const SurfaceHit& hit, Rng& rng) {
 }
 
 // Russian roulette once a path has `vertices` >= rr_depth scattering events: survives with
-// q = min(kRouletteMaxSurvival, max channel of throughput) and divides by q; false when the path ends.
+// q = min(kRouletteMaxSurvival, max channel of throughput / radiance_scale) and divides by q; false
+// when the path ends. radiance_scale is the product of the 1 / eta^2 factors a camera path's
+// refractions put into its throughput (1 outside glass, 1 / 2.25 inside glass of ior 1.5): the
+// roulette judges the path by the energy it carries, not by the radiance compression that its exit
+// from the glass undoes (a path inside glass would otherwise be ended with probability 1 - 1 / 2.25
+// at once and its survivors weigh 2.25x).
 //
 // The cap only makes sure a walk in a medium of albedo 1 ends. Every survival at the cap multiplies
 // the throughput by 1 / cap, so after n collisions at albedo a the weight is (a / cap)^n with
@@ -42,9 +47,9 @@ inline Ray diffuse_bounce(const SurfaceHit& hit, Rng& rng) {
 // A cap close to 1 keeps that bounded for every albedo a real medium has: at 0.999 the weight stays
 // below 1 / 0.999 up to albedo 0.9995 (the measurements behind it: docs/studies/heldout_scenes.md).
 constexpr double kRouletteMaxSurvival = 0.999;
-inline bool survive_roulette(Rgb& throughput, int vertices, int rr_depth, Rng& rng) {
+inline bool survive_roulette(Rgb& throughput, int vertices, int rr_depth, Rng& rng, double radiance_scale = 1.0) {
     if (vertices < rr_depth) return true;
-    const double q = std::min(kRouletteMaxSurvival, throughput.maxCoeff());
+    const double q = std::min(kRouletteMaxSurvival, throughput.maxCoeff() / radiance_scale);
     if (rng.uniform() >= q) return false;
     throughput /= q;
     return true;

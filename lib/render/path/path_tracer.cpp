@@ -23,6 +23,7 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
     Rgb radiance = Rgb::Zero();
     EmissionWeighting emission = EmissionWeighting::camera();   // how emission met next counts
     uint64_t rays = 0;   // shadow rays: the path tracer does not report them
+    double radiance_scale = 1.0;   // the 1 / eta^2 factors of the refractions so far, for the roulette
     for (int depth = 0;; ++depth) {
         // `depth` scattering events so far; the vertex found now would be number depth + 1.
         const PathVertex v = next_vertex(scene_, ray, rng);
@@ -67,7 +68,8 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
             ray = Ray{x, wo};
         } else {
             if (v.hit.specular) {   // a mirror or glass: the chain goes on, nothing is estimated here
-                if (!camera_specular_step(v.hit, ray, throughput, emission, depth + 1, rr_depth, rng)) break;
+                if (!camera_specular_step(v.hit, ray, throughput, emission, depth + 1, rr_depth, rng, &radiance_scale))
+                    break;
                 continue;
             }
             if ((v.hit.reflectance == 0.0).all()) break;
@@ -76,7 +78,7 @@ Rgb PathTracer::radiance(const Ray& camera_ray, Rng& rng) const {
             ray = diffuse_bounce(v.hit, rng);
             emission = EmissionWeighting::after(mis, v.hit.position, std::max(0.0, ray.dir.dot(v.hit.normal)) * kInvPi);
         }
-        if (!survive_roulette(throughput, depth + 1, rr_depth, rng)) break;
+        if (!survive_roulette(throughput, depth + 1, rr_depth, rng, radiance_scale)) break;
     }
     return radiance;
 }

@@ -48,7 +48,8 @@ public:
             return true;
         }
         out.dir = refract(d, n, eta, cos_t);
-        out.weight = mode == Transport::radiance ? Rgb(transmittance_ / (eta * eta)) : transmittance_;
+        out.radiance_scale = mode == Transport::radiance ? 1.0 / (eta * eta) : 1.0;
+        out.weight = transmittance_ * out.radiance_scale;
         out.pdf = 1.0 - f;
         out.transmitted = true;
         return (out.weight > 0.0).any();

@@ -28,6 +28,7 @@ struct MaterialSample {
     double pdf = 0.0;           // solid-angle pdf (smooth), or the discrete probability of this event (delta)
     bool delta = false;
     bool transmitted = false;   // crossed the surface (refraction)
+    double radiance_scale = 1.0;   // the part of weight that radiance alone takes: 1 / eta^2 on a refraction, else 1
 };
 
 class Material {
