@@ -6,9 +6,10 @@
         error (from the seeds' spread), and per region (a 4 x 4 grid of blocks) the difference
         Mitsuba - vpm over its standard error; the largest |z| and the count beyond 3.
     python3 bench/mitsuba/compare.py efficiency DIR [--refs bench/caustic_references] [--vpm build/vpm]
-        Equal time: per scene, renderer and spp, relMSE (reference noise subtracted, `vpm compare
-        --reference-halves`) and CPU seconds per seed; the time to equal relMSE, relMSE x CPU s,
-        Mitsuba over vpm with a standard error from the per-seed products (a ratio > 1: vpm is faster).
+        Equal time: per scene, renderer (vpm, "vpm before" = vpm0, Mitsuba) and spp, relMSE (reference
+        noise subtracted, `vpm compare --reference-halves`) and CPU seconds over the seeds all ran;
+        the time to equal relMSE, relMSE x CPU s, over vpm's (a ratio > 1: vpm is faster), its
+        standard error from the relMSE's spread over the seeds.
         A scene without halves in --refs uses REFS/SCENE_{a,b}.exr if present, else DIR/../SCENE_{a,b}.exr.
 
 The metrics come from `vpm compare`; the region means read the EXRs with Mitsuba's Bitmap (run it
@@ -55,7 +56,7 @@ def runs(folder):
     out = {}
     for t in glob.glob(os.path.join(folder, "*.time")):
         base = t[:-5]
-        m = re.match(r"(.+)_(vpm|mitsuba)_(\d+)_(\d+)$", os.path.basename(base))
+        m = re.match(r"(.+)_(vpm0|vpm|mitsuba)_(\d+)_(\d+)$", os.path.basename(base))
         if not m or not os.path.exists(base + ".exr"):
             continue
         out.setdefault((m.group(1), m.group(2), int(m.group(3))), {})[int(m.group(4))] = base
@@ -123,44 +124,48 @@ def efficiency(args):
     scenes = sorted({k[0] for k in r})
     if args.scenes:
         scenes = [s for s in scenes if s in args.scenes]
-    print("| scene | spp | seeds | vpm CPU s | vpm relMSE | Mitsuba CPU s | Mitsuba relMSE | vpm relRMSE | Mitsuba relRMSE | "
-          "relMSE x CPU: Mitsuba / vpm |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    names = {"vpm0": "vpm before", "vpm": "vpm", "mitsuba": "Mitsuba"}
+    print("| scene | spp | renderer | seeds | CPU s | relMSE | relRMSE | relMSE x CPU s | / vpm's |")
+    print("|---|---:|---|---:|---:|---:|---:|---:|---:|")
     for scene in scenes:
         ref = halves(scene, args)
         if not ref:
-            print(f"| {scene} | (no reference halves) |")
+            print(f"| {scene} | | (no reference halves) | | | | | | |")
             continue
         for spp in sorted({k[2] for k in r if k[0] == scene}):
             rows = {}
-            for ren in ("vpm", "mitsuba"):
+            for ren in ("vpm0", "vpm", "mitsuba"):
                 per = r.get((scene, ren, spp), {})
-                vals = []
+                vals = {}
                 for seed in sorted(per):
                     base = per[seed]
                     t = json.load(open(base + ".time"))
                     m = json.loads(subprocess.check_output([args.vpm, "compare", "--json", "--reference-halves", ref[0],
                                                             ref[1], base + ".exr"]))
                     m = m.get("images", [m])[0]
-                    vals.append((seed, t["cpu_s"], m["relmse"]["value"], m["relrmse"]["value"]))
-                rows[ren] = vals
-            if not rows["vpm"] or not rows["mitsuba"]:
+                    vals[seed] = (t["cpu_s"], m["relmse"]["value"], m["relrmse"]["value"])
+                if vals:
+                    rows[ren] = vals
+            if "vpm" not in rows:
                 continue
-            seeds = sorted(set(s for s, *_ in rows["vpm"]) & set(s for s, *_ in rows["mitsuba"]))
-
-            def col(ren, i):
-                return [v[i] for v in rows[ren] if v[0] in seeds]
-            cv, em_v, rr_v = col("vpm", 1), col("vpm", 2), col("vpm", 3)
-            cm, em_m, rr_m = col("mitsuba", 1), col("mitsuba", 2), col("mitsuba", 3)
-            # Time to equal relMSE: mean relMSE x mean CPU s; the ratio's standard error from the
-            # relMSE's spread over the seeds (CPU seconds vary little against it).
-            mv, sv = mean_se(em_v)
-            mm, sm = mean_se(em_m)
-            tv, tm = sum(cv) / len(cv), sum(cm) / len(cm)
-            ratio = (mm * tm) / (mv * tv)
-            se = ratio * math.hypot(sv / mv if mv else 0, sm / mm if mm else 0)
-            print(f"| {scene} | {spp} | {len(seeds)} | {tv:.2f} | {mv:.4g} +- {sv:.2g} | {tm:.2f} | {mm:.4g} +- {sm:.2g} | "
-                  f"{sum(rr_v) / len(rr_v):.3g} | {sum(rr_m) / len(rr_m):.3g} | **{ratio:.2f} +- {se:.2f}** |")
+            seeds = sorted(set.intersection(*(set(v) for v in rows.values())))
+            # Time to equal relMSE: mean relMSE x mean CPU s; its standard error from the relMSE's
+            # spread over the seeds (CPU seconds vary little against it).
+            eff = {}
+            for ren, vals in rows.items():
+                cpu = sum(vals[s][0] for s in seeds) / len(seeds)
+                mse, se = mean_se([vals[s][1] for s in seeds])
+                rr = sum(vals[s][2] for s in seeds) / len(seeds)
+                eff[ren] = (cpu, mse, se, rr)
+            cv, mv, sv, _ = eff["vpm"]
+            for ren in ("vpm0", "vpm", "mitsuba"):
+                if ren not in eff:
+                    continue
+                cpu, mse, se, rr = eff[ren]
+                ratio = (mse * cpu) / (mv * cv)
+                rse = 0.0 if ren == "vpm" else ratio * math.hypot(sv / mv, se / mse)
+                print(f"| {scene} | {spp} | {names[ren]} | {len(seeds)} | {cpu:.2f} | {mse:.4g} +- {se:.2g} | {rr:.3g} | "
+                      f"{mse * cpu:.4g} | {ratio:.2f} +- {rse:.2f} |")
 
 
 def main():

@@ -11,7 +11,8 @@
 # Usage: bench/mitsuba/equal_spp.sh OUT_DIR
 #   env: SCENES (glass_sphere_fog water_caustics glass_bulb_smoke smoke_glass_flask), SPPS (64 256),
 #        SEEDS (1 2), SIZE (64x64), THREADS (2), VPM (build/vpm), MITSUBA_PYTHON (/work/venv-mitsuba/bin/python),
-#        VPM_SET / MI_SET (extra --set KEY=VALUE arguments for both, e.g. a light's radius), RENDERERS (vpm mitsuba)
+#        SETS (extra KEY=VALUE settings for both, space-separated), RENDERERS (vpm mitsuba; "vpm0" is a
+#        second vpm binary, VPM0, e.g. the main branch's, run the same way for a before/after ratio)
 set -euo pipefail
 out="${1:?usage: bench/mitsuba/equal_spp.sh OUT_DIR}"
 scenes="${SCENES:-glass_sphere_fog water_caustics glass_bulb_smoke smoke_glass_flask}"
@@ -34,8 +35,10 @@ for seed in $seeds; do
             for r in $renderers; do
                 base="$out/${scene}_${r}_${spp}_${seed}"
                 [ -f "$base.time" ] && continue
-                if [ "$r" = vpm ]; then
-                    { /usr/bin/time -f "%e %U %S" nice -n 5 "$vpm" render "configs/$scene.toml" -q \
+                if [ "$r" = vpm ] || [ "$r" = vpm0 ]; then
+                    bin="$vpm"
+                    [ "$r" = vpm0 ] && bin="${VPM0:?RENDERERS has vpm0: set VPM0 to its binary}"
+                    { /usr/bin/time -f "%e %U %S" nice -n 5 "$bin" render "configs/$scene.toml" -q \
                         --threads "$threads" --set render.integrator=path --set render.spp="$spp" \
                         --set render.width="$w" --set render.height="$h" --set render.seed="$seed" \
                         "${extra[@]}" -o "$base.exr" ; } 2>&1 | tail -1 > "$base.time.tmp"

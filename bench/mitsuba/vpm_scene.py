@@ -23,7 +23,8 @@ Only what the caustic scenes use is translated (anything else is an error naming
 - media: "homogeneous" boxes and spheres, sigma_t = sigma_t_scale, albedo, Henyey-Greenstein g
   (the same sign convention: g > 0 scatters forwards);
 - shapes: "quad" (center, u, v: half-extents), "box" (min, max), "sphere" and "mesh" (OBJ, flat
-  normals), Lambertian
+  normals; a dielectric mesh wound inwards is reversed, as vpm orients it; one closed part only:
+  vpm's shells, a part inside another, are not handled), Lambertian
   (two-sided, as vpm's) or "dielectric" (ior inside, air outside).
 
 Media in Mitsuba live inside shapes: a medium box or sphere becomes a shape with a null BSDF whose
@@ -84,6 +85,40 @@ def apply_set(cfg, key, value):
         node[last] = parsed
 
 
+def read_obj(path):
+    verts, faces = [], []
+    with open(path) as f:
+        for line in f:
+            t = line.split()
+            if not t:
+                continue
+            if t[0] == "v":
+                verts.append([float(x) for x in t[1:4]])
+            elif t[0] == "f":
+                idx = [int(x.split("/")[0]) for x in t[1:]]
+                idx = [i - 1 if i > 0 else len(verts) + i for i in idx]
+                faces.extend([idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1))
+    return verts, faces
+
+
+def signed_volume(verts, faces):
+    v = 0.0
+    for a, b, c in faces:
+        v += sum(x * y for x, y in zip(verts[a], cross(verts[b], verts[c]))) / 6.0
+    return v
+
+
+def write_reversed_obj(verts, faces, path):
+    import tempfile
+    fd, out = tempfile.mkstemp(suffix="_" + os.path.basename(path))
+    with os.fdopen(fd, "w") as f:
+        for v in verts:
+            f.write(f"v {v[0]!r} {v[1]!r} {v[2]!r}\n")
+        for a, b, c in faces:
+            f.write(f"f {a + 1} {c + 1} {b + 1}\n")
+    return out
+
+
 class Box:
     def __init__(self, lo, hi):
         self.lo, self.hi = lo, hi
@@ -102,6 +137,8 @@ def build_scene(cfg, config_dir, width, height, spp, seed, max_depth, rr_depth, 
     # Media: each one a shape with a null BSDF holding it.
     media = []   # (name, kind, geometry)
     for i, m in enumerate(cfg.get("media", [])):
+        if float(m.get("sigma_t_scale", 1.0)) == 0.0:
+            continue   # an empty medium (e.g. --set media.0.sigma_t_scale=0 for a clear variant)
         if m.get("type") != "homogeneous":
             fail(f"media.{i}.type = {m.get('type')!r}: only \"homogeneous\" is translated")
         name = f"medium{i}"
@@ -188,16 +225,16 @@ def build_scene(cfg, config_dir, width, height, spp, seed, max_depth, rr_depth, 
             path = os.path.join(config_dir, s["file"])
             if "transform" in s:
                 fail(f"shapes.{i}.transform: not translated")
-            d = {"type": "obj", "filename": path, "face_normals": True, "bsdf": bsdf}
-            lo, hi = [1e30] * 3, [-1e30] * 3
-            with open(path) as f:
-                for line in f:
-                    if line.startswith("v "):
-                        p = [float(x) for x in line.split()[1:4]]
-                        lo = [min(lo[k], p[k]) for k in range(3)]
-                        hi = [max(hi[k], p[k]) for k in range(3)]
+            verts, faces = read_obj(path)
+            lo = [min(v[k] for v in verts) for k in range(3)]
+            hi = [max(v[k] for v in verts) for k in range(3)]
             if material == "dielectric":
                 dielectric_bounds.append(Box(lo, hi))
+                # Mitsuba reads which side is glass from the winding; vpm turns each closed part to
+                # face out of the glass itself. A mesh wound inwards is written out reversed.
+                if signed_volume(verts, faces) < 0.0:
+                    path = write_reversed_obj(verts, faces, path)
+            d = {"type": "obj", "filename": path, "face_normals": True, "bsdf": bsdf}
             # A medium box inside the mesh is its own shape (below); the glass holds no medium of its own.
             outside = medium_at([lo[0] - 1e-3, hi[1] + 1e-3, lo[2] - 1e-3])
             d = with_media(d, None, outside)
@@ -275,6 +312,7 @@ def main():
     ap.add_argument("--rr-depth", type=int, default=5)
     ap.add_argument("--medium-pad", type=float, default=2e-3)
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--unset", action="append", default=[], metavar="KEY")
     ap.add_argument("--variant", default="scalar_rgb")
     args = ap.parse_args()
 
@@ -283,6 +321,12 @@ def main():
     for kv in args.set:
         k, v = kv.split("=", 1)
         apply_set(cfg, k, v)
+    for key in args.unset:
+        parts = key.split(".")
+        node = cfg
+        for p in parts[:-1]:
+            node = node[int(p)] if isinstance(node, list) else node[p]
+        node.pop(parts[-1], None)
     render = cfg.get("render", {})
     width, height = int(render.get("width", 256)), int(render.get("height", 256))
     if args.size:

@@ -44,6 +44,33 @@ TEST(WalkSteps, RussianRouletteKeepsTheExpectation) {
     EXPECT_EQ(low[0], 1e-9);
 }
 
+// Inside glass a camera path's throughput carries the refraction's 1 / eta^2 (1 / 2.25 at ior 1.5),
+// which leaving the glass undoes: with radiance_scale = 1 / 2.25 the roulette judges the throughput
+// as 1 (survives with kRouletteMaxSurvival, a survivor weighs 1 / 2.25 / 0.999, not 1), and it
+// still keeps the expectation.
+TEST(WalkSteps, RouletteJudgesThroughputOverTheRadianceScale) {
+    const double scale = 1.0 / 2.25;
+    Rng rng(3, 8);
+    const int n = 400000;
+    double s = 0.0, s2 = 0.0;
+    int survived = 0;
+    for (int i = 0; i < n; ++i) {
+        Rgb throughput = Rgb::Constant(scale);
+        const bool alive = survive_roulette(throughput, 6, 5, rng, scale);
+        if (alive) {
+            ++survived;
+            EXPECT_DOUBLE_EQ(throughput[0], scale / kRouletteMaxSurvival);
+        }
+        const double v = alive ? throughput[0] : 0.0;
+        s += v;
+        s2 += v * v;
+    }
+    const double mean = s / n, se = std::sqrt((s2 / n - mean * mean) / n);
+    EXPECT_NEAR(mean, scale, 4.0 * se + 1e-12);
+    // Survival frequency 0.999 (binomial standard error ~5e-5), where the unscaled roulette gives 0.444.
+    EXPECT_NEAR(double(survived) / n, kRouletteMaxSurvival, 4.0 * std::sqrt(0.999 * 0.001 / n));
+}
+
 // A walk at albedo 0.99 with roulette at every collision: the throughput of a surviving walk stays
 // at most 1 / kRouletteMaxSurvival (the cap once was 0.95, and it grew as (0.99 / 0.95)^n: 1.04^n, an
 // estimator of unbounded variance), and its expectation after 300 collisions is 0.99^300 (4 SE).
