@@ -122,6 +122,13 @@ private:
     };
     RegionWeights region_weights(const Vec3& x, const double* r, int n, const BallRegion* region) const;
     void moments_n(const Vec3& x, const double* r, int n, BallMoments* out, uint64_t* lookups, const BallRegion* region) const;
+    struct MomentSums;
+    // Adds one entry's moments over B(x, r) to `sums` where a rule covers the ball; false where the
+    // ball needs the clipped quadrature.
+    bool entry_moments(const Entry& e, const Vec3& x, double r, MomentSums& sums, uint64_t* lookups) const;
+    // The clipped quadrature for the radii marked `clipped`: one pass over the points of r_clip's cube.
+    void clipped_moments(const Entry& e, const Vec3& x, const double* r, int n, const bool* clipped, double r_clip,
+                         MomentSums* sums, uint64_t* lookups) const;
     void entry_integrals(const Entry& e, const Vec3& x, const double* r, double* out, int n, uint64_t* lookups) const;
     std::vector<Entry> entries_;
     bool interior_media_ = false;
