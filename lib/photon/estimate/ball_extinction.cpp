@@ -220,8 +220,8 @@ void BallExtinction::entry_integrals(const Entry& e, const Vec3& x, const double
     double sum[2] = {0.0, 0.0};
     const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
     const double r2max = std::max(r2a, r2b);
-    // The points inside the larger ball are the ones looked up (about half of the cube's): counting all
-    // 4096 charged a clipped ball 2-3x its time (the plume at optical thickness 1, docs/studies/march.md section 22).
+    // The points inside the larger ball are the ones looked up (about half of the cube's), so those
+    // are what is counted (docs/studies/march.md section 22).
     uint64_t looked_up = 0;
     for (const Vec3& h : clipped_points()) {
         const Vec3 p = c.lo + h.cwiseProduct(extent);
