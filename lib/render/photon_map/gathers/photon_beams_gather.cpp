@@ -24,9 +24,10 @@ const char* beam_widths_name(BeamWidths w) { return w == BeamWidths::balloon ? "
 
 PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k,
                                      bool keep_kth, const Kernel& kernel, double max_width, double max_width_mfp,
-                                     const std::vector<RegionMask>* regions)
+                                     const std::vector<RegionMask>* regions, double width_scale)
     : scene_(scene), split_(regions != nullptr && !regions->empty()), widths_(widths), k_(k), keep_kth_(keep_kth),
-      kernel_(kernel), max_width_(max_width), max_width_mfp_(max_width_mfp), exact_(homogeneous_media(scene)) {
+      kernel_(kernel), max_width_(max_width), max_width_mfp_(max_width_mfp), width_scale_(width_scale),
+      exact_(homogeneous_media(scene)) {
     built_.widths = beam_widths_name(widths);
     built_.k = k;
     if (split_) {
@@ -68,7 +69,11 @@ void PhotonBeamsGather::build_part(Part& part) {
     const double piece = PhotonBeamBvh::automatic_piece_length(part.beams);
     built_.piece_length = std::max(built_.piece_length, piece);
     std::vector<double> radii;
-    if (widths_ == BeamWidths::sample_point) radii = sample_point_widths(part.beams, max_width_, max_width_mfp_);
+    if (widths_ == BeamWidths::sample_point) {
+        radii = sample_point_widths(part.beams, max_width_, max_width_mfp_);
+        if (width_scale_ < 1.0)
+            for (double& r : radii) r *= width_scale_;
+    }
     const Timer bvh_timer;
     part.bvh = PhotonBeamBvh(part.beams, radii, piece);
     built_.bvh_seconds += bvh_timer.seconds();
@@ -209,7 +214,8 @@ Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, RegionMask re
             if (starved) *starved = true;
             return Rgb::Zero();
         }
-        widths.assign(hits.size(), r);
+        // A progressive pass weighs the beams within s r (the kernel is 0 beyond its width).
+        widths.assign(hits.size(), width_scale_ < 1.0 ? r * width_scale_ : r);
     } else {
         part->bvh.for_each_crossed(ray.origin, ray.dir, t_end, [&](const BeamCrossing& c, double width) {
             hits.push_back(c);
@@ -234,6 +240,7 @@ Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, RegionMask re
     for (size_t i = 0; i < n; ++i) {
         const BeamCrossing& h = hits[local.order[i]];
         const double r = widths[local.order[i]];
+        if (h.u > r) continue;   // beyond a progressive pass's s r_k (the kernels' profiles do not stop at 1)
         const double w = local.transmittance[i] * kernel_.weight(h.u * h.u / (r * r), 1) / (2.0 * r * h.sin_theta);
         if (w == 0.0) continue;
         const PhotonBeam& b = part->beams[h.index];
@@ -330,7 +337,8 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
 std::unique_ptr<SegmentGather> build_photon_beams_gather(SegmentGatherInputs& in) {
     auto gather = std::make_unique<PhotonBeamsGather>(in.scene, std::move(in.beams), in.settings.beam_widths, in.k,
                                                       in.settings.estimator.traits().keeps_kth, in.settings.estimator.kernel(),
-                                                      in.max_radius, in.settings.max_radius_mfp, in.beam_regions);
+                                                      in.max_radius, in.settings.max_radius_mfp, in.beam_regions,
+                                                      in.disc_scale);
     in.beams.clear();
     return gather;
 }

@@ -63,9 +63,13 @@ public:
     // only). max_width: kInfinity for none.
     // max_width_mfp: photons.max_radius_mfp (0: off).
     // regions: the region of each beam (scene/dielectric_regions.h), or null (or empty) for one BVH.
+    // width_scale in (0, 1] (photons.schedule = "progressive", photon/estimate/radius_schedule.h, d = 1):
+    // balloon: the beams within s r_k of the k - 1 (classic: k) nearest, at width s r_k (exact on a
+    // Poisson field of lines for every s <= 1, as the points' s r_k ball); sample_point: every width
+    // times s (still the beam's own).
     PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k, bool keep_kth,
                       const Kernel& kernel, double max_width, double max_width_mfp,
-                      const std::vector<RegionMask>* regions = nullptr);
+                      const std::vector<RegionMask>* regions = nullptr, double width_scale = 1.0);
 
     // Whether any beam is in a BVH.
     bool usable() const override;
@@ -102,6 +106,7 @@ private:
     Kernel kernel_;
     double max_width_;
     double max_width_mfp_;
+    double width_scale_ = 1.0;
     std::vector<bool> exact_;
     PhotonBeamsGatherStats built_;
     mutable tbb::enumerable_thread_specific<Local> local_;
