@@ -56,7 +56,7 @@ void BM_BeamQuery(benchmark::State& state) {
     Rng rng(5, uint64_t(state.range(0)));
     for (auto _ : state) {
         const Ray ray = camera.generate_ray(rng.uniform() * camera.width(), rng.uniform() * camera.height());
-        benchmark::DoNotOptimize(beam.in_scattering(ray, kInfinity, rng));
+        benchmark::DoNotOptimize(beam.in_scattering(ray, kInfinity, 0, rng));
     }
     const PointBeamGatherStats s = beam.stats();
     state.counters["stored"] = double(m.size());

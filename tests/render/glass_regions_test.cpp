@@ -8,8 +8,11 @@
 
 #include <cstdio>
 
+#include "photon/estimate/kernels.h"
 #include "photon/map/region_photon_maps.h"
 #include "photon/trace/photon_tracer.h"
+#include "render/photon_map/gathers/photon_beams_gather.h"
+#include "render/photon_map/gathers/point_beam_gather.h"
 #include "render/photon_map/photon_map_integrator.h"
 #include "render/run/run.h"
 #include "render/run/run_config.h"
@@ -307,11 +310,8 @@ TEST(GlassRegions, DISABLED_FurnaceMeasurement) {
         }
 }
 
-TEST(GlassRegions, ALightSealedInOpaqueGlassLightsNothingOutside) {
-    // A point light inside a glass sphere of transmittance 0, in fog: no light leaves the glass, so the
-    // fog outside is black (the path tracer reads exactly 0). Its photons are all stored inside;
-    // counted by an outside query they lit the fog (image mean 0.00161 +- 0.00002).
-    const std::string text = std::string(kCamera) + R"(
+// A point light inside a glass sphere (radius 0.5) of transmittance 0, in fog (radius 1.5).
+const std::string kSealedLight = std::string(kCamera) + R"(
 [[lights]]
 type = "point"
 position = [0, 0, 0]
@@ -330,8 +330,109 @@ radius = 0.5
 material = "dielectric"
 transmittance = 0.0
 )";
+
+TEST(GlassRegions, ALightSealedInOpaqueGlassLightsNothingOutside) {
+    // No light leaves the glass, so the fog outside is black (the path tracer reads exactly 0). Its
+    // photons are all stored inside; counted by an outside query they lit the fog (image mean
+    // 0.00161 +- 0.00002).
+    const std::string& text = kSealedLight;
     for (const char* direct : {"photons.direct=\"nee\"", "photons.direct=\"photon_map\""}) {
         const Sample s = furnace(text, 2, {direct});
         EXPECT_EQ(s.mean(), 0.0) << direct;
+    }
+}
+
+TEST(GlassRegions, SegmentGathersOfASealedLightLightNothingOutside) {
+    // The segment gathers split by region: a camera segment outside the glass crosses no disc or beam
+    // of the photons inside, and with none of its own region it is gathered as the collision gather's
+    // (the path goes on: black here). Exactly 0, as the path tracer.
+    const std::vector<std::vector<std::string>> cases = {
+        {"photons.gather=\"point_beam\"", "photons.direct=\"nee\""},
+        {"photons.gather=\"point_beam\"", "photons.direct=\"photon_map\""},
+        {"photons.gather=\"photon_beams\"", "photons.direct=\"photon_map\""},
+        {"photons.gather=\"photon_beams\"", "photons.beam_widths=\"sample_point\""}};
+    for (std::vector<std::string> c : cases) {
+        c.push_back("photons.count=10000");
+        const Sample s = furnace(kSealedLight, 1, c);
+        EXPECT_EQ(s.mean(), 0.0) << c[0] << " " << c[1];
+    }
+}
+
+TEST(GlassRegions, UnsplitSegmentGathersLeakTheSealedLight) {
+    // What the split guards against, on the gathers themselves: the same photons and beams, one
+    // structure over all of them, give segments just outside the glass light from inside it (the
+    // discs and beams' widths reach across the interface); split by region those segments have no
+    // estimate of their own (starved) and 0.
+    const RunConfig config = RunConfig::build(parse_config(kSealedLight, "sealed.toml", ".", {"photons.count=20000"}));
+    const Scene& scene = *config.scene;
+    PhotonTraceSettings ts;
+    ts.count = 20000;
+    ts.progress = false;
+    ts.store_beams = true;
+    const PhotonTraceResult traced = trace_photons(scene, ts);
+    ASSERT_FALSE(traced.photons.empty());
+    ASSERT_EQ(traced.beam_regions.size(), traced.beams.size());
+    for (RegionMask r : traced.beam_regions) ASSERT_EQ(r, RegionMask(1));   // every flight inside the glass
+    const PhotonMap map(traced.photons);
+    const RegionPhotonMaps regions(traced.photons, traced.photon_regions);
+    const Kernel kernel = Kernel::constant();
+    const PointBeamGather discs(scene, map, 32, kernel, kInfinity, 0.0);
+    const PointBeamGather discs_split(scene, map, 32, kernel, kInfinity, 0.0, 1.0, &regions);
+    const PhotonBeamsGather beams(scene, traced.beams, BeamWidths::balloon, 32, false, kernel, kInfinity, 2.0);
+    const PhotonBeamsGather beams_split(scene, traced.beams, BeamWidths::balloon, 32, false, kernel, kInfinity, 2.0,
+                                        &traced.beam_regions);
+    EXPECT_FALSE(discs.split_by_region());
+    EXPECT_TRUE(discs_split.split_by_region() && beams_split.split_by_region());
+    Rng rng(5, 0);
+    double leaked_discs = 0.0, leaked_beams = 0.0;
+    for (int i = 0; i < 32; ++i) {   // vertical segments through the fog at 0.502 .. 0.564 from the centre
+        const double x = 0.502 + 0.002 * double(i);
+        const Ray ray{Vec3(x, 0.0, 1.2), Vec3(0.0, 0.0, -1.0)};
+        leaked_discs += discs.in_scattering(ray, 2.4, 0, rng).sum();
+        leaked_beams += beams.in_scattering(ray, 2.4, 0, rng).sum();
+        bool starved = false;
+        EXPECT_EQ(discs_split.in_scattering(ray, 2.4, 0, rng, &starved).sum(), 0.0);
+        EXPECT_TRUE(starved);
+        starved = false;
+        EXPECT_EQ(beams_split.in_scattering(ray, 2.4, 0, rng, &starved).sum(), 0.0);
+        EXPECT_TRUE(starved);
+    }
+    std::printf("sealed light, 32 segments just outside the glass: unsplit discs %.4g, beams %.4g\n", leaked_discs,
+                leaked_beams);
+    EXPECT_GT(leaked_discs, 0.0);
+    EXPECT_GT(leaked_beams, 0.0);
+    // Inside the glass the split gathers read the same photons as the whole ones.
+    const Ray inside{Vec3(0.1, 0.0, 0.4), Vec3(0.0, 0.0, -1.0)};
+    Rng a(9, 0), b(9, 0);
+    EXPECT_EQ(discs.in_scattering(inside, 0.8, 0, a).sum(), discs_split.in_scattering(inside, 0.8, 1, b).sum());
+}
+
+TEST(GlassRegions, PointBeamDiscsAreSplitByRegion) {
+    // The glass furnace at ior 3.9 (inside the glass the photons are eta^2 = 15 times denser), every
+    // collision stored, point_beam over 8 maps, split and mixed on the same maps and camera samples:
+    // one disc BVH over all photons reads +7.0% +- 0.6% (the dense discs inside lit the fog outside);
+    // split by region the mixing is gone (paired difference over 3 SE). What the split leaves is the
+    // discs' boundary share (-1.4% +- 0.5%: near the glass a segment's discs lie partly beyond it,
+    // where none of its region can be; not corrected, docs/interface_regions.md).
+    std::string glass = glass_sphere(0, 0, 0, 1.0);
+    glass.replace(glass.find("ior = 1.5"), 9, "ior = 3.9");
+    const Furnace f = furnace_pair(std::string(kCamera) + kFog + glass, 8, {"photons.gather=\"point_beam\""}, true);
+    std::printf("point_beam, ior 3.9, 8 maps: split %.5f +- %.5f, mixed %.5f +- %.5f\n", f.split.mean(), f.split.se(),
+                f.mixed.mean(), f.mixed.se());
+    EXPECT_GT(f.mixed.mean() - 1.0, 3.0 * f.mixed.se());
+    EXPECT_GT(f.mixed.mean() - f.split.mean(), 3.0 * std::hypot(f.mixed.se(), f.split.se()));
+}
+
+// The segment gathers in the glass furnace, split (the renderer's) and mixed (one structure over all
+// photons) on the same maps and camera samples: `build/test_render --gtest_also_run_disabled_tests
+// --gtest_filter='GlassRegions.DISABLED_SegmentGatherFurnace*'`.
+TEST(GlassRegions, DISABLED_SegmentGatherFurnaceMeasurement) {
+    for (const char* ior : {"1.5", "3.9"}) {
+        std::string glass = glass_sphere(0, 0, 0, 1.0);
+        glass.replace(glass.find("ior = 1.5"), 9, std::string("ior = ") + ior);
+        const Furnace f = furnace_pair(std::string(kCamera) + kFog + glass, 8, {"photons.gather=\"point_beam\""}, true);
+        std::printf("point_beam, ior %s, 8 maps: split %.5f +- %.5f, mixed %.5f +- %.5f\n", ior, f.split.mean(), f.split.se(),
+                    f.mixed.mean(), f.mixed.se());
+        std::fflush(stdout);
     }
 }

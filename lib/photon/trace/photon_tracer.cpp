@@ -76,7 +76,7 @@ bool roulette(Rgb& power, const Rgb& factor, Rng& rng) {
 
 struct BatchOutput {
     std::vector<PhotonInput> photons, surface_photons;
-    std::vector<RegionMask> photon_regions, surface_photon_regions;
+    std::vector<RegionMask> photon_regions, surface_photon_regions, beam_regions;
     std::vector<PhotonBeam> beams;
     EnergyBalance energy;
     uint64_t collisions = 0, truncated_paths = 0, surface_hits = 0, light_hits = 0, storing_walks = 0;
@@ -133,8 +133,10 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             if (s.store_beams && !forced.forced && (s.store_direct || scattered)) {
                 const double flight = event ? event.t : v.on_surface ? hit.t : kInfinity;
                 double t0, t1;
-                if (media_bounds.intersect(ray, flight, t0, t1) && t1 > t0 && std::isfinite(t1))
+                if (media_bounds.intersect(ray, flight, t0, t1) && t1 > t0 && std::isfinite(t1)) {
                     out.beams.push_back(PhotonBeam{ray.at(t0), ray.dir, t1 - t0, power, i});
+                    if (regions) out.beam_regions.push_back(region);   // a free flight crosses no glass
+                }
             }
             if (v.escaped()) {
                 out.energy.escaped += power;
@@ -246,6 +248,7 @@ PhotonTraceResult trace_photons(const Scene& scene, const PhotonTraceSettings& s
                                                  o.surface_photon_regions.end());
             result.beams.insert(result.beams.end(), o.beams.begin(), o.beams.end());
             std::vector<PhotonBeam>().swap(o.beams);
+            result.beam_regions.insert(result.beam_regions.end(), o.beam_regions.begin(), o.beam_regions.end());
             result.surface_hits += o.surface_hits;
             result.light_hits += o.light_hits;
             result.energy.emitted += o.energy.emitted;

@@ -119,6 +119,7 @@ struct PhotonTraceResult {
     // The region of each photon of `photons` / `surface_photons`, in their order; both empty in a
     // scene without closed dielectric shapes (every photon is in region 0 there).
     std::vector<RegionMask> photon_regions, surface_photon_regions;
+    std::vector<RegionMask> beam_regions;   // the region of each beam of `beams`, the same rule
     EnergyBalance energy;
     uint64_t paths = 0;
     uint64_t collisions = 0;            // real medium collisions, stored or not

@@ -46,7 +46,9 @@ BeamPilotCounts PhotonMapIntegrator::beam_pilot(const PassContext& context, int6
         c.collisions = double(traced->collisions);
         c.surface_stored = double(traced->surface_stored);
     }
-    SegmentGatherInputs inputs{scene_, ps, maps.volume, maps.beams, pass_.k, pass_.max_radius, pass_.beam_scale};
+    SegmentGatherInputs inputs{scene_, ps, maps.volume, maps.beams, pass_.k, pass_.max_radius, pass_.beam_scale,
+                               maps.volume_regions.empty() ? nullptr : &maps.volume_regions,
+                               maps.beam_regions.empty() ? nullptr : &maps.beam_regions};
     std::unique_ptr<SegmentGather> gather = gather_entry(settings_.gather).build(inputs);
     const auto* beams = dynamic_cast<const PhotonBeamsGather*>(gather.get());
     const auto* discs = dynamic_cast<const PointBeamGather*>(gather.get());

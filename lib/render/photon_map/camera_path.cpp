@@ -69,8 +69,8 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
     const int max_depth = settings_.walk.max_depth;
     // The path's region (scene/dielectric_regions.h): where it starts (the camera, or the march point
     // a continued path leaves), toggled at every refraction through glass.
-    const RegionMask start_region =
-        maps_.volume_regions || maps_.surface_regions ? region_at(scene_.surfaces.get(), first_ray.origin) : 0;
+    const bool regions = maps_.volume_regions || maps_.surface_regions || (maps_.segment && maps_.segment->split_by_region());
+    const RegionMask start_region = regions ? region_at(scene_.surfaces.get(), first_ray.origin) : 0;
     // transport/mis.h. A path started deeper (first_depth > 0) continues from a march point: the
     // emission it meets counts as that point's NEE was weighted (transport/single_scattering.h).
     PathState state{first_ray, Rgb::Ones(), Rgb::Zero(), first_emission, start_region};
@@ -89,15 +89,15 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         // again would branch at every point, a tree that grows without bound where every ball is wide.
         const bool march = first_depth == 0 && marches(ray, t_end);
         bool beam = maps_.segment != nullptr;
-        // Photon beams with balloon widths: a segment crossed by fewer than k beams has no width.
-        // It is gathered as the collision gather's are (the path goes on from its free flight, as
-        // a starved point map makes it), not counted as 0.
+        // A segment gather with no estimate here (photon beams with balloon widths crossed by fewer
+        // than k beams, a region with no discs or beams) is gathered as the collision gather's are
+        // (the path goes on from its free flight, as a starved point map makes it), not counted as 0.
         const bool last = max_depth >= 0 && depth + 1 > max_depth;   // no scattering past this segment
         Rgb beams = Rgb::Zero();
         const Rgb* taken = nullptr;
-        if (beam && maps_.gather == GatherMode::photon_beams && !last) {
+        if (beam && !last) {
             bool starved = false;
-            beams = maps_.segment->in_scattering(ray, t_end, rng, &starved);
+            beams = maps_.segment->in_scattering(ray, t_end, region, rng, &starved);
             taken = &beams;
             if (starved) beam = false;
         }
@@ -112,7 +112,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         if (v.escaped()) {
             radiance += throughput * escaped_radiance(scene_, ray.dir, emission);
             if (march && !last) radiance += throughput * march_in_scattering(ray, kInfinity, depth, region, rng, c);
-            if (beam && !last) radiance += throughput * beam_in_scattering(ray, kInfinity, rng, c, taken);
+            if (beam && !last) radiance += throughput * beam_in_scattering(ray, kInfinity, rng, c, *taken);
             break;
         }
         if (!event && hit.emitter) radiance += throughput * emitted_radiance(scene_, ray, hit, emission);   // black: ends below
@@ -124,7 +124,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
             if (event) break;
         }
         if (beam) {   // the same rule with the whole segment in one query
-            radiance += throughput * beam_in_scattering(ray, t_end, rng, c, taken);
+            radiance += throughput * beam_in_scattering(ray, t_end, rng, c, *taken);
             if (event) break;
         }
         if (event) {
@@ -172,7 +172,7 @@ void CameraPath::light_behind_gathered_segment(const PathVertex& v, bool march, 
         return;
     }
     p.radiance += p.throughput * seen_through(scene_, p.ray, v.on_surface, v.hit, p.emission, c.profile, c.rays);
-    if (gathers) p.radiance += p.throughput * beam_in_scattering(p.ray, t_end, rng, c, taken);
+    if (gathers) p.radiance += p.throughput * beam_in_scattering(p.ray, t_end, rng, c, *taken);
 }
 
 CameraPath::Step CameraPath::collision_step(const MediumEvent& event, int depth, const EquiangularSegment* segment, Rng& rng,
@@ -339,8 +339,8 @@ Rgb CameraPath::incident_at_march_point(const Vec3& x, const Vec3& dir, double g
     return in + b.incident;
 }
 
-Rgb CameraPath::beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c, const Rgb* taken) const {
-    Rgb l = taken ? *taken : maps_.segment->in_scattering(ray, t_end, rng);
+Rgb CameraPath::beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c, const Rgb& taken) const {
+    Rgb l = taken;
     if (settings_.direct == DirectLighting::nee)
         l += segment_direct_light(scene_, ray, t_end, settings_.gather_queries, rng, c.rays,
                                   settings_.walk.equiangular);

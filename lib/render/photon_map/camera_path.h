@@ -142,8 +142,8 @@ private:
     VolumeEstimator volume_in(RegionMask region) const;
     const PhotonMap* surface_in(RegionMask region) const;
     // The beam gathers' segment: one BVH query, single scattering by NEE when direct = "nee".
-    // taken: the segment gather's value for this segment when already taken (trace()).
-    Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c, const Rgb* taken = nullptr) const;
+    // taken: the segment gather's value for this segment, taken in trace() (with the path's region).
+    Rgb beam_in_scattering(const Ray& ray, double t_end, Rng& rng, CameraCounters& c, const Rgb& taken) const;
 };
 
 }  // namespace vpm

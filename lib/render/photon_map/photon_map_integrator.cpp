@@ -171,6 +171,8 @@ void PhotonMapIntegrator::trace_maps(const PassContext& context, int64_t count, 
 void PhotonMapIntegrator::use_regions(const RegionPhotonMaps* volume, const RegionPhotonMaps* surface) {
     maps_.volume_regions = volume;
     maps_.surface_regions = surface;
+    // A segment gather built over the maps given to the constructor: built again, split by region.
+    if (!maps_.owns && segment_gather_) build_segment_gather(nullptr, nullptr);
 }
 
 bool PhotonMapIntegrator::traces_surface_map() const {
@@ -252,7 +254,9 @@ PassMaps PhotonMapIntegrator::pass_maps(const PassEstimators& e, GatherMode gath
 
 void PhotonMapIntegrator::build_segment_gather(std::ostream* log, RunStats* stats) {
     const GatherEntry& entry = gather_entry(settings_.gather);
-    SegmentGatherInputs inputs{scene_, settings_, *maps_.volume, maps_.owned.beams, pass_.k, pass_.max_radius, pass_.beam_scale};
+    SegmentGatherInputs inputs{scene_, settings_, *maps_.volume, maps_.owned.beams, pass_.k, pass_.max_radius, pass_.beam_scale,
+                               maps_.volume_regions,
+                               maps_.owned.beam_regions.empty() ? nullptr : &maps_.owned.beam_regions};
     segment_gather_ = entry.build(inputs);
     segment_gather_->report_build(stats, log);
     choice_.gather = segment_gather_->usable() ? entry.mode : GatherMode::march;

@@ -204,10 +204,6 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
     s.schedule = p.choice("schedule", s.schedule,
                           {{"fixed", KSchedule::fixed}, {"progressive", KSchedule::progressive}, {"shrink", KSchedule::shrink}});
     read_alpha(p, s);
-    // The photon-beams widths have no radius scale below k_floor yet (docs/progressive.md, open).
-    if (s.schedule == KSchedule::progressive && s.gather == GatherMode::photon_beams)
-        p.fail("schedule", "\"progressive\" is not implemented for photons.gather = \"photon_beams\" (allowed with it: "
-                           "\"fixed\", \"shrink\")");
     s.k_floor = int(p.integer("k_floor", s.k_floor, Range::closed(1, 1 << 20)));
     if (size_t(s.k_floor) < s.estimator.min_k() + 1)
         p.fail("k_floor", std::string("the ") + s.estimator.name() + " estimator needs k_floor >= " +
@@ -245,7 +241,9 @@ PassRadii PhotonMapSettings::radii_for_pass(int pass_index, bool volume, bool su
     r.k = k;
     if (schedule == KSchedule::shrink) r.k = k_for_pass(pass_index);
     if (schedule != KSchedule::progressive) return r;
-    const ScheduledKernel points{3, alpha_for(3)}, discs{2, alpha_for(2)};
+    // Photon beams blur in 1D (d = 1, alpha 4/5): the volume's k and scale are the beams' widths'.
+    const bool lines = gather == GatherMode::photon_beams;
+    const ScheduledKernel points{lines ? 1 : 3, alpha_for(lines ? 1 : 3)}, discs{2, alpha_for(2)};
     std::vector<ScheduledKernel> kernels;
     if (volume) kernels.push_back(points);
     if (surface) kernels.push_back(discs);
@@ -254,8 +252,9 @@ PassRadii PhotonMapSettings::radii_for_pass(int pass_index, bool volume, bool su
     // A map the run does not query keeps scale 1 (its k may not reach its target).
     if (volume) r.volume_scale = progressive_knn_scale(pass_index, k, r.k, points);
     if (surface) r.surface_scale = progressive_knn_scale(pass_index, k, r.k, discs);
-    // The beam radiance estimate keeps beam_k: its discs shrink by the radius scale alone.
-    r.beam_scale = progressive_radius_scale(pass_index, alpha_for(2), 2);
+    // The beam radiance estimate keeps beam_k: its discs shrink by the radius scale alone. Photon
+    // beams: the widths of the pass's k scaled as the volume's.
+    r.beam_scale = lines ? r.volume_scale : progressive_radius_scale(pass_index, alpha_for(2), 2);
     return r;
 }
 

@@ -107,16 +107,6 @@ void add_trace_counts(const PhotonTraceResult& traced, std::ostream* log, bool s
              << ", truncated paths " << traced.truncated_paths << "\n";
 }
 
-// What a run's settings cannot do exactly in this scene, said once per run (log and sidecar).
-void warn_once_per_run(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context, RunStats& stats) {
-    // The segment gathers' discs and beams are one structure for the whole scene.
-    if (gather_entry(ps.gather).build && scene.surfaces && !scene.surfaces->dielectric_shapes().empty())
-        stats.warn(std::string("photons.gather = \"") + gather_entry(ps.gather).name +
-                       "\" gathers photons from both sides of a glass interface (its discs and beams are not split by "
-                       "region, docs/interface_regions.md); \"collision\" and \"march\" are",
-                   context.log);
-}
-
 }  // namespace
 
 PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, const PassContext& context,
@@ -151,6 +141,7 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
     PhotonMaps maps;
     if (ts.store_beams) {
         maps.beams = std::move(traced.beams);
+        maps.beam_regions = std::move(traced.beam_regions);
         if (log)
             *log << "trace: " << maps.beams.size() << " photon beams (free flights in the media, "
                  << double(maps.beams.size()) / double(std::max<uint64_t>(traced.paths, 1)) << " per path)\n";
@@ -167,7 +158,6 @@ PhotonMaps run_photon_pass(const Scene& scene, const PhotonMapSettings& ps, cons
                  << " regions (glass interfaces, scene/dielectric_regions.h), " << maps.surface_regions.memory_bytes() / 1e6 << " MB\n";
     }
     maps.volume_regions = split(traced.photons, traced.photon_regions);
-    if (context.first_of_run) warn_once_per_run(scene, ps, context, stats);
     if (log && !maps.volume_regions.empty())
         *log << "build: volume photon maps of " << maps.volume_regions.regions()
              << " regions (glass interfaces, scene/dielectric_regions.h), " << maps.volume_regions.memory_bytes() / 1e6 << " MB\n";

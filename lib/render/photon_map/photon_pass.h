@@ -24,6 +24,7 @@ struct PhotonMaps {
     // A scene with closed glass shapes (scene/dielectric_regions.h): the same photons again, one
     // kd-tree per region, which the estimates query (the maps above serve the rest).
     RegionPhotonMaps volume_regions, surface_regions;
+    std::vector<RegionMask> beam_regions;   // the region of each of `beams` (empty without glass shapes)
 };
 
 // `allocation`: photons per light; computed on the first call (a pilot, for "importance") and

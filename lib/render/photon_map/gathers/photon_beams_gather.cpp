@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <ostream>
@@ -22,47 +23,98 @@ namespace vpm {
 const char* beam_widths_name(BeamWidths w) { return w == BeamWidths::balloon ? "balloon" : "sample_point"; }
 
 PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k,
-                                   bool keep_kth, const Kernel& kernel, double max_width, double max_width_mfp)
-    : scene_(scene), beams_(std::move(beams)), widths_(widths), k_(k), keep_kth_(keep_kth), kernel_(kernel),
-      max_width_(max_width), max_width_mfp_(max_width_mfp), exact_(homogeneous_media(scene)) {
+                                     bool keep_kth, const Kernel& kernel, double max_width, double max_width_mfp,
+                                     const std::vector<RegionMask>* regions, double width_scale)
+    : scene_(scene), split_(regions != nullptr && !regions->empty()), widths_(widths), k_(k), keep_kth_(keep_kth),
+      kernel_(kernel), max_width_(max_width), max_width_mfp_(max_width_mfp), width_scale_(width_scale),
+      exact_(homogeneous_media(scene)) {
     built_.widths = beam_widths_name(widths);
     built_.k = k;
+    if (split_) {
+        if (regions->size() != beams.size())
+            throw Error("photon beams: " + std::to_string(regions->size()) + " regions for " +
+                        std::to_string(beams.size()) + " beams");
+        std::map<RegionMask, std::vector<PhotonBeam>> split;   // beams keep their order within a region
+        for (size_t j = 0; j < beams.size(); ++j) split[(*regions)[j]].push_back(beams[j]);
+        std::vector<PhotonBeam>().swap(beams);
+        for (auto& [region, list] : split) {
+            parts_.emplace_back();
+            parts_.back().region = region;
+            parts_.back().beams = std::move(list);
+        }
+    } else {
+        parts_.resize(1);
+        parts_[0].beams = std::move(beams);
+    }
+    for (Part& part : parts_) build_part(part);
+    built_.regions = parts_.size();
+    built_.bytes_per_beam = double(built_.bvh_bytes) / double(std::max<uint64_t>(built_.recorded, 1));
+    // Guessed widths (no bound) blur a beam's light as far as the guess goes, so a run where most
+    // widths would be guessed is refused (docs/photon_beams.md).
+    const uint64_t guessed = built_.widths_extrapolated + built_.widths_typical;
+    if (2 * guessed > built_.recorded)
+        throw Error("photons.beam_widths = \"sample_point\": " + std::to_string(guessed) + " of the " +
+                    std::to_string(built_.recorded) +
+                    " photon beams are crossed by fewer than photons.k = " + std::to_string(k_) +
+                    " others within their own segments and no bound is set, so most widths would be guessed; "
+                    "set photons.max_radius_mfp > 0 (mean free paths; default 2) or photons.max_radius > 0, a "
+                    "smaller photons.k, more photons, or photons.beam_widths = \"balloon\"");
+}
+
+void PhotonBeamsGather::build_part(Part& part) {
     // Long beams as pieces in the camera rays' BVH (photon/map/photon_beam_bvh.h): the same answers,
     // fewer tests. The sample-point widths' queries (each beam's own segment) keep whole beams: where
     // most own segments are crossed by fewer than k beams (dense media) a query searches every item
     // within its bound, and pieces multiply the items (docs/photon_beams.md, "Cost").
-    const double piece = PhotonBeamBvh::automatic_piece_length(beams_);
-    built_.piece_length = piece;
+    const double piece = PhotonBeamBvh::automatic_piece_length(part.beams);
+    built_.piece_length = std::max(built_.piece_length, piece);
     std::vector<double> radii;
-    if (widths == BeamWidths::sample_point) radii = sample_point_widths(max_width, max_width_mfp);
+    if (widths_ == BeamWidths::sample_point) {
+        radii = sample_point_widths(part.beams, max_width_, max_width_mfp_);
+        if (width_scale_ < 1.0)
+            for (double& r : radii) r *= width_scale_;
+    }
     const Timer bvh_timer;
-    bvh_ = PhotonBeamBvh(beams_, radii, piece);
-    built_.bvh_seconds = bvh_timer.seconds();
-    built_.recorded = beams_.size();
-    built_.beams = bvh_.size();
-    built_.beams_left_out = beams_.size() - bvh_.size();   // non-finite or empty flights: no width, no light
-    built_.pieces = bvh_.item_count();
-    built_.bvh_bytes = bvh_.memory_bytes() + beams_.capacity() * sizeof(PhotonBeam);
-    built_.bytes_per_beam = double(built_.bvh_bytes) / double(std::max<size_t>(beams_.size(), 1));
+    part.bvh = PhotonBeamBvh(part.beams, radii, piece);
+    built_.bvh_seconds += bvh_timer.seconds();
+    built_.recorded += part.beams.size();
+    built_.beams += part.bvh.size();
+    built_.beams_left_out += part.beams.size() - part.bvh.size();   // non-finite or empty flights: no width, no light
+    built_.pieces += part.bvh.item_count();
+    built_.bvh_bytes += part.bvh.memory_bytes() + part.beams.capacity() * sizeof(PhotonBeam);
 }
 
-std::vector<double> PhotonBeamsGather::sample_point_widths(double max_width, double max_width_mfp) {
+bool PhotonBeamsGather::usable() const {
+    for (const Part& part : parts_)
+        if (part.bvh.size() > 0) return true;
+    return false;
+}
+
+const PhotonBeamsGather::Part* PhotonBeamsGather::part_of(RegionMask region) const {
+    if (!split_) return &parts_.front();
+    const auto it = std::lower_bound(parts_.begin(), parts_.end(), region,
+                                     [](const Part& p, RegionMask r) { return p.region < r; });
+    return it != parts_.end() && it->region == region ? &*it : nullptr;
+}
+
+std::vector<double> PhotonBeamsGather::sample_point_widths(const std::vector<PhotonBeam>& beams, double max_width,
+                                                           double max_width_mfp) {
     // Each beam's width from its own k nearest other beams (its segment as the query), found in
     // a BVH of widths 0 within the beam's bound; independent of any camera ray, so any width kept
     // here leaves the estimate unbiased for the blurred field, and every beam gets one (none is
     // left out).
     const Timer timer;
-    const PhotonBeamBvh plain(beams_, {});
-    std::vector<double> radii(beams_.size(), kInfinity);
-    std::vector<uint32_t> found(beams_.size(), 0);
-    std::vector<double> bounds(beams_.size(), max_width);
+    const PhotonBeamBvh plain(beams, {});
+    std::vector<double> radii(beams.size(), kInfinity);
+    std::vector<uint32_t> found(beams.size(), 0);
+    std::vector<double> bounds(beams.size(), max_width);
     tbb::enumerable_thread_specific<std::vector<BeamCrossing>> scratch;
     tbb::enumerable_thread_specific<uint64_t> tested(0);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, beams.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
         std::vector<BeamCrossing>& near = scratch.local();
         uint64_t& tests = tested.local();
         for (size_t j = range.begin(); j != range.end(); ++j) {
-            const PhotonBeam& b = beams_[j];
+            const PhotonBeam& b = beams[j];
             // max_radius_mfp mean free paths at the beam's middle (as the point gathers' balls).
             double sigma_t = 0.0;
             for (const auto& m : scene_.media) sigma_t += m->sigma_t(b.origin + 0.5 * b.length * b.dir);
@@ -82,7 +134,7 @@ std::vector<double> PhotonBeamsGather::sample_point_widths(double max_width, dou
     // neighbours (or, where no beam has k, of the extrapolated ones); with no crossing at all
     // there is no width to take, and the run is refused.
     std::vector<double> measured;
-    for (size_t j = 0; j < beams_.size(); ++j)
+    for (size_t j = 0; j < beams.size(); ++j)
         if (found[j] == k_ && std::isfinite(radii[j]) && radii[j] > 0.0) measured.push_back(radii[j]);
     if (measured.empty())
         for (double r : radii)
@@ -92,7 +144,7 @@ std::vector<double> PhotonBeamsGather::sample_point_widths(double max_width, dou
         std::nth_element(measured.begin(), measured.begin() + std::ptrdiff_t(measured.size() / 2), measured.end());
         typical = measured[measured.size() / 2];
     }
-    for (size_t j = 0; j < beams_.size(); ++j) {
+    for (size_t j = 0; j < beams.size(); ++j) {
         if (found[j] == k_) continue;
         if (std::isfinite(bounds[j])) {
             ++built_.widths_bounded;
@@ -103,18 +155,8 @@ std::vector<double> PhotonBeamsGather::sample_point_widths(double max_width, dou
             radii[j] = typical;
         }
     }
-    // Guessed widths (no bound) blur a beam's light as far as the guess goes, so a run where most
-    // widths would be guessed is refused (docs/photon_beams.md).
-    const uint64_t guessed = built_.widths_extrapolated + built_.widths_typical;
-    if (2 * guessed > beams_.size())
-        throw Error("photons.beam_widths = \"sample_point\": " + std::to_string(guessed) + " of the " +
-                    std::to_string(beams_.size()) +
-                    " photon beams are crossed by fewer than photons.k = " + std::to_string(k_) +
-                    " others within their own segments and no bound is set, so most widths would be guessed; "
-                    "set photons.max_radius_mfp > 0 (mean free paths; default 2) or photons.max_radius > 0, a "
-                    "smaller photons.k, more photons, or photons.beam_widths = \"balloon\"");
     for (uint64_t t : tested) built_.widths_tested += t;
-    built_.widths_seconds = timer.seconds();
+    built_.widths_seconds += timer.seconds();
     return radii;
 }
 
@@ -138,9 +180,16 @@ double PhotonBeamsGather::segment_bound(const Ray& ray, double t_end) const {
     return bounded_radius(max_width_, max_width_mfp_, majorant);
 }
 
-Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved) const {
+Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, RegionMask region, Rng& rng, bool* starved) const {
     if (starved) *starved = false;
     Local& local = local_.local();
+    const Part* part = part_of(region);
+    if (part == nullptr || part->bvh.size() == 0) {   // a region no beam reached: no estimate here
+        ++local.queries;
+        ++local.starved;
+        if (starved) *starved = true;
+        return Rgb::Zero();
+    }
     std::vector<BeamCrossing>& hits = local.hits;
     std::vector<double>& widths = local.widths;
     hits.clear();
@@ -148,7 +197,7 @@ Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng, boo
     ++local.queries;
     if (widths_ == BeamWidths::balloon) {
         const double bound = segment_bound(ray, t_end);
-        bvh_.nearest(ray.origin, ray.dir, t_end, k_, bound, hits, UINT32_MAX, &local.tested);
+        part->bvh.nearest(ray.origin, ray.dir, t_end, k_, bound, hits, UINT32_MAX, &local.tested);
         double r;
         if (hits.size() == k_) {
             r = hits.back().u;
@@ -165,9 +214,10 @@ Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng, boo
             if (starved) *starved = true;
             return Rgb::Zero();
         }
-        widths.assign(hits.size(), r);
+        // A progressive pass weighs the beams within s r (the kernel is 0 beyond its width).
+        widths.assign(hits.size(), width_scale_ < 1.0 ? r * width_scale_ : r);
     } else {
-        bvh_.for_each_crossed(ray.origin, ray.dir, t_end, [&](const BeamCrossing& c, double width) {
+        part->bvh.for_each_crossed(ray.origin, ray.dir, t_end, [&](const BeamCrossing& c, double width) {
             hits.push_back(c);
             widths.push_back(width);
         }, &local.tested);
@@ -190,9 +240,10 @@ Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, Rng& rng, boo
     for (size_t i = 0; i < n; ++i) {
         const BeamCrossing& h = hits[local.order[i]];
         const double r = widths[local.order[i]];
+        if (h.u > r) continue;   // beyond a progressive pass's s r_k (the kernels' profiles do not stop at 1)
         const double w = local.transmittance[i] * kernel_.weight(h.u * h.u / (r * r), 1) / (2.0 * r * h.sin_theta);
         if (w == 0.0) continue;
-        const PhotonBeam& b = beams_[h.index];
+        const PhotonBeam& b = part->beams[h.index];
         const Rgb f = scattering(ray.at(h.t), b.dir.dot(-ray.dir));
         if ((f == 0.0).all()) continue;
         sum += w * b.power * f;
@@ -222,7 +273,9 @@ void PhotonBeamsGather::report_build(RunStats* stats, std::ostream* log) const {
     if (!log) return;
     const std::string estimator = std::string(keep_kth_ ? "classic" : "corrected") +
                                   (kernel_.is_constant() ? "" : "/" + kernel_.label());
-    *log << "photon_beams: " << b.beams << " beams, widths \"" << b.widths << "\" (k = " << b.k << ", " << estimator
+    *log << "photon_beams: " << b.beams << " beams";
+    if (split_) *log << " in " << b.regions << " regions (glass interfaces: a segment weighs its own region's)";
+    *log << ", widths \"" << b.widths << "\" (k = " << b.k << ", " << estimator
          << " in 1D)";
     if (widths_ == BeamWidths::sample_point) *log << ", widths " << b.widths_seconds << " s";
     *log << ", BVH " << b.bvh_seconds << " s, " << b.bytes_per_beam << " bytes/beam\n";
@@ -284,7 +337,8 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
 std::unique_ptr<SegmentGather> build_photon_beams_gather(SegmentGatherInputs& in) {
     auto gather = std::make_unique<PhotonBeamsGather>(in.scene, std::move(in.beams), in.settings.beam_widths, in.k,
                                                       in.settings.estimator.traits().keeps_kth, in.settings.estimator.kernel(),
-                                                      in.max_radius, in.settings.max_radius_mfp);
+                                                      in.max_radius, in.settings.max_radius_mfp, in.beam_regions,
+                                                      in.disc_scale);
     in.beams.clear();
     return gather;
 }
@@ -306,6 +360,7 @@ void PhotonBeamsGatherStats::write(RunRecord& record) const {
     record.set("photons.photon_beams.k", k);
     record.set("photons.photon_beams.recorded", recorded);
     record.set("photons.photon_beams.beams", beams);
+    record.set("photons.photon_beams.regions", regions);
     record.set("photons.photon_beams.pieces", pieces);
     record.set("photons.photon_beams.piece_length", piece_length);
     record.set("photons.photon_beams.bvh_bytes", bvh_bytes);

@@ -32,6 +32,12 @@
 //                   field for every k and kernel (no k-1 factor). A beam crossed by m < k others
 //                   within its bound takes the bound (a fixed width); with no bound at all, u_m k / m,
 //                   else (m = 0) the median width: every beam keeps its light (counted in the stats).
+//
+// In a scene with closed glass shapes the beams are split by region (scene/dielectric_regions.h): a
+// beam is one free flight, which crosses no glass, so it lies in one region. Each region's beams get
+// their own BVH (and their own sample-point widths), and a camera segment in region R weighs only
+// R's beams, as the point gathers' maps are split. A region with no beam is starved: the caller
+// gathers its segments as the collision gather does.
 #include <cstdint>
 #include <vector>
 
@@ -56,15 +62,23 @@ public:
     // keep_kth: the classic numerator (the k-th beam weighed) rather than the corrected's (balloon
     // only). max_width: kInfinity for none.
     // max_width_mfp: photons.max_radius_mfp (0: off).
+    // regions: the region of each beam (scene/dielectric_regions.h), or null (or empty) for one BVH.
+    // width_scale in (0, 1] (photons.schedule = "progressive", photon/estimate/radius_schedule.h, d = 1):
+    // balloon: the beams within s r_k of the k - 1 (classic: k) nearest, at width s r_k (exact on a
+    // Poisson field of lines for every s <= 1, as the points' s r_k ball); sample_point: every width
+    // times s (still the beam's own).
     PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k, bool keep_kth,
-                     const Kernel& kernel, double max_width, double max_width_mfp);
+                      const Kernel& kernel, double max_width, double max_width_mfp,
+                      const std::vector<RegionMask>* regions = nullptr, double width_scale = 1.0);
 
-    // Whether any beam is in the BVH.
-    bool usable() const override { return bvh_.size() > 0; }
-    size_t beam_count() const { return beams_.size(); }
+    // Whether any beam is in a BVH.
+    bool usable() const override;
+    bool split_by_region() const override { return split_; }
 
-    // The in-scattered radiance from the beams along `ray` over (0, t_end); dir unit length.
-    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved = nullptr) const override;
+    // The in-scattered radiance from the beams (of `region`, when split) along `ray` over (0, t_end);
+    // dir unit length.
+    Rgb in_scattering(const Ray& ray, double t_end, RegionMask region, Rng& rng,
+                      bool* starved = nullptr) const override;
     void report_build(RunStats* stats, std::ostream* log) const override;
     void add_to(RunStats& run, std::ostream* log) const override;
 
@@ -77,23 +91,34 @@ private:
         std::vector<uint32_t> order;
         uint64_t queries = 0, crossed = 0, tested = 0, starved = 0, band_zeros = 0, tracking_lookups = 0;
     };
+    // One region's beams and their BVH (all beams where the scene has no glass shapes).
+    struct Part {
+        RegionMask region = 0;
+        std::vector<PhotonBeam> beams;
+        PhotonBeamBvh bvh;
+    };
     const Scene& scene_;
-    std::vector<PhotonBeam> beams_;
+    bool split_ = false;
+    std::vector<Part> parts_;   // ascending region
     BeamWidths widths_;
     size_t k_;
     bool keep_kth_;
     Kernel kernel_;
     double max_width_;
     double max_width_mfp_;
+    double width_scale_ = 1.0;
     std::vector<bool> exact_;
-    PhotonBeamBvh bvh_;
     PhotonBeamsGatherStats built_;
     mutable tbb::enumerable_thread_specific<Local> local_;
 
     Rgb scattering(const Vec3& x, double cos_theta) const;
     // beam_widths = "sample_point": each beam's width from its own k nearest other beams within its
     // bound (the widths' counts into built_); refuses a run where most widths would be guessed.
-    std::vector<double> sample_point_widths(double max_width, double max_width_mfp);
+    std::vector<double> sample_point_widths(const std::vector<PhotonBeam>& beams, double max_width, double max_width_mfp);
+    // The part's BVH (and sample-point widths), its counts into built_.
+    void build_part(Part& part);
+    // The part of `region` (the only one when not split); null where that region has no beam.
+    const Part* part_of(RegionMask region) const;
     // The balloon width's bound for a segment: max_width_mfp over the largest majorant of the media
     // along it, at most max_width_ (max_width_ where the mfp bound is off or no medium is crossed).
     double segment_bound(const Ray& ray, double t_end) const;

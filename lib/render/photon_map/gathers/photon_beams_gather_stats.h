@@ -11,7 +11,8 @@ struct PhotonBeamsGatherStats : StatsSectionOf<PhotonBeamsGatherStats> {
     std::string widths;              // photons.beam_widths: "balloon" | "sample_point"
     uint64_t k = 0;                  // photons.k of the last pass (photons.schedule may shrink it)
     uint64_t recorded = 0;           // beams the photon pass recorded (last pass)
-    uint64_t beams = 0;              // beams in the BVH (last pass)
+    uint64_t beams = 0;              // beams in the BVHs (last pass)
+    uint64_t regions = 1;            // BVHs: one per region of a scene with glass shapes (last pass)
     uint64_t pieces = 0;             // the BVH's items: long beams cut into pieces (last pass)
     double piece_length = 0.0;       // the longest piece (PhotonBeamBvh::automatic_piece_length)
     uint64_t bvh_bytes = 0;          // BVH items + nodes + the beams' records (last pass)

@@ -17,24 +17,9 @@
 namespace vpm {
 
 PointBeamGather::PointBeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
-                       double max_radius_mfp, double radius_scale)
-    : scene_(scene), map_(map), kernel_(kernel) {
+                                 double max_radius_mfp, double radius_scale, const RegionPhotonMaps* regions)
+    : scene_(scene), map_(map), kernel_(kernel), split_(regions != nullptr && !regions->empty()) {
     for (const auto& m : scene.media) exact_.push_back(dynamic_cast<const HomogeneousMedium*>(m.get()) != nullptr);
-    const Timer radii_timer;
-    std::vector<double> radii = photon_radii(map, k);
-    std::vector<Vec3> centres(map.size());
-    for (size_t i = 0; i < map.size(); ++i) {
-        centres[i] = map.position(i);
-        double r = std::min(radii[i], max_radius);
-        if (max_radius_mfp > 0.0 && std::isfinite(r)) {
-            // The collision gather's bound (photon/estimate/bounded_radius.h), per photon: it depends on x_i
-            // only, so the radius stays independent of the query.
-            double sigma_t = 0.0;
-            for (const auto& m : scene.media) sigma_t += m->sigma_t(centres[i]);
-            if (sigma_t > 0.0) r = std::min(r, max_radius_mfp / sigma_t);
-        }
-        radii[i] = radius_scale < 1.0 ? r * radius_scale : r;
-    }
     // Only media with a jump need the disc's mean sigma_t; where every medium is continuous the plain
     // estimate is kept. The quadrature: a sunflower of points, even in area, weighed by the kernel.
     for (const auto& m : scene.media) foot_point_ = foot_point_ || !m->continuous();
@@ -51,17 +36,61 @@ PointBeamGather::PointBeamGather(const Scene& scene, const PhotonMap& map, size_
         }
         for (Vec3& q : disc_points_) q.z() /= total;
     }
-    built_.radii_seconds = radii_timer.seconds();
-    const Timer bvh_timer;
-    bvh_ = PhotonDiscBvh(centres, radii);
-    built_.bvh_seconds = bvh_timer.seconds();
+    if (split_) {
+        parts_.resize(regions->regions());
+        for (size_t i = 0; i < parts_.size(); ++i) {
+            parts_[i].region = regions->region(i);
+            parts_[i].map = &regions->map(i);
+        }
+    } else {
+        parts_.resize(1);
+        parts_[0].map = &map;
+    }
+    for (Part& part : parts_) build_part(part, k, max_radius, max_radius_mfp, radius_scale);
     built_.k = k;
-    built_.photons = bvh_.size();
-    built_.bvh_bytes = bvh_.memory_bytes();
+    built_.regions = parts_.size();
     const double n = double(std::max<size_t>(map.size(), 1));
     built_.bvh_bytes_per_photon = double(built_.bvh_bytes) / n;
     built_.map_bytes_per_photon = double(map.memory_bytes()) / n;
     built_.total_bytes_per_photon = built_.bvh_bytes_per_photon + built_.map_bytes_per_photon;
+}
+
+void PointBeamGather::build_part(Part& part, size_t k, double max_radius, double max_radius_mfp, double radius_scale) {
+    const PhotonMap& map = *part.map;
+    const Timer radii_timer;
+    std::vector<double> radii = photon_radii(map, k);
+    std::vector<Vec3> centres(map.size());
+    for (size_t i = 0; i < map.size(); ++i) {
+        centres[i] = map.position(i);
+        double r = std::min(radii[i], max_radius);
+        if (max_radius_mfp > 0.0 && std::isfinite(r)) {
+            // The collision gather's bound (photon/estimate/bounded_radius.h), per photon: it depends on x_i
+            // only, so the radius stays independent of the query.
+            double sigma_t = 0.0;
+            for (const auto& m : scene_.media) sigma_t += m->sigma_t(centres[i]);
+            if (sigma_t > 0.0) r = std::min(r, max_radius_mfp / sigma_t);
+        }
+        radii[i] = radius_scale < 1.0 ? r * radius_scale : r;
+    }
+    built_.radii_seconds += radii_timer.seconds();
+    const Timer bvh_timer;
+    part.bvh = PhotonDiscBvh(centres, radii);
+    built_.bvh_seconds += bvh_timer.seconds();
+    built_.photons += part.bvh.size();
+    built_.bvh_bytes += part.bvh.memory_bytes();
+}
+
+bool PointBeamGather::usable() const {
+    for (const Part& part : parts_)
+        if (part.bvh.size() > 0) return true;
+    return false;
+}
+
+const PointBeamGather::Part* PointBeamGather::part_of(RegionMask region) const {
+    if (!split_) return &parts_.front();
+    const auto it = std::lower_bound(parts_.begin(), parts_.end(), region,
+                                     [](const Part& p, RegionMask r) { return p.region < r; });
+    return it != parts_.end() && it->region == region ? &*it : nullptr;
 }
 
 Rgb PointBeamGather::scattering(const Vec3& x, double cos_theta) const {
@@ -137,12 +166,18 @@ void PointBeamGather::transmittances(const Ray& ray, const std::vector<Hit>& hit
     }
 }
 
-Rgb PointBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved) const {
-    if (starved) *starved = false;   // every segment has discs to gather or none (0 is its estimate)
+Rgb PointBeamGather::in_scattering(const Ray& ray, double t_end, RegionMask region, Rng& rng, bool* starved) const {
+    // A region with discs answers every segment (0 where none is crossed); one without any has no
+    // estimate: the caller gathers the segment otherwise (as a starved point map).
+    const Part* part = part_of(region);
+    const bool none = part == nullptr || part->bvh.size() == 0;
+    if (starved) *starved = none;
+    if (none) return Rgb::Zero();
+    const PhotonMap& map = *part->map;
     Local& local = local_.local();
     std::vector<Hit>& hits = local.hits;
     hits.clear();
-    bvh_.for_each_crossed_ball(ray.origin, ray.dir, t_end, [&](uint32_t index, double t, double d2, double r) {
+    part->bvh.for_each_crossed_ball(ray.origin, ray.dir, t_end, [&](uint32_t index, double t, double d2, double r) {
         hits.push_back({t, d2, r, index});
     });
     ++local.queries;
@@ -159,7 +194,7 @@ Rgb PointBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng, bool*
         const double r2 = h.r * h.r;
         const double w = local.transmittance[i] * kernel_.weight(h.d2 / r2, 2) / (kPi * r2);
         if (w == 0.0) continue;
-        const double cos_theta = map_.direction(h.index).dot(-ray.dir);
+        const double cos_theta = map.direction(h.index).dot(-ray.dir);
         Rgb f;
         if (foot_point_) {
             const Vec3 y = ray.at(h.t);
@@ -167,10 +202,10 @@ Rgb PointBeamGather::in_scattering(const Ray& ray, double t_end, Rng& rng, bool*
             if ((f == 0.0).all()) continue;
             f /= disc_sigma_t(y, ray.dir, h.r);   // positive: the foot is in a medium
         } else {
-            f = albedo_phase(map_.position(h.index), cos_theta);
+            f = albedo_phase(map.position(h.index), cos_theta);
         }
         if ((f == 0.0).all()) continue;
-        sum += w * map_.power(h.index) * f;
+        sum += w * map.power(h.index) * f;
     }
     return sum;
 }
@@ -192,14 +227,16 @@ void PointBeamGather::report_build(RunStats* stats, std::ostream* log) const {
         stats->phase("build_beam_bvh", b.bvh_seconds);
     }
     if (!log) return;
-    *log << "beam: radii (beam_k = " << b.k << ") " << b.radii_seconds << " s, BVH over " << b.photons << " discs "
-         << b.bvh_seconds << " s; " << b.total_bytes_per_photon << " bytes/photon (map " << b.map_bytes_per_photon
+    *log << "beam: radii (beam_k = " << b.k << ") " << b.radii_seconds << " s, BVH over " << b.photons << " discs";
+    if (split_) *log << " in " << b.regions << " regions (glass interfaces: a segment crosses its own region's)";
+    *log << " " << b.bvh_seconds << " s; " << b.total_bytes_per_photon << " bytes/photon (map " << b.map_bytes_per_photon
          << " + BVH " << b.bvh_bytes_per_photon << ")\n";
     // A map of at most beam_k photons has no disc: its segments gather like "march", whose points take
     // NEE and a continued path where the map is starved (unbiased; single scattering by NEE as here).
     if (!usable() && scene_.has_media())
         *log << "warning: photons.beam_k = " << b.k << " is not below the " << map_.size()
-             << " volume photons stored: no photon has a beam_k-th neighbour, so this pass gathers like \"march\"\n";
+             << " volume photons stored" << (split_ ? " in any region" : "")
+             << ": no photon has a beam_k-th neighbour, so this pass gathers like \"march\"\n";
 }
 
 void PointBeamGather::add_to(RunStats& run, std::ostream* log) const {
@@ -213,7 +250,7 @@ void PointBeamGather::add_to(RunStats& run, std::ostream* log) const {
 
 std::unique_ptr<SegmentGather> build_point_beam_gather(SegmentGatherInputs& in) {
     return std::make_unique<PointBeamGather>(in.scene, in.volume, size_t(in.settings.beam_k), in.settings.estimator.kernel(),
-                                             in.max_radius, in.settings.max_radius_mfp, in.disc_scale);
+                                             in.max_radius, in.settings.max_radius_mfp, in.disc_scale, in.volume_regions);
 }
 
 void PointBeamGatherStats::add_run_totals(const PointBeamGatherStats& earlier) {
@@ -227,6 +264,7 @@ void PointBeamGatherStats::add_run_totals(const PointBeamGatherStats& earlier) {
 void PointBeamGatherStats::write(RunRecord& record) const {
     record.set("photons.beam.k", k);
     record.set("photons.beam.photons", photons);
+    record.set("photons.beam.regions", regions);
     record.set("photons.beam.bvh_bytes", bvh_bytes);
     record.set("photons.beam.bvh_bytes_per_photon", bvh_bytes_per_photon);
     record.set("photons.beam.map_bytes_per_photon", map_bytes_per_photon);

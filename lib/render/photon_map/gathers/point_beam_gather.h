@@ -24,6 +24,11 @@
 // homogeneous media, ratio tracking in grids, whose running product over the tentative collisions
 // before t is an unbiased estimate of T(0, t) for every t at once (the photons' order by (t, index)
 // fixes the random stream, so a seed gives the same image on any thread count).
+//
+// In a scene with closed glass shapes the discs are split by region (scene/dielectric_regions.h),
+// as the point gathers' maps are: each region's radii and BVH come from that region's photons
+// alone, and a camera segment in region R crosses only R's discs. A region with no disc (fewer than
+// beam_k + 1 photons) is starved: the caller gathers its segments as the collision gather does.
 #include <cstdint>
 #include <vector>
 
@@ -34,6 +39,7 @@
 #include "photon/estimate/kernels.h"
 #include "photon/map/photon_disc_bvh.h"
 #include "photon/map/photon_map.h"
+#include "photon/map/region_photon_maps.h"
 #include "render/photon_map/gathers/point_beam_gather_stats.h"
 #include "render/photon_map/gathers/segment_gather.h"
 #include "scene/scene.h"
@@ -46,15 +52,19 @@ public:
     // max_radius: kInfinity for none; max_radius_mfp: 0 for none. radius_scale in (0, 1]: every disc's
     // radius times it after the bounds (photons.schedule = "progressive", photon/estimate/radius_schedule.h;
     // still the photon's own, so the estimate stays a sample-point one, unbiased on a uniform density).
+    // regions: the same photons split by region (their maps must outlive this object too), or null
+    // for one structure over `map`.
     PointBeamGather(const Scene& scene, const PhotonMap& map, size_t k, const Kernel& kernel, double max_radius,
-               double max_radius_mfp, double radius_scale = 1.0);
+                    double max_radius_mfp, double radius_scale = 1.0, const RegionPhotonMaps* regions = nullptr);
 
     // Whether any photon has a disc: a map of at most k photons has no k-th other photon.
-    bool usable() const override { return bvh_.size() > 0; }
+    bool usable() const override;
+    bool split_by_region() const override { return split_; }
 
-    // The in-scattered radiance from the map along `ray` over (0, t_end) (t_end may be kInfinity).
-    // `dir` of the ray is unit length.
-    Rgb in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved = nullptr) const override;
+    // The in-scattered radiance from the map (of `region`, when split) along `ray` over (0, t_end)
+    // (t_end may be kInfinity). `dir` of the ray is unit length.
+    Rgb in_scattering(const Ray& ray, double t_end, RegionMask region, Rng& rng,
+                      bool* starved = nullptr) const override;
     void report_build(RunStats* stats, std::ostream* log) const override;
     void add_to(RunStats& run, std::ostream* log) const override;
 
@@ -73,16 +83,27 @@ private:
         std::vector<double> transmittance;   // T(0, t) of each hit
         uint64_t queries = 0, crossed = 0, tracking_lookups = 0;
     };
+    // One region's photons and their discs (the whole map where the scene has no glass shapes).
+    struct Part {
+        RegionMask region = 0;
+        const PhotonMap* map = nullptr;
+        PhotonDiscBvh bvh;
+    };
     const Scene& scene_;
     const PhotonMap& map_;
     Kernel kernel_;
-    PhotonDiscBvh bvh_;
+    bool split_ = false;
+    std::vector<Part> parts_;   // ascending region
     PointBeamGatherStats built_;
     std::vector<bool> exact_;   // per medium: homogeneous, so its majorant pieces are sigma_t exactly
     bool foot_point_ = false;   // some medium has a jump (homogeneous shapes): the foot-point rule
     std::vector<Vec3> disc_points_;   // then: the unit disc's quadrature (x, y, kernel weight), weights summing to 1
     mutable tbb::enumerable_thread_specific<Local> local_;
 
+    // Each photon's radius (beam_k-th nearest other photon of its map, bounded) and the BVH of discs.
+    void build_part(Part& part, size_t k, double max_radius, double max_radius_mfp, double radius_scale);
+    // The part of `region` (the only one when not split); null where that region has no photon.
+    const Part* part_of(RegionMask region) const;
     // sigma_s f at the foot point x: the sum over the media of sigma_t,m albedo_m f_m.
     Rgb scattering(const Vec3& x, double cos_theta) const;
     // The kernel-weighted mean of the media's sigma_t over the disc of radius r around y, normal dir.

@@ -9,7 +9,8 @@ namespace vpm {
 
 struct PointBeamGatherStats : StatsSectionOf<PointBeamGatherStats> {
     uint64_t k = 0;                  // photons.beam_k
-    uint64_t photons = 0;            // photons with a finite radius (in the BVH)
+    uint64_t photons = 0;            // photons with a finite radius (in the BVHs)
+    uint64_t regions = 1;            // BVHs: one per region of a scene with glass shapes
     uint64_t bvh_bytes = 0;          // the BVH (balls + nodes; the radii live in its balls) and, with a
                                      // medium that has a jump, 4 bytes per photon of ball extinction
     double bvh_bytes_per_photon = 0.0;

@@ -14,6 +14,8 @@
 #include "core/sampling/rng.h"
 #include "photon/map/photon_beam.h"
 #include "photon/map/photon_map.h"
+#include "photon/map/region_photon_maps.h"
+#include "scene/dielectric_regions.h"
 
 namespace vpm {
 
@@ -30,6 +32,10 @@ struct SegmentGatherInputs {
     size_t k;                            // the pass's k (photons.schedule)
     double max_radius;                   // kInfinity for none
     double disc_scale;                   // the pass's disc radius scale (photons.schedule), in (0, 1]
+    // A scene with closed glass shapes (scene/dielectric_regions.h): the volume map split by region
+    // and the region of each beam; the gather then builds one structure per region. Null: one region.
+    const RegionPhotonMaps* volume_regions = nullptr;
+    const std::vector<RegionMask>* beam_regions = nullptr;
 };
 
 class SegmentGather {
@@ -38,11 +44,16 @@ public:
     // Whether the pass gave it anything to query; if not, the pass's segments gather like "march".
     virtual bool usable() const = 0;
     // The in-scattered radiance from the pass's photons along `ray` over (0, t_end) (t_end may be
-    // kInfinity; ray.dir unit length), single scattering excluded. *starved (when given) is set
-    // when the gather has no estimate for this segment (balloon photon beams crossed by fewer than
-    // k beams): the value is then 0 and not an estimate, and the caller gathers the segment
-    // otherwise (camera_path.cpp: as the collision gather does).
-    virtual Rgb in_scattering(const Ray& ray, double t_end, Rng& rng, bool* starved = nullptr) const = 0;
+    // kInfinity; ray.dir unit length), single scattering excluded. `region` is the camera path's
+    // region along the segment (a segment crosses no glass): a gather split by region reads only the
+    // photons or beams of that region. *starved (when given) is set when the gather has no estimate
+    // for this segment (balloon photon beams crossed by fewer than k beams, a region with no discs or
+    // beams): the value is then 0 and not an estimate, and the caller gathers the segment otherwise
+    // (camera_path.cpp: as the collision gather does).
+    virtual Rgb in_scattering(const Ray& ray, double t_end, RegionMask region, Rng& rng,
+                              bool* starved = nullptr) const = 0;
+    // Whether the structure is split by region, so that the camera path must track its region.
+    virtual bool split_by_region() const = 0;
     // The build's phases (stats, when given) and its log line with any warning (log, when given).
     virtual void report_build(RunStats* stats, std::ostream* log) const = 0;
     // Adds this pass's build figures and query counts to the run's section for this gather; with a
