@@ -255,7 +255,8 @@ void PhotonMapIntegrator::build_segment_gather(std::ostream* log, RunStats* stat
     SegmentGatherInputs inputs{scene_, settings_, *maps_.volume, maps_.owned.beams, pass_.k, pass_.max_radius, pass_.beam_scale};
     segment_gather_ = entry.build(inputs);
     segment_gather_->report_build(stats, log);
-    choice_.gather = segment_gather_->usable() ? entry.mode : GatherMode::march;
+    // Without media no segment is gathered: the record keeps the gather the user set.
+    choice_.gather = segment_gather_->usable() || !scene_.has_media() ? entry.mode : GatherMode::march;
 }
 
 void PhotonMapIntegrator::retire_segment_gather(RunStats& stats) {
