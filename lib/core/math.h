@@ -38,10 +38,12 @@ struct Bounds3 {
         return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
     }
     // Slab test: the parameter interval [t0, t1] of the ray inside the box, clipped to [0, tmax].
+    // An empty box (lo > hi: its slabs swap into the whole line) is missed by every ray.
     bool intersect(const Ray& ray, double tmax, double& t0, double& t1) const {
         t0 = 0.0;
         t1 = tmax;
         for (int a = 0; a < 3; ++a) {
+            if (lo[a] > hi[a]) return false;
             const double inv = 1.0 / ray.dir[a];   // +-inf for axis-parallel rays is intended
             double tn = (lo[a] - ray.origin[a]) * inv;
             double tf = (hi[a] - ray.origin[a]) * inv;

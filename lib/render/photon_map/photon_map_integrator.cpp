@@ -259,7 +259,8 @@ void PhotonMapIntegrator::build_segment_gather(std::ostream* log, RunStats* stat
                                maps_.owned.beam_regions.empty() ? nullptr : &maps_.owned.beam_regions};
     segment_gather_ = entry.build(inputs);
     segment_gather_->report_build(stats, log);
-    choice_.gather = segment_gather_->usable() ? entry.mode : GatherMode::march;
+    // Without media no segment is gathered: the record keeps the gather the user set.
+    choice_.gather = segment_gather_->usable() || !scene_.has_media() ? entry.mode : GatherMode::march;
 }
 
 void PhotonMapIntegrator::retire_segment_gather(RunStats& stats) {

@@ -296,3 +296,22 @@ TEST(PhotonBeamsGather, SamplePointWarnsWhereSegmentsCrossAlmostNoBeam) {
     for (const std::string& w : r.stats.warnings) warned += w.find("beams each on average (fewer than 1)") != std::string::npos;
     EXPECT_EQ(warned, 1u);
 }
+
+// A scene without media (configs/surface_bias.toml: a floor under a directional light): no photon
+// flight is a beam, so the camera has no beam to test (an empty media box once clipped every flight
+// into a beam, and the first pass took minutes), and the record keeps the gather the user set.
+TEST(PhotonBeamsGather, NoMediaRecordsNoBeamAndTheGatherSet) {
+    for (const char* gather : {"photon_beams", "point_beam"}) {
+        const RunConfig config = RunConfig::load(
+            VPM_SOURCE_DIR "/configs/surface_bias.toml",
+            {"render.width=8", "render.height=8", "photons.count=2000", std::string("photons.gather=\"") + gather + "\""});
+        RunOptions o;
+        o.progress = false;
+        const RunResult r = run(config, o);
+        EXPECT_EQ(r.record.json()["gather_used"].get<std::string>(), gather);
+        if (const PhotonBeamsGatherStats* b = r.stats.sections.find<PhotonBeamsGatherStats>()) {
+            EXPECT_EQ(b->recorded, 0u);
+            EXPECT_EQ(b->tested, 0u);
+        }
+    }
+}
