@@ -14,10 +14,15 @@ if [ $# -gt 0 ] && [ "$1" != "--" ]; then vpm="$1"; shift; fi
 [ $# -gt 0 ] && [ "$1" = "--" ] && shift
 seeds="${SEEDS:-1 2 3 4 5 6 7 8}"
 mkdir -p "$out/$name"
+# The plan sizes what the command line leaves unset (an --unset would win over a --set of the key).
+unsets=()
+for key in render.spp photons.count; do
+    case " $* " in *" $key="*) ;; *) unsets+=(--unset "$key") ;; esac
+done
 for seed in $seeds; do
     image="$out/$name/seed$seed.exr"
     [ -f "$image" ] && continue
     nice -n 5 "$vpm" render "$config" -q --threads "${THREADS:-2}" --set render.integrator=photon_map --set render.seed="$seed" \
         --set "render.crop=[$crop]" --set render.time_limit="$limit" --set render.time_limit_passes="$passes" \
-        --unset render.spp --unset photons.count "$@" -o "$image"
+        "${unsets[@]}" "$@" -o "$image"
 done
