@@ -28,7 +28,7 @@ half() {
     nice -n 10 "$vpm" "${args[@]}" --set render.first_pass="$first" -o "$more"
     "$vpm" merge -q "$image" "$more" -o "$merged"
     for ext in exr json png; do mv "${merged%.exr}.$ext" "${image%.exr}.$ext"; done
-    rm -f "$more" "${more%.exr}.json" "${more%.exr}.png"
+    rm -f "$more" "${more%.exr}.json" "${more%.exr}.png" "${more%.exr}.passes.csv"
 }
 half a 1001 &
 half b 1002 &
