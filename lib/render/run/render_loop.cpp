@@ -37,6 +37,11 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
                    uint64_t pass_stride, std::vector<double>& sum, std::vector<double>& pass_means, RenderStats& stats,
                    std::vector<double>* luminance_sq) {
     const size_t pixels = size_t(o.width) * size_t(o.height), rows = size_t(o.height);
+    const bool whole = o.crop_x1 == 0 || o.crop_y1 == 0;
+    const int x0 = whole ? 0 : o.crop_x0, x1 = whole ? o.width : o.crop_x1;
+    const int y0 = whole ? 0 : o.crop_y0, y1 = whole ? o.height : o.crop_y1;
+    if (x0 < 0 || x1 > o.width || x0 >= x1 || y0 < 0 || y1 > o.height || y0 >= y1)
+        throw Error("render_passes: the crop window must lie in the image");
     if (sum.size() != 3 * pixels) throw Error("render_passes: the sum must hold 3 doubles per pixel");
     if (luminance_sq && luminance_sq->size() != pixels) throw Error("render_passes: luminance_sq must hold 1 double per pixel");
     std::vector<double> row_sums(size_t(passes) * rows, 0.0);   // [pass][row]
@@ -69,7 +74,8 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
             if (tbb::is_current_task_group_canceling()) return;
             uint64_t bad = 0, below_zero = 0;
             std::fill(row.begin(), row.end(), 0.0);
-            for (int x = 0; x < o.width; ++x) {
+            const bool in_crop = y >= y0 && y < y1;
+            for (int x = in_crop ? x0 : x1; x < x1; ++x) {
                 const uint64_t pixel = uint64_t(y) * uint64_t(o.width) + uint64_t(x);
                 double* acc = &sum[3 * pixel];
                 for (int g = 0; g < passes; ++g) {
@@ -117,7 +123,7 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
         for (size_t y = 0; y < rows; ++y) total += row_sums[size_t(g) * rows + y];
         pass_means[size_t(g)] = total / double(3 * pixels);
     }
-    stats.samples = uint64_t(pixels) * uint64_t(o.spp) * uint64_t(passes);
+    stats.samples = uint64_t(x1 - x0) * uint64_t(y1 - y0) * uint64_t(o.spp) * uint64_t(passes);
     stats.nonfinite_samples = nonfinite.load();
     stats.negative_samples = negative.load();
     stats.seconds = timer.seconds();

@@ -34,6 +34,9 @@ struct RenderOptions {
     // Stream offset so that independent renders (e.g. repeats) can share a seed without sharing noise.
     uint64_t stream_offset = 0;
     SamplerKind sampler = SamplerKind::independent;   // render.sampler
+    // render.crop: the pixels rendered (half-open); the others add nothing to the sums. The whole
+    // image when x1 or y1 is 0. A pixel's streams do not depend on the window.
+    int crop_x0 = 0, crop_y0 = 0, crop_x1 = 0, crop_y1 = 0;
     // Under render.time_limit, the seconds left when the go over the image starts (0: no limit).
     // Once a twentieth of the rows is done, a projected end past it is said once on `log`; the
     // go over the image is not cut short, so the image does not depend on the clock.

@@ -1,5 +1,9 @@
 #include "render/run/render_settings.h"
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "core/progress.h"
 #include "core/sampling/sampler_registry.h"
 #include "core/thread_limit.h"
@@ -31,6 +35,19 @@ RenderSettings RenderSettings::read(Params& p) {
         p.fail("time_limit_passes", std::to_string(r.time_limit_passes) + " is fewer than render.passes = " +
                                         std::to_string(r.passes) + ", which a time-limited run always renders");
     r.sampler = p.choice("sampler", r.sampler, sampler_choices());
+    r.crop_x1 = r.width;
+    r.crop_y1 = r.height;
+    const std::vector<double> crop = p.reals("crop", {}, Range::at_least(0.0));
+    if (!crop.empty()) {
+        const bool whole = crop.size() == 4 && std::all_of(crop.begin(), crop.end(), [](double v) { return v == std::floor(v); });
+        if (!whole || !(crop[0] < crop[2] && crop[2] <= r.width && crop[1] < crop[3] && crop[3] <= r.height))
+            p.fail("crop", "must be [x0, y0, x1, y1], whole pixel indices with 0 <= x0 < x1 <= width (" + std::to_string(r.width) +
+                               ") and 0 <= y0 < y1 <= height (" + std::to_string(r.height) + "), half-open, row 0 at the top");
+        r.crop_x0 = int(crop[0]);
+        r.crop_y0 = int(crop[1]);
+        r.crop_x1 = int(crop[2]);
+        r.crop_y1 = int(crop[3]);
+    }
     // Film accumulators are 3 doubles per pixel next to the 3-float image; refuse what cannot fit.
     const double bytes = double(r.width) * double(r.height) * 3.0 * (8.0 + 4.0);
     if (bytes > 0.8 * double(physical_memory_bytes()))

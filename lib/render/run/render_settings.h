@@ -26,6 +26,9 @@
 //   |          |                  | image                                                    |
 //   | sampler  | "independent"    | camera samples: "independent", "stratified" or "sobol"   |
 //   |          |                  | (core/sampling/sampler.h, docs/stratified_sampling.md)            |
+//   | crop     | [] (whole image) | [x0, y0, x1, y1]: only these pixels (half-open, row 0 at |
+//   |          |                  | the top) are rendered, the rest stay black; each keeps   |
+//   |          |                  | the value it has in the whole image                      |
 #include <cstdint>
 #include <string>
 
@@ -52,6 +55,10 @@ struct RenderSettings {
     int64_t time_limit_passes = 0;
     int first_pass = 0;
     SamplerKind sampler = SamplerKind::independent;
+    // render.crop: the pixels rendered, half-open; the whole image unless set.
+    int crop_x0 = 0, crop_y0 = 0, crop_x1 = 0, crop_y1 = 0;
+    bool cropped() const { return crop_x0 > 0 || crop_y0 > 0 || crop_x1 < width || crop_y1 < height; }
+    double rendered_pixels() const { return double(crop_x1 - crop_x0) * double(crop_y1 - crop_y0); }
     int spp_per_pass() const { return spp / passes; }
     // Reads the keys above from [render]; throws ConfigError (also for an image that cannot fit in memory).
     static RenderSettings read(Params& render);

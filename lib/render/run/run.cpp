@@ -137,7 +137,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
     // camera samples, rendered in one go over the image (render_passes: the same image as one by one).
     // (Asked per group: an integrator may become stateless once prepared, the photon map without a map.)
     auto group_size = [&] {
-        const double pass_samples = double(rs.width) * double(rs.height) * double(spp);
+        const double pass_samples = rs.rendered_pixels() * double(spp);
         return integrator->stateless_passes() ? int64_t(std::min(65536.0, std::ceil(double(kMinGroupSamples) / pass_samples))) : 1;
     };
     if (options.log && rs.time_limit_passes > 0)
@@ -166,6 +166,10 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         ro.progress = progress;
         ro.stream_offset = stream;
         ro.sampler = rs.sampler;
+        ro.crop_x0 = rs.crop_x0;
+        ro.crop_y0 = rs.crop_y0;
+        ro.crop_x1 = rs.crop_x1;
+        ro.crop_y1 = rs.crop_y1;
         if (budget.clock_stops() && before == 0) {   // the first group: later ones are sized by the measured pass time
             ro.seconds_left = std::max(1e-9, rs.time_limit - budget.elapsed());
             ro.time_limit = rs.time_limit;

@@ -320,3 +320,38 @@ TEST(Passes, AFirstPassProjectedPastTheLimitIsSaidWhileItRuns) {
     EXPECT_EQ(text.find("this pass projects to about", projected + 1), std::string::npos) << "said once";
     EXPECT_LT(projected, text.find("is shorter than the first pass")) << text;   // before the pass ends
 }
+
+// render.crop renders only the rectangle's pixels, each with the value it has in the whole image
+// (its streams do not depend on the window), and leaves the rest black.
+TEST(Passes, CropRendersItsPixelsAsTheWholeImageDoesAndNothingElse) {
+    const std::vector<std::string> sets = {"render.spp=2", "render.passes=2", "photons.count=5000"};
+    std::vector<std::string> cropped_sets = sets;
+    cropped_sets.push_back("render.crop=[3,5,11,9]");
+    const RunResult whole = run_furnace(sets), cropped = run_furnace(cropped_sets);
+    ASSERT_EQ(cropped.image.width, 16);
+    int inside = 0;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const size_t i = 3 * (size_t(y) * 16 + size_t(x)) + size_t(c);
+                if (x >= 3 && x < 11 && y >= 5 && y < 9) {
+                    EXPECT_EQ(cropped.image.rgb[i], whole.image.rgb[i]);
+                    inside += cropped.image.rgb[i] > 0.0f;
+                } else {
+                    EXPECT_EQ(cropped.image.rgb[i], 0.0f);
+                }
+            }
+    EXPECT_GT(inside, 0);
+    EXPECT_EQ(cropped.stats.render.samples, uint64_t(8 * 4 * 2));
+}
+
+TEST(Passes, CropOutsideTheImageIsRefusedNamingTheKey) {
+    for (const char* crop : {"render.crop=[3,5,17,9]", "render.crop=[3,5,3,9]", "render.crop=[1,2,3]", "render.crop=[0.5,0,4,4]"}) {
+        try {
+            run_furnace({"render.spp=1", crop});
+            ADD_FAILURE() << crop << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("crop"), std::string::npos) << e.what();
+        }
+    }
+}
