@@ -212,6 +212,118 @@ double mean_sq_diff_half(const Image& a, const Image& b, double scale) {
     return n ? sum / double(n) / (scale * scale) : 0.0;
 }
 
+// A cell's path-traced reference: the mean of two halves, their noise and variance image.
+struct MatrixReference {
+    Image image;
+    std::optional<Image> variance;   // per-pixel, from the halves (none for a cache entry without REF.variance.exr)
+    double noise = 0, seconds = 0;
+    std::string name;
+    bool reused = false;
+};
+
+// The cells --only and --max-tau select; none is an error naming the groups.
+std::vector<MatrixCell> selected_cells(const MatrixOptions& o) {
+    std::vector<MatrixCell> cells;
+    for (const MatrixCell& cell : matrix_cells(o.quick))
+        if (!o.filter || o.filter(cell)) cells.push_back(cell);
+    if (cells.empty()) {
+        std::string groups;
+        for (const MatrixCell& cell : matrix_cells(o.quick))
+            if (groups.find(cell.group) == std::string::npos) groups += (groups.empty() ? "" : ", ") + cell.group;
+        throw Error("vpm bench matrix: no cell passes --only / --max-tau (groups: " + groups +
+                    "; cell ids look like box-tau10-a0.9-g0-point-s1)");
+    }
+    return cells;
+}
+
+// Every compared run's config loads (a bad --set fails before the first reference is rendered).
+void check_method_configs(Matrix& m, const MatrixOptions& o, const MatrixCell& first) {
+    const fs::path scene = m.write_scene(first, first.tau / m.unit_depth(first));
+    for (const MatrixMethod& method : matrix_methods()) {
+        std::vector<std::string> sets = o.method_sets;
+        sets.insert(sets.end(), method.sets.begin(), method.sets.end());
+        sets.insert(sets.end(), o.sets.begin(), o.sets.end());
+        RunConfig::load(scene.string(), sets);
+    }
+}
+
+// The reference of the cell's unscaled scene, from the cache by its scene hash or rendered in two halves.
+MatrixReference matrix_reference(Matrix& m, const MatrixOptions& o, const MatrixCell& cell, double sigma_t_scale,
+                                 MatrixReport& report) {
+    MatrixCell unscaled = cell;
+    unscaled.scale = 1.0;
+    const fs::path uscene = m.write_scene(unscaled, sigma_t_scale);
+    const RunConfig uc = RunConfig::load(uscene.string(), {"render.integrator=\"path\""});
+    const std::string hash = scene_hash(uc.resolved);
+    const fs::path exr = o.out / "references" / (hash + ".exr"), meta = o.out / "references" / (hash + ".json");
+    MatrixReference ref;
+    ref.name = hash;
+    ref.reused = fs::exists(exr) && fs::exists(meta);
+    if (ref.reused) {
+        std::ifstream in(meta);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        ref.image = read_exr(exr);
+        if (fs::exists(variance_path_for(exr))) ref.variance = read_exr(variance_path_for(exr));
+        ref.noise = j.at("noise_rel_variance").get<double>();
+        ref.seconds = j.at("seconds").get<double>();
+        ++report.references_reused;
+        m.log(cell.id() + ": reference " + hash + " from the cache");
+        return ref;
+    }
+    m.log(cell.id() + ": rendering the reference (path tracer, 2 x " + num(o.reference_seconds / 2) + " s)");
+    double wa = 0, wb = 0;
+    const std::vector<std::string> sets = {"render.integrator=\"path\""};
+    RunResult a = m.render(uscene, sets, kReferenceStreamA, o.reference_seconds / 2, &wa);
+    RunResult b = m.render(uscene, sets, kReferenceStreamB, o.reference_seconds / 2, &wb);
+    Image mean = a.image;
+    for (size_t i = 0; i < mean.rgb.size(); ++i) mean.rgb[i] = 0.5f * (a.image.rgb[i] + b.image.rgb[i]);
+    ref.image = mean;
+    ref.noise = mean_sq_diff_half(a.image, b.image, reference_scale(mean));
+    ref.seconds = wa + wb;
+    ref.variance = reference_from_halves(a.image, b.image, "halves").variance;
+    write_exr(variance_path_for(exr), *ref.variance);   // before the EXR, which marks the cache entry
+    const fs::path tmp = exr.string() + ".tmp";
+    write_exr(tmp, mean);
+    fs::rename(tmp, exr);
+    const nlohmann::json j = {{"scene", unscaled.id()},
+                              {"noise_rel_variance", ref.noise},
+                              {"seconds", ref.seconds},
+                              {"samples", a.stats.render.samples + b.stats.render.samples},
+                              {"config", uc.resolved_toml()}};
+    write_text_atomic(meta, j.dump(2) + "\n");
+    ++report.references_rendered;
+    return ref;
+}
+
+// One method on one cell: its error against the reference and what the run chose.
+MatrixMethodResult measure_method(Matrix& m, const MatrixOptions& o, const fs::path& scene, const MatrixMethod& method,
+                                  const MatrixReference& ref) {
+    MatrixMethodResult r;
+    r.label = method.label;
+    std::vector<std::string> sets = o.method_sets;
+    sets.insert(sets.end(), method.sets.begin(), method.sets.end());
+    RunResult res = m.render(scene, sets, 0, o.budget, &r.seconds);
+    const RunError e = run_error(res.image, ref.image);
+    r.passes = int(res.stats.pass_summary.count);
+    r.rel_rmse = e.rel_rmse;
+    r.mse = e.rel_rmse * e.rel_rmse - ref.noise;
+    MetricOptions relmse;   // the per-pixel relative MSE, its floor from the halves' variance image
+    r.relmse = measure_error(res.image, ref.image, relmse, ref.variance ? &*ref.variance : nullptr).value;
+    r.nonfinite_pixels = e.nonfinite_pixels;
+    const PhotonMapStats& pm = PhotonMapStats::of(res.stats);
+    if (pm.gather_pilot) r.chosen = pm.gather_pilot->chosen;
+    if (const auto& a = pm.auto_gather)   // the defaults: the plan's gather and pass size
+        r.chosen = (method.label == "auto" ? res.stats.integrator_used + ": " : std::string()) + a->chosen +
+                   (a->photon_pass ? " " + std::to_string(a->count) : std::string()) + " x " +
+                   std::to_string(res.stats.render.samples / std::max<uint64_t>(1, res.stats.pass_summary.count) /
+                                  uint64_t(o.size) / uint64_t(o.size));
+    if (pm.march_weight_max) r.march_weight_max = *pm.march_weight_max;
+    if (pm.march_weight_mean) r.march_weight_mean = *pm.march_weight_mean;
+    if (const auto& b = res.stats.sections.find<PointBeamGatherStats>(); b && b->queries > 0)
+        r.beam_crossed_per_query = double(b->crossed) / double(b->queries);
+    return r;
+}
+
 }  // namespace
 
 void check_matrix_method_set(const std::string& set) {
@@ -248,37 +360,9 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
     fs::create_directories(o.out / "scenes");
     fs::create_directories(o.out / "references");
     Matrix m{o, {}};
-    struct Ref {
-        Image image;
-        std::optional<Image> variance;   // per-pixel, from the halves (none for a cache entry without REF.variance.exr)
-        double noise, seconds;
-        std::string name;
-        bool reused;
-    };
-    std::map<std::string, Ref> refs;   // by unscaled cell id
-
-    // Before any reference: some cell is selected, and every compared run's config is valid (a bad
-    // --set failed only after the first reference had been rendered).
-    std::vector<MatrixCell> cells;
-    for (const MatrixCell& cell : matrix_cells(o.quick))
-        if (!o.filter || o.filter(cell)) cells.push_back(cell);
-    if (cells.empty()) {
-        std::string groups;
-        for (const MatrixCell& cell : matrix_cells(o.quick))
-            if (groups.find(cell.group) == std::string::npos) groups += (groups.empty() ? "" : ", ") + cell.group;
-        throw Error("vpm bench matrix: no cell passes --only / --max-tau (groups: " + groups +
-                    "; cell ids look like box-tau10-a0.9-g0-point-s1)");
-    }
-    {
-        const MatrixCell& first = cells.front();
-        const fs::path scene = m.write_scene(first, first.tau / m.unit_depth(first));
-        for (const MatrixMethod& method : matrix_methods()) {
-            std::vector<std::string> sets = o.method_sets;
-            sets.insert(sets.end(), method.sets.begin(), method.sets.end());
-            sets.insert(sets.end(), o.sets.begin(), o.sets.end());
-            RunConfig::load(scene.string(), sets);
-        }
-    }
+    const std::vector<MatrixCell> cells = selected_cells(o);
+    check_method_configs(m, o, cells.front());
+    std::map<std::string, MatrixReference> refs;   // by unscaled cell id
 
     for (const MatrixCell& cell : cells) {
         MatrixRow row;
@@ -290,78 +374,14 @@ MatrixReport run_scene_matrix(const MatrixOptions& o, const std::function<void(c
         // compared with what the unscaled scene converges to).
         MatrixCell unscaled = cell;
         unscaled.scale = 1.0;
-        if (!refs.count(unscaled.id())) {
-            const fs::path uscene = m.write_scene(unscaled, row.sigma_t_scale);
-            const RunConfig uc = RunConfig::load(uscene.string(), {"render.integrator=\"path\""});
-            const std::string hash = scene_hash(uc.resolved);
-            const fs::path exr = o.out / "references" / (hash + ".exr"), meta = o.out / "references" / (hash + ".json");
-            Ref ref;
-            ref.name = hash;
-            ref.reused = fs::exists(exr) && fs::exists(meta);
-            if (ref.reused) {
-                std::ifstream in(meta);
-                const nlohmann::json j = nlohmann::json::parse(in);
-                ref.image = read_exr(exr);
-                if (fs::exists(variance_path_for(exr))) ref.variance = read_exr(variance_path_for(exr));
-                ref.noise = j.at("noise_rel_variance").get<double>();
-                ref.seconds = j.at("seconds").get<double>();
-                ++report.references_reused;
-                m.log(cell.id() + ": reference " + hash + " from the cache");
-            } else {
-                m.log(cell.id() + ": rendering the reference (path tracer, 2 x " + num(o.reference_seconds / 2) + " s)");
-                double wa = 0, wb = 0;
-                const std::vector<std::string> sets = {"render.integrator=\"path\""};
-                RunResult a = m.render(uscene, sets, kReferenceStreamA, o.reference_seconds / 2, &wa);
-                RunResult b = m.render(uscene, sets, kReferenceStreamB, o.reference_seconds / 2, &wb);
-                Image mean = a.image;
-                for (size_t i = 0; i < mean.rgb.size(); ++i) mean.rgb[i] = 0.5f * (a.image.rgb[i] + b.image.rgb[i]);
-                ref.image = mean;
-                ref.noise = mean_sq_diff_half(a.image, b.image, reference_scale(mean));
-                ref.seconds = wa + wb;
-                ref.variance = reference_from_halves(a.image, b.image, "halves").variance;
-                write_exr(variance_path_for(exr), *ref.variance);   // before the EXR, which marks the cache entry
-                const fs::path tmp = exr.string() + ".tmp";
-                write_exr(tmp, mean);
-                fs::rename(tmp, exr);
-                const nlohmann::json j = {{"scene", unscaled.id()},
-                                          {"noise_rel_variance", ref.noise},
-                                          {"seconds", ref.seconds},
-                                          {"samples", a.stats.render.samples + b.stats.render.samples},
-                                          {"config", uc.resolved_toml()}};
-                write_text_atomic(meta, j.dump(2) + "\n");
-                ++report.references_rendered;
-            }
-            refs[unscaled.id()] = std::move(ref);
-        }
-        const Ref& ref = refs.at(unscaled.id());
+        if (!refs.count(unscaled.id())) refs[unscaled.id()] = matrix_reference(m, o, cell, row.sigma_t_scale, report);
+        const MatrixReference& ref = refs.at(unscaled.id());
         row.reference = ref.name;
         row.reference_reused = ref.reused;
         row.reference_noise = ref.noise;
         row.reference_seconds = ref.seconds;
 
-        for (const MatrixMethod& method : matrix_methods()) {
-            MatrixMethodResult r;
-            r.label = method.label;
-            std::vector<std::string> sets = o.method_sets;
-            sets.insert(sets.end(), method.sets.begin(), method.sets.end());
-            RunResult res = m.render(scene, sets, 0, o.budget, &r.seconds);
-            const RunError e = run_error(res.image, ref.image);
-            r.passes = int(res.stats.pass_summary.count);
-            r.rel_rmse = e.rel_rmse;
-            r.mse = e.rel_rmse * e.rel_rmse - ref.noise;
-            MetricOptions relmse;   // the per-pixel relative MSE, its floor from the halves' variance image
-            r.relmse = measure_error(res.image, ref.image, relmse, ref.variance ? &*ref.variance : nullptr).value;
-            r.nonfinite_pixels = e.nonfinite_pixels;
-            if (PhotonMapStats::of(res.stats).gather_pilot) r.chosen = PhotonMapStats::of(res.stats).gather_pilot->chosen;
-            if (const auto& a = PhotonMapStats::of(res.stats).auto_gather)   // the defaults: the plan's gather and pass size
-                r.chosen = (method.label == "auto" ? res.stats.integrator_used + ": " : std::string()) + a->chosen + (a->photon_pass ? " " + std::to_string(a->count) : std::string()) + " x " +
-                           std::to_string(res.stats.render.samples / std::max<uint64_t>(1, res.stats.pass_summary.count) /
-                                          uint64_t(o.size) / uint64_t(o.size));
-            if (PhotonMapStats::of(res.stats).march_weight_max) r.march_weight_max = *PhotonMapStats::of(res.stats).march_weight_max;
-            if (PhotonMapStats::of(res.stats).march_weight_mean) r.march_weight_mean = *PhotonMapStats::of(res.stats).march_weight_mean;
-            if (const auto& b = res.stats.sections.find<PointBeamGatherStats>(); b && b->queries > 0) r.beam_crossed_per_query = double(b->crossed) / double(b->queries);
-            row.methods.push_back(r);
-        }
+        for (const MatrixMethod& method : matrix_methods()) row.methods.push_back(measure_method(m, o, scene, method, ref));
         std::ostringstream line;
         line << cell.id() << ":";
         for (size_t i = 0; i < row.methods.size(); ++i)

@@ -758,6 +758,175 @@ void run_walks(const StudyOptions& opt, StudyResult& res, const Timer& timer, co
     }
 }
 
+// The 1D Poisson field of photon beams: balloon estimates against the exact theory.
+void study_photon_beams(const StudyOptions& opt, StudyResult& res, const Timer& timer, const std::function<void(const std::string&)>& say) {
+    const StudyScenario sc = StudyScenario::photon_beams;
+    const size_t stride = opt.ks.size() * opt.kernels.size() * 2;
+    std::vector<double> samples;
+    Timer t_sc;
+    run_photon_beams(opt, samples, stride);
+    for (size_t ki = 0; ki < opt.ks.size(); ++ki)
+        for (size_t kk = 0; kk < opt.kernels.size(); ++kk)
+            for (int c = 0; c < 2; ++c) {
+                const Kernel& kernel = opt.kernels[kk];
+                StudyRow row;
+                row.estimator = Estimator::named(c == 0 ? "classic" : "corrected").with_kernel(kernel);
+                row.method = std::string("balloon_") + (c == 0 ? "classic" : "corrected") +
+                             (kernel.is_constant() ? std::string() : "/" + kernel.label());
+                row.k = opt.ks[ki];
+                row.scenario = scenario_name(sc);
+                row.dim = 1;
+                row.n = 0;   // a Poisson field: no fixed count
+                reduce(samples, opt.trials, stride, (ki * opt.kernels.size() + kk) * 2 + size_t(c), row);
+                const BeamBalloonTheory th = photon_beam_balloon_theory(kernel, row.k, c == 0);
+                row.has_theory = true;
+                row.theory_source = "exact";
+                row.th_error = th.mean - 1.0;
+                row.th_variance = th.variance;
+                row.th_mse = th.variance + row.th_error * row.th_error;
+                row.th_variance_limit = th.variance;
+                res.rows.push_back(row);
+            }
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "study: %-12s 1D  %zu trials x %zu k  Poisson field of beams  %.2f s (total %.1f s)",
+                  scenario_name(sc), opt.trials, opt.ks.size(), t_sc.seconds(), timer.seconds());
+    say(buf);
+}
+
+// Sample-point widths in 2D (beams) and 3D (points) against their exact means.
+void study_beam(const StudyOptions& opt, StudyResult& res, const Timer& timer, const std::function<void(const std::string&)>& say) {
+    const StudyScenario sc = StudyScenario::beam;
+    const SampleGrid grid{opt.ks.size(), opt.kernels.size()};
+    std::vector<double> point, beam;
+    Timer t_sc;
+    run_beam(opt, grid, point, beam, say);
+    for (int dim : opt.dims)
+        for (size_t ki = 0; ki < grid.nk; ++ki)
+            for (size_t ei = 0; ei < grid.ne; ++ei) {
+                const Kernel& kernel = opt.kernels[ei];
+                StudyRow row;
+                row.method = "sample_point/" + kernel.label();
+                row.k = opt.ks[ki];
+                row.scenario = scenario_name(sc);
+                row.dim = dim;
+                row.n = opt.n;
+                reduce(dim == 3 ? point : beam, opt.trials, grid.stride(), grid.at(0, ki, ei), row);
+                row.has_theory = true;
+                row.theory_source = "exact_mean";
+                row.th_error = sample_point_mean(kernel, dim) - 1.0;
+                row.th_variance = dim == 3 ? sample_point_variance_3d(kernel, row.k)
+                                           : sample_point_variance_beam(kernel, row.k, double(opt.n), kBeamStudyLength);
+                row.th_mse = row.th_variance + row.th_error * row.th_error;
+                row.th_variance_limit = row.th_variance;
+                res.rows.push_back(row);
+            }
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "study: %-10s 2D+3D  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
+                  scenario_name(sc), opt.trials, grid.nk, opt.n, t_sc.seconds(), timer.seconds());
+    say(buf);
+}
+
+// Stratified point sets: each set's count Fano factor and the first-order theory it gives.
+void study_stratified(const StudyOptions& opt, StudyResult& res, tbb::combinable<EstimatorStats>& stats, const Timer& timer,
+                      const std::function<void(const std::string&)>& say) {
+    const std::vector<Estimator>& ests = Estimator::all();
+    const SampleGrid grid{opt.ks.size(), ests.size()};
+    for (int dim : opt.dims)
+        for (size_t set = 0; set < study_point_sets().size(); ++set) {
+            Timer t_sc;
+            std::vector<double> samples, counts;
+            run_point_set(opt, dim, set, grid, ests, stats, samples, counts);
+            const std::string label = "stratified/" + study_point_sets()[set];
+            std::ostringstream fano_note;
+            fano_note << label << " " << dim << "D: count Fano factor F(k) = Var N / k";
+            for (size_t ki = 0; ki < grid.nk; ++ki) {
+                const size_t k = opt.ks[ki];
+                double sum = 0, sum2 = 0;
+                for (size_t t = 0; t < opt.trials; ++t) {
+                    sum += counts[t * grid.nk + ki];
+                    sum2 += counts[t * grid.nk + ki] * counts[t * grid.nk + ki];
+                }
+                const double mean = sum / double(opt.trials);
+                const double fano = (sum2 - sum * mean) / double(opt.trials - 1) / double(k);
+                fano_note << (ki ? ", " : " ") << k << ": " << fmt_fixed(fano, 3);
+                for (size_t ei = 0; ei < grid.ne; ++ei) {
+                    StudyRow row;
+                    row.estimator = ests[ei];
+                    row.k = k;
+                    if (row.k < row.estimator.min_k()) continue;
+                    row.scenario = label;
+                    row.dim = dim;
+                    row.n = opt.n;
+                    reduce(samples, opt.trials, grid.stride(), grid.at(0, ki, ei), row);
+                    if (set == 0) {
+                        attach_theory(opt, StudyScenario::uniform, row);
+                    } else if (row.estimator.entry().unit_weight_count) {
+                        // First order in the count's fluctuation (docs/stratified_sampling.md):
+                        // E[1/X] = (1 + (1 + F) / 2k) / k, Var[X] = F k for X = n V(r_k).
+                        const double c = row.estimator.entry().unit_weight_count(k) / double(k);
+                        row.has_theory = true;
+                        row.theory_source = "fano";
+                        row.th_error = c * (1.0 + (1.0 + fano) / (2.0 * double(k))) - 1.0;
+                        row.th_variance = c * c * fano / double(k);
+                        row.th_mse = row.th_variance + row.th_error * row.th_error;
+                        row.th_variance_limit = row.th_variance;
+                    }
+                    res.rows.push_back(row);
+                }
+            }
+            res.notes.push_back(fano_note.str());
+            char buf[200];
+            std::snprintf(buf, sizeof buf, "study: %-22s %dD  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
+                          label.c_str(), dim, opt.trials, grid.nk, opt.n, t_sc.seconds(), timer.seconds());
+            say(buf);
+        }
+}
+
+// The uniform, kernel, synthetic and real-map scenarios: one row per k and estimator.
+void study_estimates(const StudyOptions& opt, StudyScenario sc, const std::vector<Estimator>& kernel_ests, StudyResult& res,
+                     tbb::combinable<EstimatorStats>& stats, const Timer& timer, const std::function<void(const std::string&)>& say) {
+    const std::vector<Estimator>& ests = sc == StudyScenario::kernels ? kernel_ests : Estimator::all();
+    const SampleGrid grid{opt.ks.size(), ests.size()};
+    for (int dim : opt.dims) {
+        const bool real_map = sc == StudyScenario::photon_map || sc == StudyScenario::photon_pass;
+        if (real_map && dim != 3) continue;
+        Timer t_sc;
+        size_t trials = opt.trials;
+        size_t n = opt.n;
+        std::vector<double> samples;
+        if (!real_map) {
+            run_synthetic(opt, sc, dim, grid, ests, stats, samples);
+        } else if (sc == StudyScenario::photon_pass) {
+            run_photon_pass(opt, opt.ks.back(), grid.stride(), stats, samples, trials, n, say);
+        } else {
+            n = opt.photon_map_size;
+            trials = run_photon_map(opt, grid, stats, samples, say);
+        }
+        if (real_map)   // they take a share of --trials: say so
+            res.notes.push_back(std::string(scenario_name(sc)) + ": " + std::to_string(trials) + " estimates per k (" +
+                                (opt.photon_map_queries ? std::string("StudyOptions::photon_map_queries")
+                                 : sc == StudyScenario::photon_map ? "--trials / 4" : "--trials / 10") +
+                                ", at least 2: each estimate needs its own region of a photon map)");
+        for (size_t ki = 0; ki < grid.nk; ++ki)
+            for (size_t ei = 0; ei < grid.ne; ++ei) {
+                StudyRow row;
+                row.estimator = ests[ei];
+                row.k = opt.ks[ki];
+                if (row.k < row.estimator.min_k()) continue;
+                row.scenario = scenario_name(sc);
+                row.dim = dim;
+                row.n = n;
+                reduce(samples, trials, grid.stride(), grid.at(0, ki, ei), row);
+                attach_theory(opt, sc, row);
+                res.rows.push_back(row);
+            }
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "study: %-10s %dD  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
+                      scenario_name(sc), dim, trials, grid.nk, n, t_sc.seconds(), timer.seconds());
+        say(buf);
+    }
+}
+
 }  // namespace
 
 StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<void(const std::string&)>& log) {
@@ -781,168 +950,11 @@ StudyResult run_estimator_study(const StudyOptions& opt_in, const std::function<
     tbb::combinable<EstimatorStats> stats;
 
     for (StudyScenario sc : opt.scenarios) {
-        if (sc == StudyScenario::walks) {
-            run_walks(opt, res, timer, say);
-            continue;
-        }
-        if (sc == StudyScenario::photon_beams) {
-            const size_t stride = opt.ks.size() * opt.kernels.size() * 2;
-            std::vector<double> samples;
-            Timer t_sc;
-            run_photon_beams(opt, samples, stride);
-            for (size_t ki = 0; ki < opt.ks.size(); ++ki)
-                for (size_t kk = 0; kk < opt.kernels.size(); ++kk)
-                    for (int c = 0; c < 2; ++c) {
-                        const Kernel& kernel = opt.kernels[kk];
-                        StudyRow row;
-                        row.estimator = Estimator::named(c == 0 ? "classic" : "corrected").with_kernel(kernel);
-                        row.method = std::string("balloon_") + (c == 0 ? "classic" : "corrected") +
-                                     (kernel.is_constant() ? std::string() : "/" + kernel.label());
-                        row.k = opt.ks[ki];
-                        row.scenario = scenario_name(sc);
-                        row.dim = 1;
-                        row.n = 0;   // a Poisson field: no fixed count
-                        reduce(samples, opt.trials, stride, (ki * opt.kernels.size() + kk) * 2 + size_t(c), row);
-                        const BeamBalloonTheory th = photon_beam_balloon_theory(kernel, row.k, c == 0);
-                        row.has_theory = true;
-                        row.theory_source = "exact";
-                        row.th_error = th.mean - 1.0;
-                        row.th_variance = th.variance;
-                        row.th_mse = th.variance + row.th_error * row.th_error;
-                        row.th_variance_limit = th.variance;
-                        res.rows.push_back(row);
-                    }
-            char buf[200];
-            std::snprintf(buf, sizeof buf, "study: %-12s 1D  %zu trials x %zu k  Poisson field of beams  %.2f s (total %.1f s)",
-                          scenario_name(sc), opt.trials, opt.ks.size(), t_sc.seconds(), timer.seconds());
-            say(buf);
-            continue;
-        }
-        if (sc == StudyScenario::beam) {
-            const SampleGrid grid{opt.ks.size(), opt.kernels.size()};
-            std::vector<double> point, beam;
-            Timer t_sc;
-            run_beam(opt, grid, point, beam, say);
-            for (int dim : opt.dims)
-                for (size_t ki = 0; ki < grid.nk; ++ki)
-                    for (size_t ei = 0; ei < grid.ne; ++ei) {
-                        const Kernel& kernel = opt.kernels[ei];
-                        StudyRow row;
-                        row.method = "sample_point/" + kernel.label();
-                        row.k = opt.ks[ki];
-                        row.scenario = scenario_name(sc);
-                        row.dim = dim;
-                        row.n = opt.n;
-                        reduce(dim == 3 ? point : beam, opt.trials, grid.stride(), grid.at(0, ki, ei), row);
-                        row.has_theory = true;
-                        row.theory_source = "exact_mean";
-                        row.th_error = sample_point_mean(kernel, dim) - 1.0;
-                        row.th_variance = dim == 3 ? sample_point_variance_3d(kernel, row.k)
-                                                   : sample_point_variance_beam(kernel, row.k, double(opt.n), kBeamStudyLength);
-                        row.th_mse = row.th_variance + row.th_error * row.th_error;
-                        row.th_variance_limit = row.th_variance;
-                        res.rows.push_back(row);
-                    }
-            char buf[200];
-            std::snprintf(buf, sizeof buf, "study: %-10s 2D+3D  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
-                          scenario_name(sc), opt.trials, grid.nk, opt.n, t_sc.seconds(), timer.seconds());
-            say(buf);
-            continue;
-        }
-        if (sc == StudyScenario::stratified) {
-            const std::vector<Estimator>& ests = Estimator::all();
-            const SampleGrid grid{opt.ks.size(), ests.size()};
-            for (int dim : opt.dims)
-                for (size_t set = 0; set < study_point_sets().size(); ++set) {
-                    Timer t_sc;
-                    std::vector<double> samples, counts;
-                    run_point_set(opt, dim, set, grid, ests, stats, samples, counts);
-                    const std::string label = "stratified/" + study_point_sets()[set];
-                    std::ostringstream fano_note;
-                    fano_note << label << " " << dim << "D: count Fano factor F(k) = Var N / k";
-                    for (size_t ki = 0; ki < grid.nk; ++ki) {
-                        const size_t k = opt.ks[ki];
-                        double sum = 0, sum2 = 0;
-                        for (size_t t = 0; t < opt.trials; ++t) {
-                            sum += counts[t * grid.nk + ki];
-                            sum2 += counts[t * grid.nk + ki] * counts[t * grid.nk + ki];
-                        }
-                        const double mean = sum / double(opt.trials);
-                        const double fano = (sum2 - sum * mean) / double(opt.trials - 1) / double(k);
-                        fano_note << (ki ? ", " : " ") << k << ": " << fmt_fixed(fano, 3);
-                        for (size_t ei = 0; ei < grid.ne; ++ei) {
-                            StudyRow row;
-                            row.estimator = ests[ei];
-                            row.k = k;
-                            if (row.k < row.estimator.min_k()) continue;
-                            row.scenario = label;
-                            row.dim = dim;
-                            row.n = opt.n;
-                            reduce(samples, opt.trials, grid.stride(), grid.at(0, ki, ei), row);
-                            if (set == 0) {
-                                attach_theory(opt, StudyScenario::uniform, row);
-                            } else if (row.estimator.entry().unit_weight_count) {
-                                // First order in the count's fluctuation (docs/stratified_sampling.md):
-                                // E[1/X] = (1 + (1 + F) / 2k) / k, Var[X] = F k for X = n V(r_k).
-                                const double c = row.estimator.entry().unit_weight_count(k) / double(k);
-                                row.has_theory = true;
-                                row.theory_source = "fano";
-                                row.th_error = c * (1.0 + (1.0 + fano) / (2.0 * double(k))) - 1.0;
-                                row.th_variance = c * c * fano / double(k);
-                                row.th_mse = row.th_variance + row.th_error * row.th_error;
-                                row.th_variance_limit = row.th_variance;
-                            }
-                            res.rows.push_back(row);
-                        }
-                    }
-                    res.notes.push_back(fano_note.str());
-                    char buf[200];
-                    std::snprintf(buf, sizeof buf, "study: %-22s %dD  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
-                                  label.c_str(), dim, opt.trials, grid.nk, opt.n, t_sc.seconds(), timer.seconds());
-                    say(buf);
-                }
-            continue;
-        }
-        const std::vector<Estimator>& ests = sc == StudyScenario::kernels ? kernel_ests : Estimator::all();
-        const SampleGrid grid{opt.ks.size(), ests.size()};
-        for (int dim : opt.dims) {
-            const bool real_map = sc == StudyScenario::photon_map || sc == StudyScenario::photon_pass;
-            if (real_map && dim != 3) continue;
-            Timer t_sc;
-            size_t trials = opt.trials;
-            size_t n = opt.n;
-            std::vector<double> samples;
-            if (!real_map) {
-                run_synthetic(opt, sc, dim, grid, ests, stats, samples);
-            } else if (sc == StudyScenario::photon_pass) {
-                run_photon_pass(opt, opt.ks.back(), grid.stride(), stats, samples, trials, n, say);
-            } else {
-                n = opt.photon_map_size;
-                trials = run_photon_map(opt, grid, stats, samples, say);
-            }
-            if (real_map)   // they take a share of --trials: say so
-                res.notes.push_back(std::string(scenario_name(sc)) + ": " + std::to_string(trials) + " estimates per k (" +
-                                    (opt.photon_map_queries ? std::string("StudyOptions::photon_map_queries")
-                                     : sc == StudyScenario::photon_map ? "--trials / 4" : "--trials / 10") +
-                                    ", at least 2: each estimate needs its own region of a photon map)");
-            for (size_t ki = 0; ki < grid.nk; ++ki)
-                for (size_t ei = 0; ei < grid.ne; ++ei) {
-                    StudyRow row;
-                    row.estimator = ests[ei];
-                    row.k = opt.ks[ki];
-                    if (row.k < row.estimator.min_k()) continue;
-                    row.scenario = scenario_name(sc);
-                    row.dim = dim;
-                    row.n = n;
-                    reduce(samples, trials, grid.stride(), grid.at(0, ki, ei), row);
-                    attach_theory(opt, sc, row);
-                    res.rows.push_back(row);
-                }
-            char buf[200];
-            std::snprintf(buf, sizeof buf, "study: %-10s %dD  %zu trials x %zu k  n=%zu  %.2f s (total %.1f s)",
-                          scenario_name(sc), dim, trials, grid.nk, n, t_sc.seconds(), timer.seconds());
-            say(buf);
-        }
+        if (sc == StudyScenario::walks) run_walks(opt, res, timer, say);
+        else if (sc == StudyScenario::photon_beams) study_photon_beams(opt, res, timer, say);
+        else if (sc == StudyScenario::beam) study_beam(opt, res, timer, say);
+        else if (sc == StudyScenario::stratified) study_stratified(opt, res, stats, timer, say);
+        else study_estimates(opt, sc, kernel_ests, res, stats, timer, say);
     }
     stats.combine_each([&](const EstimatorStats& s) { res.stats.merge(s); });
     res.seconds = timer.seconds();

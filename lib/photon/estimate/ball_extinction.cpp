@@ -220,8 +220,8 @@ void BallExtinction::entry_integrals(const Entry& e, const Vec3& x, const double
     double sum[2] = {0.0, 0.0};
     const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
     const double r2max = std::max(r2a, r2b);
-    // The points inside the larger ball are the ones looked up (about half of the cube's): counting all
-    // 4096 charged a clipped ball 2-3x its time (the plume at optical thickness 1, docs/studies/march.md section 22).
+    // The points inside the larger ball are the ones looked up (about half of the cube's), so those
+    // are what is counted (docs/studies/march.md section 22).
     uint64_t looked_up = 0;
     for (const Vec3& h : clipped_points()) {
         const Vec3 p = c.lo + h.cwiseProduct(extent);
@@ -277,122 +277,131 @@ std::array<double, 2> BallExtinction::integrals(const Vec3& x, double ra, double
     return total;
 }
 
+// Sums of sigma_t, sigma_t d and sigma_t d d^T (d = p - x) over a ball.
+struct BallExtinction::MomentSums {
+    double s0 = 0.0;
+    Vec3 s1 = Vec3::Zero();
+    Eigen::Matrix3d s2 = Eigen::Matrix3d::Zero();
+    void add(double w, const Vec3& d) {
+        s0 += w;
+        s1 += w * d;
+        s2 += w * (d * d.transpose());
+    }
+};
+
+bool BallExtinction::entry_moments(const Entry& e, const Vec3& x, double r, MomentSums& sums, uint64_t* lookups) const {
+    double m0 = 0.0;   // a closed form (homogeneous media: scene/media/ball_clip_moments.h)
+    Vec3 m1;
+    Eigen::Matrix3d m2;
+    if (e.medium->ball_moments(x, r, m0, m1, m2)) {
+        if (lookups) *lookups += 1;
+        sums.s0 += m0;
+        sums.s1 += m1;
+        sums.s2 += m2;
+        return true;
+    }
+    const double volume = (4.0 / 3.0) * kPi * r * r * r;
+    const Vec3 half = Vec3::Constant(r);
+    const bool inside = e.box.contains(x - half) && e.box.contains(x + half);
+    if (inside && !e.medium->continuous()) {
+        // A medium with a jump inside its box (a homogeneous sphere's surface): 32 points and
+        // their antipodes (64), so that a ball of constant sigma_t has offset exactly 0.
+        const double w = volume / (2 * kBallPoints);
+        if (lookups) *lookups += 2 * kBallPoints;
+        for (const Vec3& p : unit_ball_points()) {
+            sums.add(w * e.medium->sigma_t(x + r * p), r * p);
+            sums.add(w * e.medium->sigma_t(x - r * p), -r * p);
+        }
+        return true;
+    }
+    // A continuous medium crossing its box with r <= 1/4 of the box, as integral() does: the
+    // points outside count 0 and there is no jump to resolve (the clipped quadrature would take
+    // 4096 points there, with an outer product each).
+    if (inside || (e.medium->continuous() && 4.0 * r <= (e.box.hi - e.box.lo).minCoeff())) {
+        // A continuous medium (grids, as integral() uses it): the degree-5 rule (15 points,
+        // symmetric), exact for the moments up to the second of a cubic sigma_t over the ball, at
+        // a quarter of the 64 points' lookups.
+        const double pa = r * std::sqrt(2.0 / 3.0), pb = 0.5 * r;
+        if (lookups) *lookups += rule_points(BallRule::degree5);
+        sums.add(volume * (11.0 / 70.0) * e.medium->sigma_t(x), Vec3::Zero());
+        for (int i = 0; i < 3; ++i) {
+            Vec3 d = Vec3::Zero();
+            d[i] = pa;
+            sums.add(volume * (9.0 / 140.0) * e.medium->sigma_t(x + d), d);
+            sums.add(volume * (9.0 / 140.0) * e.medium->sigma_t(x - d), -d);
+        }
+        for (int c = 0; c < 8; ++c) {
+            const Vec3 d((c & 1) ? pb : -pb, (c & 2) ? pb : -pb, (c & 4) ? pb : -pb);
+            sums.add(volume * (2.0 / 35.0) * e.medium->sigma_t(x + d), d);
+        }
+        return true;
+    }
+    const Vec3 far = (e.box.lo - x).cwiseAbs().cwiseMax((e.box.hi - x).cwiseAbs());
+    if (far.squaredNorm() <= r * r) {   // the whole box: its precomputed moments about x
+        const Vec3 c = e.centroid - x;
+        sums.s0 += e.mass;
+        sums.s1 += e.mass * c;
+        sums.s2 += e.second + e.mass * (c * c.transpose());
+        return true;
+    }
+    if (e.lattice) {   // a wide ball crossing a continuous medium's box: the lattice, as integral()
+        const MassLattice& lattice = e.lattice->get(*e.medium, e.box);
+        if (lattice.wide_enough(r)) {
+            double l0 = 0.0;
+            Vec3 l1;
+            Eigen::Matrix3d l2;
+            uint64_t cells = 0;
+            lattice.ball_moments(x, r, l0, l1, l2, &cells);
+            if (lookups) *lookups += kLookupsPerMomentCell * cells;
+            sums.s0 += l0;
+            sums.s1 += l1;
+            sums.s2 += l2;
+            return true;
+        }
+    }
+    return false;
+}
+
+void BallExtinction::clipped_moments(const Entry& e, const Vec3& x, const double* r, int n, const bool* clipped, double r_clip,
+                                     MomentSums* sums, uint64_t* lookups) const {
+    const Bounds3 c = r_clip > 0.0 ? cube_in_box(e.box, x, r_clip) : Bounds3{};
+    const double vc = r_clip > 0.0 ? box_volume(c) : 0.0;
+    if (vc > 0.0) {
+        const Vec3 extent = c.hi - c.lo;
+        const double w = vc / kClippedPoints;
+        const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
+        const double r2max = std::max(r2a, r2b);
+        for (const Vec3& h : clipped_points()) {
+            const Vec3 p = c.lo + h.cwiseProduct(extent);
+            const double d2 = (p - x).squaredNorm();
+            if (d2 > r2max) continue;
+            if (lookups) *lookups += 1;   // the points looked up, as entry_integrals counts them
+            const double sw = w * e.medium->sigma_t(p);
+            if (d2 <= r2a) sums[0].add(sw, p - x);
+            if (d2 <= r2b) sums[1].add(sw, p - x);
+        }
+    }
+}
+
 void BallExtinction::moments_n(const Vec3& x, const double* r, int n, BallMoments* out, uint64_t* lookups,
                                const BallRegion* region) const {
-    // Sums of sigma_t, sigma_t d and sigma_t d d^T (d = p - x) over all media, then centred; per
-    // radius, except that the clipped quadrature's points cover the largest radius's cube and serve
-    // every radius that needs them (one pass of lookups).
-    struct Sums {
-        double s0 = 0.0;
-        Vec3 s1 = Vec3::Zero();
-        Eigen::Matrix3d s2 = Eigen::Matrix3d::Zero();
-        void add(double w, const Vec3& d) {
-            s0 += w;
-            s1 += w * d;
-            s2 += w * (d * d.transpose());
-        }
-    };
-    Sums total[2];
+    // The sums over all media, then centred; per radius, except that the clipped quadrature's points
+    // cover the largest radius's cube and serve every radius that needs them (one pass of lookups).
+    MomentSums total[2];
     const RegionWeights weights = region_weights(x, r, n, region);
     for (const Entry& e : entries_) {
         // A region query sums each medium's moments apart and adds them by its weight.
-        Sums own[2];
-        Sums* sums = weights.on ? own : total;
+        MomentSums own[2];
+        MomentSums* sums = weights.on ? own : total;
         if (weights.on && weights.of(e, 0) == 0.0 && (n < 2 || weights.of(e, 1) == 0.0)) continue;
         bool clipped[2] = {false, false};
         double r_clip = 0.0;
-        for (int j = 0; j < n; ++j) {
-            const double rj = r[j];
-            Sums& a = sums[j];
-            double m0 = 0.0;   // a closed form (homogeneous media: scene/media/ball_clip_moments.h)
-            Vec3 m1;
-            Eigen::Matrix3d m2;
-            if (e.medium->ball_moments(x, rj, m0, m1, m2)) {
-                if (lookups) *lookups += 1;
-                a.s0 += m0;
-                a.s1 += m1;
-                a.s2 += m2;
-                continue;
+        for (int j = 0; j < n; ++j)
+            if (!entry_moments(e, x, r[j], sums[j], lookups)) {
+                clipped[j] = true;
+                r_clip = std::max(r_clip, r[j]);
             }
-            const double volume = (4.0 / 3.0) * kPi * rj * rj * rj;
-            const Vec3 half = Vec3::Constant(rj);
-            const bool inside = e.box.contains(x - half) && e.box.contains(x + half);
-            if (inside && !e.medium->continuous()) {
-                // A medium with a jump inside its box (a homogeneous sphere's surface): 32 points and
-                // their antipodes (64), so that a ball of constant sigma_t has offset exactly 0.
-                const double w = volume / (2 * kBallPoints);
-                if (lookups) *lookups += 2 * kBallPoints;
-                for (const Vec3& p : unit_ball_points()) {
-                    a.add(w * e.medium->sigma_t(x + rj * p), rj * p);
-                    a.add(w * e.medium->sigma_t(x - rj * p), -rj * p);
-                }
-                continue;
-            }
-            // A continuous medium crossing its box with r <= 1/4 of the box, as integral() does: the
-            // points outside count 0 and there is no jump to resolve (moments took the 4096 clipped
-            // points there, with an outer product each).
-            if (inside || (e.medium->continuous() && 4.0 * rj <= (e.box.hi - e.box.lo).minCoeff())) {
-                // A continuous medium (grids, as integral() uses it): the degree-5 rule (15 points,
-                // symmetric), exact for the moments up to the second of a cubic sigma_t over the ball;
-                // the 64 points cost 4x the lookups (the plume's render 1.9x "ball"'s; now about 1.5x).
-                const double pa = rj * std::sqrt(2.0 / 3.0), pb = 0.5 * rj;
-                if (lookups) *lookups += rule_points(BallRule::degree5);
-                a.add(volume * (11.0 / 70.0) * e.medium->sigma_t(x), Vec3::Zero());
-                for (int i = 0; i < 3; ++i) {
-                    Vec3 d = Vec3::Zero();
-                    d[i] = pa;
-                    a.add(volume * (9.0 / 140.0) * e.medium->sigma_t(x + d), d);
-                    a.add(volume * (9.0 / 140.0) * e.medium->sigma_t(x - d), -d);
-                }
-                for (int c = 0; c < 8; ++c) {
-                    const Vec3 d((c & 1) ? pb : -pb, (c & 2) ? pb : -pb, (c & 4) ? pb : -pb);
-                    a.add(volume * (2.0 / 35.0) * e.medium->sigma_t(x + d), d);
-                }
-                continue;
-            }
-            const Vec3 far = (e.box.lo - x).cwiseAbs().cwiseMax((e.box.hi - x).cwiseAbs());
-            if (far.squaredNorm() <= rj * rj) {   // the whole box: its precomputed moments about x
-                const Vec3 c = e.centroid - x;
-                a.s0 += e.mass;
-                a.s1 += e.mass * c;
-                a.s2 += e.second + e.mass * (c * c.transpose());
-                continue;
-            }
-            if (e.lattice) {   // a wide ball crossing a continuous medium's box: the lattice, as integral()
-                const MassLattice& lattice = e.lattice->get(*e.medium, e.box);
-                if (lattice.wide_enough(rj)) {
-                    double l0 = 0.0;
-                    Vec3 l1;
-                    Eigen::Matrix3d l2;
-                    uint64_t cells = 0;
-                    lattice.ball_moments(x, rj, l0, l1, l2, &cells);
-                    if (lookups) *lookups += kLookupsPerMomentCell * cells;
-                    a.s0 += l0;
-                    a.s1 += l1;
-                    a.s2 += l2;
-                    continue;
-                }
-            }
-            clipped[j] = true;
-            r_clip = std::max(r_clip, rj);
-        }
-        const Bounds3 c = r_clip > 0.0 ? cube_in_box(e.box, x, r_clip) : Bounds3{};
-        const double vc = r_clip > 0.0 ? box_volume(c) : 0.0;
-        if (vc > 0.0) {
-            const Vec3 extent = c.hi - c.lo;
-            const double w = vc / kClippedPoints;
-            const double r2a = clipped[0] ? r[0] * r[0] : -1.0, r2b = n > 1 && clipped[1] ? r[1] * r[1] : -1.0;
-            const double r2max = std::max(r2a, r2b);
-            for (const Vec3& h : clipped_points()) {
-                const Vec3 p = c.lo + h.cwiseProduct(extent);
-                const double d2 = (p - x).squaredNorm();
-                if (d2 > r2max) continue;
-                if (lookups) *lookups += 1;   // the points looked up, as entry_integrals counts them
-                const double sw = w * e.medium->sigma_t(p);
-                if (d2 <= r2a) sums[0].add(sw, p - x);
-                if (d2 <= r2b) sums[1].add(sw, p - x);
-            }
-        }
+        clipped_moments(e, x, r, n, clipped, r_clip, sums, lookups);
         if (weights.on)
             for (int j = 0; j < n; ++j) {
                 const double wj = weights.of(e, j);

@@ -19,16 +19,16 @@
 //                                      the box count 0, and there is no jump there to resolve);
 //   a continuous medium crossing its box with a ball of at least two of its 16^3 mass cells
 //                                      the mass lattice (photon/estimate/mass_lattice.h: cell masses cached
-//                                      once, about 256 columns per ball, no lookups; the
-//                                      clipped rule below was 85% of the march's render in thin grids;
-//                                      moments() too, from the cells' first and second moments);
+//                                      once, about 256 columns per ball, no lookups, far cheaper
+//                                      than the clipped rule below; moments() too, from the cells'
+//                                      first and second moments);
 //   otherwise                          4096 Halton points over the part of the medium's box that the
 //                                      ball's bounding cube covers, counting those inside the ball.
 //
 // A deterministic quadrature: it adds no noise of its own. Its error for the volume of a sphere in
-// its box (an indicator, the hardest case): 256 points -3.0%, 1024 -1.3%, 4096 -0.2%, 65536 +0.07%. Before the second and third cases a
-// ball much larger than the medium sampled the medium with a few of its 32 points or none (the
-// default scene at k = 65536 gave an image mean of 1.94 instead of ~0.08).
+// its box (an indicator, the hardest case): 256 points -3.0%, 1024 -1.3%, 4096 -0.2%, 65536 +0.07%.
+// The second and third cases exist because a ball much larger than the medium would sample it with a
+// few of its 32 points or none.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -95,7 +95,7 @@ public:
     // continuous medium, else by its 32 points and their antipodes (64; a homogeneous shape's jump
     // needs more than 15 points). Both symmetric: a ball of constant sigma_t has offset exactly 0.
     // lookups: as integral()'s, the sigma_t evaluations and lattice visits made (the plan's counted
-    // work: uncounted, the march's ball moments were 31% of its render in the thin blob).
+    // work: the moments can be a third of a march's render in a thin grid).
     BallMoments moments(const Vec3& x, double r, uint64_t* lookups = nullptr, const BallRegion* region = nullptr) const;
     // The moments of B(x, ra) and B(x, rb), sharing the clipped quadrature's points as integrals().
     std::array<BallMoments, 2> moments(const Vec3& x, double ra, double rb, uint64_t* lookups = nullptr,
@@ -122,6 +122,13 @@ private:
     };
     RegionWeights region_weights(const Vec3& x, const double* r, int n, const BallRegion* region) const;
     void moments_n(const Vec3& x, const double* r, int n, BallMoments* out, uint64_t* lookups, const BallRegion* region) const;
+    struct MomentSums;
+    // Adds one entry's moments over B(x, r) to `sums` where a rule covers the ball; false where the
+    // ball needs the clipped quadrature.
+    bool entry_moments(const Entry& e, const Vec3& x, double r, MomentSums& sums, uint64_t* lookups) const;
+    // The clipped quadrature for the radii marked `clipped`: one pass over the points of r_clip's cube.
+    void clipped_moments(const Entry& e, const Vec3& x, const double* r, int n, const bool* clipped, double r_clip,
+                         MomentSums* sums, uint64_t* lookups) const;
     void entry_integrals(const Entry& e, const Vec3& x, const double* r, double* out, int n, uint64_t* lookups) const;
     std::vector<Entry> entries_;
     bool interior_media_ = false;

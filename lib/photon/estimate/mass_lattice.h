@@ -1,9 +1,9 @@
 #pragma once
 // The integral of a continuous medium's sigma_t over the part of a large ball inside its box, at a
 // cost bounded by the lattice's size instead of the 4096 sigma_t lookups of the clipped quadrature
-// (photon/estimate/ball_extinction.h). Issue 20: where a point light leaves thin grids nearly empty (756
-// photons stored in the blob at optical thickness 1), the k = 32 balls cross the grid's box and
-// that quadrature was 85% of the march's render.
+// (photon/estimate/ball_extinction.h). Where a light leaves a thin grid nearly empty of photons, the
+// kNN balls are wide and cross the grid's box; the lattice keeps their extinction cheap
+// (docs/studies/march.md).
 //
 // The box is cut into kCells^3 cells whose masses (integral of sigma_t) and sigma_t centroids are
 // computed once, with kCellPoints^3 midpoint points each. For B(x, r): per column of cells, the run
@@ -13,16 +13,14 @@
 // the cell and against the cell's centroid offset (more of its mass lies where sigma_t is higher);
 // cells outside add nothing. A deterministic rule, no noise. Measured against a 262144-point
 // quadrature (tests/photon/estimate/mass_lattice_test.cpp, bench_ball_extinction): a constant box within
-// 0.5% of the ball's volume from radii of 2 cells (a linear ramp of the centre's distance instead of
-// the plane read +6% to +11%, the plane without the sag +1% to +6%); balls of 4 cells and more in
-// the blob and the plume within 0.16%, of 2 cells and more within 0.83% (without the centroid
-// shift: 3-4% in the blob's tails; the clipped rule it replaces: 2.4%). Used for balls at least
-// kMinCellsPerRadius cells wide (BallExtinction: those crossing the box beyond the ball rule's reach).
+// 0.5% of the ball's volume from radii of 2 cells; balls of 4 cells and more in the blob and the
+// plume within 0.16%, of 2 cells and more within 0.83%; the sag and the centroid shift are what
+// make it so. Used for balls at least kMinCellsPerRadius cells wide (BallExtinction: those
+// crossing the box beyond the ball rule's reach).
 //
 // ball_moments gives the same mass and the first and second sigma_t moments about x (what
-// photons.extinction = "linear" needs; without them those balls took the 4096-point
-// clipped rule with an outer product per point, 5.4x "ball"'s CPU in the blob at optical thickness
-// 1). Whole cells add their moments from per-column prefix sums; a cut cell adds the moments of
+// photons.extinction = "linear" needs, instead of the 4096-point clipped rule with an outer product
+// per point). Whole cells add their moments from per-column prefix sums; a cut cell adds the moments of
 // its part below the same plane: that slab's mean and variance along the normal in closed form,
 // the cell's own sigma_t centroid and covariance across it.
 #include <array>
@@ -36,7 +34,7 @@ namespace vpm {
 class MassLattice {
 public:
     static constexpr int kCells = 16;
-    static constexpr int kCellPoints = 4;   // 3 read the blob +0.26% high on average (test), 4: 0.01%
+    static constexpr int kCellPoints = 4;   // midpoints per cell edge for the cell masses (test: the blob within 0.01%)
     static constexpr double kMinCellsPerRadius = 2.0;
 
     MassLattice(const Medium& medium, const Bounds3& box);

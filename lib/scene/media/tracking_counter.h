@@ -4,10 +4,9 @@
 // voxel cells integrated in closed form (the stiff tracking's exact segments and the march's optical-
 // depth profile). Thread-local running counts, read before and after one camera sample on the same
 // thread, give that sample's: counts that do not depend on the thread or the machine. The auto
-// pilot's work units use them (render/plan/work_units.h): without the steps a grid ray's cost was one
-// figure whatever its null collisions (the thin plume's collision gather cost 4x less than counted,
-// docs/studies/auto_plan.md section 11.7); with the steps alone the continuation in the blob at 1000 cost 3x its
-// count and the march 2x (its profile was not counted; docs/studies/auto_plan.md section 28).
+// pilot's work units use them (render/plan/work_units.h): a grid ray's cost follows its null
+// collisions (steps), its lookups and its closed-form cells, each of which dominates some gather
+// (docs/studies/auto_plan.md sections 11.7 and 28).
 #include <cstdint>
 
 #include "scene/media/majorant_tracking.h"
