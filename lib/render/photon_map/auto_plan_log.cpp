@@ -80,7 +80,7 @@ void log_auto_plan(std::ostream& log, const AutoGatherStats& a, const AutoPlanRe
     if (a.budget > 0.0)
         log << "passes: sized for " << (a.budget - a.pilot_work) / kWorkUnitsPerSecond << " s of one core: render.time_limit less the pilot's counted "
             << a.pilot_work / kWorkUnitsPerSecond << " s (its samples and the photons traced for it alone)"
-            << (a.pilot_work >= a.budget ? ", which reach the limit: one pass of the smallest size" : "") << "\n";
+            << (a.pilot_work >= a.budget ? ", which reach the limit: one pass, no larger than the configured one" : "") << "\n";
 }
 
 }  // namespace vpm

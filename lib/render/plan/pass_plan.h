@@ -153,7 +153,8 @@ constexpr double kPlanVarianceSigmas = 2.0;
 // The work units the passes share under a budget: the budget less the pilot's one-off work
 // (PlanInputs::pilot_work, and pilot_map_work unless pass 0 reuses the pilot's map: a map candidate
 // at N <= Np). Where the pilot's work reaches the budget no pass fits: the result is then below
-// every pass's cost (1 unit), so that the plan makes one pass of the smallest size. 0 without a budget.
+// every pass's cost (1 unit), so that the run is one pass no larger than the configured one, as under
+// any budget shorter than a pass. 0 without a budget.
 double plan_budget(const PlanInputs& in, bool pilot_map_reused);
 
 // The exponent beta from V_map at Np/2 and Np/4, within [1/3, 1]; `measured` false when either

@@ -466,9 +466,11 @@ TEST(PassPlan, SamplesTheUserLeftUnsetAreSizedToTheBudgetsShare) {
 }
 
 TEST(PassPlan, ThePilotsOneOffWorkIsTakenOffTheBudgetBeforeThePassesAreSized) {
-    // A map whose noise dominates: the plan fills the cap (budget / kPlanMinPasses) with photons.
-    PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1.0, /*v_quarter*/ 2.0, /*sample*/ 10.0, /*photon*/ 100.0);
-    in.budget = kPlanMinPasses * (100.0 * 4000.0 + 1000.0 * 4 * 10.0);
+    // A map whose bias dominates (it does not average over passes): the plan fills the cap
+    // (budget / kPlanMinPasses) with photons, 4000 at 1 sample.
+    PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1e-3, /*v_quarter*/ -1.0, /*sample*/ 10.0, /*photon*/ 100.0);
+    in.candidates[0].bias2 = 1.0;
+    in.budget = kPlanMinPasses * (100.0 * 4000.0 + 1000.0 * 1 * 10.0);
     auto cost = [&](const PassPlan& p) { return 100.0 * double(p.count) + 1000.0 * p.spp * 10.0; };
     const PassPlan whole = plan_passes(in);
     EXPECT_GT(cost(whole), (in.budget - in.budget / 8.0) / kPlanMinPasses);   // a pass that no longer fits twice
@@ -494,12 +496,16 @@ TEST(PassPlan, ThePilotsOneOffWorkIsTakenOffTheBudgetBeforeThePassesAreSized) {
     EXPECT_EQ(plan_passes(free).spp, before.spp);
 }
 
-TEST(PassPlan, APilotThatSpentTheWholeBudgetLeavesOnePassOfTheSmallestSize) {
+TEST(PassPlan, APilotThatSpentTheWholeBudgetLeavesOnePassNoLargerThanTheConfigured) {
     PlanInputs in = inputs(/*v_camera*/ 1.0, /*v_half*/ 1e-3, /*v_quarter*/ -1.0, /*sample*/ 10.0, /*photon*/ 100.0);
     in.budget = 1e7;
     in.pilot_work = 2e7;
     EXPECT_EQ(plan_budget(in, true), 1.0);   // below every pass's cost
     const PassPlan p = plan_passes(in);
-    EXPECT_EQ(p.spp, 1);
+    EXPECT_LE(p.spp, in.spp);
     EXPECT_LE(p.count, in.count);
+    // Scored as the one pass it is, over the time the run then takes (the pilot's and the pass's).
+    const double cost = 100.0 * double(p.count) + 1000.0 * p.spp * 10.0;
+    const double v = 1e-3 * (0.5 * 1000.0 / double(p.count)) + 1.0 / p.spp;
+    EXPECT_NEAR(p.score[0], v * (in.budget - 1.0 + cost), 1e-9 * v * (in.budget + cost));
 }
