@@ -6,7 +6,7 @@
 # at once (nice 10).
 #
 # Usage: scripts/caustic_references.sh [SECONDS_PER_HALF] [OUT_DIR] [VPM]
-#   defaults: 2700 s, bench/caustic_references, build/vpm.
+#   defaults: 2700 s, bench/caustic_references, build/vpm. SCENES="a b" renders those scenes only.
 # Where OUT_DIR already holds a half, it is extended: the passes after its last (render.first_pass,
 # same seed) for SECONDS more, merged into it with `vpm merge` (exact: the mean by pass counts).
 set -euo pipefail
@@ -14,7 +14,7 @@ seconds="${1:-2700}"
 out="${2:-bench/caustic_references}"
 vpm="${3:-build/vpm}"
 mkdir -p "$out"
-scenes="water_caustics glass_bulb_smoke mirror_ball_haze smoke_glass_flask smoke_in_glass_bottle"
+scenes="${SCENES:-water_caustics glass_bulb_smoke mirror_ball_haze smoke_glass_flask smoke_in_glass_bottle glass_sphere_fog}"
 half() {
     local scene="$1" half="$2" seed="$3" image="$out/${1}_$2.exr"
     local args=(render "configs/$scene.toml" -q --threads 1 --set render.integrator=path --set render.seed="$seed"
@@ -28,7 +28,7 @@ half() {
     nice -n 10 "$vpm" "${args[@]}" --set render.first_pass="$first" -o "$more"
     "$vpm" merge -q "$image" "$more" -o "$merged"
     for ext in exr json png; do mv "${merged%.exr}.$ext" "${image%.exr}.$ext"; done
-    rm -f "$more" "${more%.exr}.json" "${more%.exr}.png"
+    rm -f "$more" "${more%.exr}.json" "${more%.exr}.png" "${more%.exr}.passes.csv"
 }
 for scene in $scenes; do
     half "$scene" a 1001 &

@@ -63,6 +63,7 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     std::vector<GatherMeasurement> measured = measured_by_pilot ? measure_candidates(context, pilot, candidates, pass0, w, in)
                                                                 : unmeasured_map_gathers(candidates);
     exclude_maps_that_go_unused(measured);
+    count_pilot_work(context, measured, double(pilot.volume()->size()), w, in);
     in.candidates = measured;
     PassPlan plan = plan_passes(in);
     if (!in.size_samples) plan.spp = 0;   // not the plan's: samples_per_pass keeps the configured value
@@ -81,6 +82,8 @@ void PhotonMapIntegrator::plan_auto(const PassContext& context, RunStats& stats)
     a.size_photons = in.size_photons;
     a.size_samples = in.size_samples;
     a.score = plan.score;
+    a.pilot_work = in.pilot_work + (plan.count > in.pilot_count || choice_.no_map ? in.pilot_map_work : 0.0);
+    a.budget = in.budget;
     choice_.auto_stats = a;
     stats.phase("pilot", timer.seconds());
     photons_.one_off_seconds = one_off_before + timer.seconds();
@@ -200,8 +203,25 @@ std::vector<GatherMeasurement> PhotonMapIntegrator::measure_candidates(const Pas
         return query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps +
                w.density_lookup * c.density_lookups + w.cell * c.cells;
     };
-    return measure_gathers(scene_.camera, *map, candidates.pilot, hooks, mix64(context.seed ^ 0x6d61706e6f697365ULL),
-                           context.run_stream_offset, budget, in.pixels);
+    std::vector<GatherMeasurement> measured = measure_gathers(scene_.camera, *map, candidates.pilot, hooks,
+                                                              mix64(context.seed ^ 0x6d61706e6f697365ULL),
+                                                              context.run_stream_offset, budget, in.pixels);
+    in.pilot_work += hooks.work(hooks.counts());   // every pilot sample, probes and spread grid included
+    return measured;
+}
+
+// The pilot's counted one-off work (PlanInputs::pilot_work, pilot_map_work), beside its camera samples'
+// (measure_candidates): the half maps' kd-trees where a candidate used the map, and the photons
+// traced for the plan alone so far (the probe, pass 0's map traced apart, the decision map), at the
+// pilot map's work per photon. The pilot map itself is pass 0's unless the plan traces pass 0 again.
+void PhotonMapIntegrator::count_pilot_work(const PassContext& context, const std::vector<GatherMeasurement>& measured,
+                                           double pilot_stored, const WorkUnits& w, PlanInputs& in) const {
+    bool halves = false;
+    for (const GatherMeasurement& m : measured) halves = halves || (m.uses_map && !m.dropped && m.per_sample.map_used > 0.0);
+    if (halves) in.pilot_work += w.stored * pilot_stored;
+    const PhotonLedger& l = photons_.ledger;
+    in.pilot_work += in.photon_cost * double(l.probe + l.pilot_only + l.decision_map);
+    if (context.pass == 0 && maps_.owns) in.pilot_map_work = in.photon_cost * double(in.pilot_count);
 }
 
 // An empty volume map beside a surface map: the gathers cost the same and "continue" is left out

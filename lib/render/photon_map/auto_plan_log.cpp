@@ -77,6 +77,10 @@ void log_auto_plan(std::ostream& log, const AutoGatherStats& a, const AutoPlanRe
             << ", " << (r.one_spp ? std::string("1 sample per pass (the path tracer's passes under render.time_limit)")
                         : a.size_samples ? std::to_string(a.spp) + " samples per pass (sized)" : std::string("render.spp samples per pass (given)"))
             << ", the map's variance taken as N^-" << a.beta << (a.beta_measured ? " (measured)" : " (assumed)") << "\n";
+    if (a.budget > 0.0)
+        log << "passes: sized for " << (a.budget - a.pilot_work) / kWorkUnitsPerSecond << " s of one core: render.time_limit less the pilot's counted "
+            << a.pilot_work / kWorkUnitsPerSecond << " s (its samples and the photons traced for it alone)"
+            << (a.pilot_work >= a.budget ? ", which reach the limit: one pass, no larger than the configured one" : "") << "\n";
 }
 
 }  // namespace vpm

@@ -181,6 +181,8 @@ private:
                                                       const PlanCandidates& candidates, const PassEstimators& estimators,
                                                       const WorkUnits& w, PlanInputs& in) const;
     static std::vector<GatherMeasurement> unmeasured_map_gathers(const PlanCandidates& candidates);
+    void count_pilot_work(const PassContext& context, const std::vector<GatherMeasurement>& measured, double pilot_stored,
+                          const WorkUnits& w, PlanInputs& in) const;
     void adopt_plan(const PassContext& context, const PassPlan& plan, GatherMode gather, bool uses_map, int64_t pilot_count);
 
     // --- photons.gather = "photon_beams" or "point_beam" under render.time_limit (beam_pilot.cpp, beam_pass_size.h):

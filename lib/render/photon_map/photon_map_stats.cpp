@@ -150,6 +150,7 @@ void write_auto_gather(const AutoGatherStats& a, RunRecord& record) {
     for (double v : a.score) score.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
     record.set("photons.auto_gather.score", score);
     record.set("photons.auto_gather.photon_cost", a.photon_cost);
+    record.set("photons.auto_gather.pilot_work", a.pilot_work);
     record.set("photons.auto_gather.pilot_count", a.pilot_count);
     record.set("photons.auto_gather.count", a.count);
     record.set("photons.auto_gather.spp", a.spp);

@@ -76,6 +76,8 @@ struct AutoGatherStats {
     bool size_photons = false, size_samples = false;
     bool photon_pass = true;       // false: "continue" chosen, no photon pass after the pilot's (render/plan/no_map_candidate.h)
     std::vector<double> score;     // per candidate: the plan's relative error^2 x work (render/plan/relative_error.h) at its best pass sizes (infinite: not a choice)
+    double budget = 0.0;           // render.time_limit in work units (0: none)
+    double pilot_work = 0.0;       // the pilot's counted one-off work the plan took off the budget (render/plan/pass_plan.h: plan_budget)
 };
 
 // The photons a photon-map run traced, per phase, and what used them (no work traced and discarded unsaid).

@@ -52,6 +52,12 @@ double map_variance_exponent(double v_half, double v_quarter, bool& measured) {
     return std::clamp(std::log2(v_quarter / v_half), 1.0 / 3.0, 1.0);
 }
 
+double plan_budget(const PlanInputs& in, bool pilot_map_reused) {
+    if (!(in.budget > 0.0)) return 0.0;
+    const double left = in.budget - in.pilot_work - (pilot_map_reused ? 0.0 : in.pilot_map_work);
+    return std::max(left, 1.0);
+}
+
 namespace {
 
 // What a pass may cost under a budget, and how far N goes below N0 for it (pass_plan.h).
@@ -64,25 +70,26 @@ struct PassSizeLimit {
 };
 
 // camera(n, s): the counted work of a camera pass of s samples per pixel over a map of n photons.
+// `budget`: what the passes share (plan_budget).
 template <class Camera>
-PassSizeLimit pass_size_limit(const PlanInputs& in, double photon_cost, int s_lo, const Camera& camera) {
+PassSizeLimit pass_size_limit(const PlanInputs& in, double budget, double photon_cost, int s_lo, const Camera& camera) {
     PassSizeLimit out;
-    if (!(in.budget > 0.0)) return out;
-    const double cap = in.budget / kPlanMinPasses;
+    if (!(budget > 0.0)) return out;
+    const double cap = budget / kPlanMinPasses;
     auto least_n = [&] { return std::ldexp(double(in.count), -out.halvings); };
     // Halve N while the smallest pass is over the cap and its photon pass is the larger part (once
     // the camera pass is, fewer photons would shorten the pass by less than half), where a pass of
     // kPlanMinPhotons fits the budget at all.
     const double floor_n = double(kPlanMinPhotons);
-    if (in.size_photons && photon_cost > 0.0 && photon_cost * floor_n + camera(floor_n, s_lo) <= in.budget)
+    if (in.size_photons && photon_cost > 0.0 && photon_cost * floor_n + camera(floor_n, s_lo) <= budget)
         while (least_n() / 2.0 >= floor_n && photon_cost * least_n() + camera(least_n(), s_lo) > cap &&
                photon_cost * least_n() > camera(least_n(), s_lo))
             ++out.halvings;
     // A smallest pass over the cap but within the budget makes a run of about one pass: then any
     // pass within the budget serves as well, and more samples in it cost no passes.
     const double least = photon_cost * least_n() + camera(least_n(), s_lo);
-    out.most = least <= cap || least > in.budget ? cap : in.budget;
-    out.configured_pass = least > in.budget;
+    out.most = least <= cap || least > budget ? cap : budget;
+    out.configured_pass = least > budget;
     return out;
 }
 
@@ -121,24 +128,30 @@ Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_ca
     auto camera = [&](double n, int s) {
         return in.pixels * double(s) * (m.sample_cost + std::max(0.0, std::log2(n / pilot)) * query_growth);
     };
-    const PassSizeLimit limit = pass_size_limit(in, photon_cost, s_lo, camera);
+    // The passes share the budget less the pilot's one-off work, and less its map's photon pass
+    // where no pass reuses it (N above the pilot's: pass 0 is traced again; or no map at all): the
+    // limit on a pass scales alike. The run's time is the whole budget either way.
+    const double budget0 = plan_budget(in, m.uses_map);
+    const PassSizeLimit limit = pass_size_limit(in, budget0, photon_cost, s_lo, camera);
     for (int i = -limit.halvings; i <= doublings; ++i) {
         const double n = std::ldexp(double(in.count), i);
+        const double budget = plan_budget(in, m.uses_map && n <= pilot);
+        const double most = budget0 > 0.0 ? limit.most * budget / budget0 : limit.most;
         const double v_map = v_map_half * std::pow(0.5 * pilot / n, beta);
         const double bias2 = bias2_pilot * std::pow(pilot / n, 4.0 / 3.0);
         for (int s = s_lo; s <= s_hi; s *= 2) {
             const double cost = photon_cost * n + camera(n, s);
             // The smallest pass always counts, however long: a pass is not cut short.
-            if (cost > limit.most && !(i == -limit.halvings && s == s_lo) && !(limit.configured_pass && i == 0 && s <= in.spp))
+            if (cost > most && !(i == -limit.halvings && s == s_lo) && !(limit.configured_pass && i == 0 && s <= in.spp))
                 continue;
             const double variance = v_map + v_camera / double(s);
             double score = variance * cost;
             // Whole passes: P = floor(T / C) of them fit (one at least), so a pass that fills most of
             // the budget is one pass, whose variance does not average down (a 1-sample pass whose
             // photons took the budget won over 16 samples when P was taken as T / C).
-            if (in.budget > 0.0)
-                score = cost <= in.budget ? (variance / std::floor(in.budget / cost) + bias2) * in.budget
-                                          : (variance + bias2) * cost;
+            if (budget > 0.0)
+                score = cost <= budget ? (variance / std::floor(budget / cost) + bias2) * in.budget
+                                       : (variance + bias2) * (in.budget - budget + cost);
             if (!trusted) score = kInfinity;
             // Without the map every S scores alike (V_camera / S times S samples' cost, up to
             // rounding): then the smallest pass, which the run loop groups (render/run/run.cpp: a

@@ -13,7 +13,7 @@
 // render/photon_map/photon_pass.h) and extrapolated as N^-beta: beta = 1 where
 // a pixel's footprint holds many kNN balls, 1/3 where one ball spans the pixel's cross-section (the
 // balls then only average along the ray); measured from Np / 4 where given, else 1.
-// With a budget T (render.time_limit, in work units) P = floor(T / C) whole passes fit, and the bias,
+// With a budget T (render.time_limit in work units, less the pilot's one-off work: plan_budget) P = floor(T / C) whole passes fit, and the bias,
 // which does not average out, enters: error^2 x time = ((V_map(N) + V_camera / S) / P + bias(N)^2) T for C <= T,
 // (V_map + V_camera / S + bias^2) C for a pass longer than the budget (one pass is still made);
 // bias(N)^2 = bias(Np)^2 (Np / N)^(4/3) as the pilot measures it (bias ~ r^2 ~ N^-2/3). N goes
@@ -75,6 +75,13 @@ struct PlanInputs {
     // render.time_limit in work units (kWorkUnitsPerSecond per second: one core); 0: no budget,
     // the bias term is left out and error^2 x work per pass is minimised.
     double budget = 0.0;
+    // Counted work the pilot spent that no pass reuses (its camera samples, its half maps' builds,
+    // photons traced for the plan alone: the probe, a map traced apart, the radius bound's decision
+    // map): the passes share the budget less this (plan_budget).
+    double pilot_work = 0.0;
+    // The pilot map's photon pass: pass 0's map where the plan keeps N <= Np, one-off work where it
+    // plans more photons (pass 0 is traced again at N), so charged to those sizes alone.
+    double pilot_map_work = 0.0;
     // Work units a used kNN query costs more per doubling of the photons (render/plan/work_units.h's
     // query_price): a pass of 2^i times the pilot's photons prices each sample's used queries i times this higher.
     double query_doubling = 0.0;
@@ -142,6 +149,13 @@ constexpr double kPlanVarianceSigmas = 2.0;
 // 0.020 +- 0.007, weights below 0.06, while at equal time its error was 200x the collision gather's;
 // the collision gather in the blob at 0.1: 0.00041 +- 0.00029 against 0.0014 from the march and
 // the continuation, and 9.4x the march's error at equal time.
+
+// The work units the passes share under a budget: the budget less the pilot's one-off work
+// (PlanInputs::pilot_work, and pilot_map_work unless pass 0 reuses the pilot's map: a map candidate
+// at N <= Np). Where the pilot's work reaches the budget no pass fits: the result is then below
+// every pass's cost (1 unit), so that the run is one pass no larger than the configured one, as under
+// any budget shorter than a pass. 0 without a budget.
+double plan_budget(const PlanInputs& in, bool pilot_map_reused);
 
 // The exponent beta from V_map at Np/2 and Np/4, within [1/3, 1]; `measured` false when either
 // variance is not positive (then 1).

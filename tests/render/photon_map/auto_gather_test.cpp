@@ -518,3 +518,36 @@ TEST(AutoGather, ThePathTracerChosenUnderALimitTakesOneSamplePassesUnlessPassesI
     ASSERT_EQ(given.stats.integrator_used, "path");
     EXPECT_EQ(given.stats.render.samples, 256u * 4u * given.stats.pass_count());
 }
+
+TEST(AutoGather, ThePlanSizesPassesForTheTimeLeftAfterItsPilot) {
+    // The thin cube at 64 x 64 under a 0.3-s limit: the pilot's counted one-off work
+    // (its samples, the half maps' build; the pilot map where pass 0 does not reuse it) is taken off
+    // the budget before the passes are sized, from counts alone: the same on 1 and 2 threads.
+    const std::string f = write("cube_left.toml", thin_cube(1.0, 0.3, 0.9));
+    std::vector<AutoGatherStats> plans;
+    for (const char* threads : {"render.threads=1", "render.threads=2"}) {
+        std::ostringstream log;
+        const RunResult r = render(f, {"render.width=64", "render.height=64", "render.time_limit=0.3", threads}, &log);
+        ASSERT_TRUE(PhotonMapStats::of(r.stats).auto_gather);
+        const AutoGatherStats& a = *PhotonMapStats::of(r.stats).auto_gather;
+        ASSERT_TRUE(a.photon_pass) << log.str();
+        EXPECT_EQ(a.budget, 0.3 * kWorkUnitsPerSecond);
+        EXPECT_GT(a.pilot_work, 0.0) << log.str();
+        EXPECT_LT(a.pilot_work, a.budget) << log.str();
+        // The chosen pass fits twice in what the pilot left (the smallest pass aside, which is kept).
+        const GatherMeasurement* chosen = nullptr;
+        for (const GatherMeasurement& m : a.candidates)
+            if (m.name == a.chosen) chosen = &m;
+        ASSERT_NE(chosen, nullptr);
+        const double pass = a.photon_cost * double(a.count) + 64.0 * 64.0 * a.spp * chosen->sample_cost;
+        if (a.spp > 1) {
+            EXPECT_LE(pass, (a.budget - a.pilot_work) / kPlanMinPasses) << log.str();
+        }
+        EXPECT_NE(log.str().find("less the pilot's counted"), std::string::npos) << log.str();
+        plans.push_back(a);
+    }
+    EXPECT_EQ(plans[0].pilot_work, plans[1].pilot_work);
+    EXPECT_EQ(plans[0].count, plans[1].count);
+    EXPECT_EQ(plans[0].spp, plans[1].spp);
+    EXPECT_EQ(plans[0].chosen, plans[1].chosen);
+}

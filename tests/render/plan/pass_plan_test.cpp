@@ -464,3 +464,48 @@ TEST(PassPlan, SamplesTheUserLeftUnsetAreSizedToTheBudgetsShare) {
     EXPECT_EQ(p.spp, 1);
     EXPECT_LE(1000.0 * double(p.count) + in.pixels * p.spp * 11400.0, in.budget / kPlanMinPasses);
 }
+
+TEST(PassPlan, ThePilotsOneOffWorkIsTakenOffTheBudgetBeforeThePassesAreSized) {
+    // A map whose bias dominates (it does not average over passes): the plan fills the cap
+    // (budget / kPlanMinPasses) with photons, 4000 at 1 sample.
+    PlanInputs in = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1e-3, /*v_quarter*/ -1.0, /*sample*/ 10.0, /*photon*/ 100.0);
+    in.candidates[0].bias2 = 1.0;
+    in.budget = kPlanMinPasses * (100.0 * 4000.0 + 1000.0 * 1 * 10.0);
+    auto cost = [&](const PassPlan& p) { return 100.0 * double(p.count) + 1000.0 * p.spp * 10.0; };
+    const PassPlan whole = plan_passes(in);
+    EXPECT_GT(cost(whole), (in.budget - in.budget / 8.0) / kPlanMinPasses);   // a pass that no longer fits twice
+    // The pilot spent an eighth of the budget: the passes share the rest.
+    in.pilot_work = in.budget / 8.0;
+    EXPECT_EQ(plan_budget(in, true), in.budget - in.pilot_work);
+    const PassPlan left = plan_passes(in);
+    EXPECT_LE(cost(left), (in.budget - in.pilot_work) / kPlanMinPasses);
+    EXPECT_LT(left.count, whole.count);
+    // Its map's photon pass is one-off only where pass 0 does not reuse the map (N above the pilot's).
+    in.pilot_count = 1000;
+    in.pilot_map_work = in.budget / 4.0;
+    EXPECT_EQ(plan_budget(in, true), in.budget - in.pilot_work);
+    EXPECT_EQ(plan_budget(in, false), in.budget - in.pilot_work - in.pilot_map_work);
+    const PassPlan more = plan_passes(in);
+    EXPECT_LE(cost(more), (in.budget - in.pilot_work - (more.count > 1000 ? in.pilot_map_work : 0.0)) / kPlanMinPasses);
+    // Without a budget nothing is taken off: the pilot's work changes no plan.
+    PlanInputs free = inputs(/*v_camera*/ 1e-3, /*v_half*/ 1.0, /*v_quarter*/ 2.0, /*sample*/ 10.0, /*photon*/ 100.0);
+    const PassPlan before = plan_passes(free);
+    free.pilot_work = 1e12;
+    EXPECT_EQ(plan_budget(free, true), 0.0);
+    EXPECT_EQ(plan_passes(free).count, before.count);
+    EXPECT_EQ(plan_passes(free).spp, before.spp);
+}
+
+TEST(PassPlan, APilotThatSpentTheWholeBudgetLeavesOnePassNoLargerThanTheConfigured) {
+    PlanInputs in = inputs(/*v_camera*/ 1.0, /*v_half*/ 1e-3, /*v_quarter*/ -1.0, /*sample*/ 10.0, /*photon*/ 100.0);
+    in.budget = 1e7;
+    in.pilot_work = 2e7;
+    EXPECT_EQ(plan_budget(in, true), 1.0);   // below every pass's cost
+    const PassPlan p = plan_passes(in);
+    EXPECT_LE(p.spp, in.spp);
+    EXPECT_LE(p.count, in.count);
+    // Scored as the one pass it is, over the time the run then takes (the pilot's and the pass's).
+    const double cost = 100.0 * double(p.count) + 1000.0 * p.spp * 10.0;
+    const double v = 1e-3 * (0.5 * 1000.0 / double(p.count)) + 1.0 / p.spp;
+    EXPECT_NEAR(p.score[0], v * (in.budget - 1.0 + cost), 1e-9 * v * (in.budget + cost));
+}
