@@ -15,20 +15,12 @@ if [ $# -gt 0 ] && [ "$1" != "--" ]; then vpm="$1"; shift; fi
 [ $# -gt 0 ] && [ "$1" = "--" ] && shift
 extra=("$@")
 mkdir -p "$out"
+# shellcheck source=../scripts/render_half.sh
+source "$(dirname "${BASH_SOURCE[0]}")/../scripts/render_half.sh"
 half() {
-    local name="$1" seed="$2" image="$out/spot_$1.exr"
-    local args=(render "$config" -q --threads 1 --set render.integrator=path --set render.seed="$seed"
-                --set "render.crop=[$crop]" --set render.time_limit="$seconds" --unset render.spp "${extra[@]}")
-    if [ ! -f "$image" ]; then
-        nice -n 10 "$vpm" "${args[@]}" -o "$image"
-        return
-    fi
-    local first more="$out/.more_$name.exr" merged="$out/.merged_$name.exr"
-    first=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['passes']['count'])" "${image%.exr}.json")
-    nice -n 10 "$vpm" "${args[@]}" --set render.first_pass="$first" -o "$more"
-    "$vpm" merge -q "$image" "$more" -o "$merged"
-    for ext in exr json png; do mv "${merged%.exr}.$ext" "${image%.exr}.$ext"; done
-    rm -f "$more" "${more%.exr}.json" "${more%.exr}.png" "${more%.exr}.passes.csv"
+    local name="$1" seed="$2"
+    render_half "$vpm" "$out/spot_$name.exr" render "$config" -q --threads 1 --set render.integrator=path \
+        --set render.seed="$seed" --set "render.crop=[$crop]" --set render.time_limit="$seconds" --unset render.spp "${extra[@]}"
 }
 half a 1001 &
 half b 1002 &

@@ -15,20 +15,12 @@ out="${2:-bench/caustic_references}"
 vpm="${3:-build/vpm}"
 mkdir -p "$out"
 scenes="${SCENES:-water_caustics glass_bulb_smoke mirror_ball_haze smoke_glass_flask smoke_in_glass_bottle glass_sphere_fog}"
+# shellcheck source=render_half.sh
+source "$(dirname "${BASH_SOURCE[0]}")/render_half.sh"
 half() {
-    local scene="$1" half="$2" seed="$3" image="$out/${1}_$2.exr"
-    local args=(render "configs/$scene.toml" -q --threads 1 --set render.integrator=path --set render.seed="$seed"
-                --set render.time_limit="$seconds" --unset render.spp)
-    if [ ! -f "$image" ]; then
-        nice -n 10 "$vpm" "${args[@]}" -o "$image"
-        return
-    fi
-    local first more="$out/.more_${scene}_$half.exr" merged="$out/.merged_${scene}_$half.exr"
-    first=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['passes']['count'])" "${image%.exr}.json")
-    nice -n 10 "$vpm" "${args[@]}" --set render.first_pass="$first" -o "$more"
-    "$vpm" merge -q "$image" "$more" -o "$merged"
-    for ext in exr json png; do mv "${merged%.exr}.$ext" "${image%.exr}.$ext"; done
-    rm -f "$more" "${more%.exr}.json" "${more%.exr}.png" "${more%.exr}.passes.csv"
+    local scene="$1" half="$2" seed="$3"
+    render_half "$vpm" "$out/${scene}_$half.exr" render "configs/$scene.toml" -q --threads 1 --set render.integrator=path \
+        --set render.seed="$seed" --set render.time_limit="$seconds" --unset render.spp
 }
 for scene in $scenes; do
     half "$scene" a 1001 &

@@ -84,18 +84,9 @@ void PhotonBeamsGather::build_part(Part& part) {
     built_.bvh_bytes += part.bvh.memory_bytes() + part.beams.capacity() * sizeof(PhotonBeam);
 }
 
-bool PhotonBeamsGather::usable() const {
-    for (const Part& part : parts_)
-        if (part.bvh.size() > 0) return true;
-    return false;
-}
+bool PhotonBeamsGather::usable() const { return any_part_built(parts_); }
 
-const PhotonBeamsGather::Part* PhotonBeamsGather::part_of(RegionMask region) const {
-    if (!split_) return &parts_.front();
-    const auto it = std::lower_bound(parts_.begin(), parts_.end(), region,
-                                     [](const Part& p, RegionMask r) { return p.region < r; });
-    return it != parts_.end() && it->region == region ? &*it : nullptr;
-}
+const PhotonBeamsGather::Part* PhotonBeamsGather::part_of(RegionMask region) const { return part_of_region(parts_, split_, region); }
 
 std::vector<double> PhotonBeamsGather::sample_point_widths(const std::vector<PhotonBeam>& beams, double max_width,
                                                            double max_width_mfp) {

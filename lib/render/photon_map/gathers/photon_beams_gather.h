@@ -49,6 +49,7 @@
 #include "photon/map/photon_beam.h"
 #include "photon/map/photon_beam_bvh.h"
 #include "render/photon_map/gathers/photon_beams_gather_stats.h"
+#include "render/photon_map/gathers/region_parts.h"
 #include "render/photon_map/gathers/segment_gather.h"
 #include "scene/scene.h"
 

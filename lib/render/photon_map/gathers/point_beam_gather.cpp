@@ -80,18 +80,9 @@ void PointBeamGather::build_part(Part& part, size_t k, double max_radius, double
     built_.bvh_bytes += part.bvh.memory_bytes();
 }
 
-bool PointBeamGather::usable() const {
-    for (const Part& part : parts_)
-        if (part.bvh.size() > 0) return true;
-    return false;
-}
+bool PointBeamGather::usable() const { return any_part_built(parts_); }
 
-const PointBeamGather::Part* PointBeamGather::part_of(RegionMask region) const {
-    if (!split_) return &parts_.front();
-    const auto it = std::lower_bound(parts_.begin(), parts_.end(), region,
-                                     [](const Part& p, RegionMask r) { return p.region < r; });
-    return it != parts_.end() && it->region == region ? &*it : nullptr;
-}
+const PointBeamGather::Part* PointBeamGather::part_of(RegionMask region) const { return part_of_region(parts_, split_, region); }
 
 Rgb PointBeamGather::scattering(const Vec3& x, double cos_theta) const {
     Rgb sum = Rgb::Zero();

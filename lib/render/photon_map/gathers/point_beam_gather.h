@@ -41,6 +41,7 @@
 #include "photon/map/photon_map.h"
 #include "photon/map/region_photon_maps.h"
 #include "render/photon_map/gathers/point_beam_gather_stats.h"
+#include "render/photon_map/gathers/region_parts.h"
 #include "render/photon_map/gathers/segment_gather.h"
 #include "scene/scene.h"
 
