@@ -83,6 +83,34 @@ struct BatchOutput {
     std::vector<LightPhotonStats> per_light;
 };
 
+// The flight's part inside the media's box as a beam (photons.gather = "photon_beams"), with the
+// photon's region where the scene has glass (a free flight crosses no glass).
+void record_beam(const Bounds3& media_bounds, const Ray& ray, double flight, const Rgb& power, uint64_t path,
+                 const RegionMask* region, BatchOutput& out) {
+    double t0, t1;
+    if (!media_bounds.intersect(ray, flight, t0, t1) || !(t1 > t0) || !std::isfinite(t1)) return;
+    out.beams.push_back(PhotonBeam{ray.at(t0), ray.dir, t1 - t0, power, path});
+    if (region) out.beam_regions.push_back(*region);
+}
+
+// A forced collision's step: the share exp(-tau) passes the medium (out of the scene, or into a black
+// surface) and leaves the power; below the weight window's floor the rest plays roulette up to it.
+// false: the photon ended there.
+bool forced_passage(double transmittance, bool on_surface, double window, Rgb& power, Rng& rng, EnergyBalance& energy) {
+    const Rgb passed = power * transmittance;
+    (on_surface ? energy.absorbed : energy.escaped) += passed;
+    power -= passed;
+    if (!(power.maxCoeff() < window)) return true;   // at or above the floor (or NaN): unchanged
+    const double keep = power.maxCoeff() / window;
+    if (!(keep > 0.0) || rng.uniform() >= keep) {
+        energy.absorbed += power;
+        return false;
+    }
+    energy.absorbed += power - power / keep;   // negative: the survivor carries the rest
+    power /= keep;
+    return true;
+}
+
 // q: the volume storage probability for this batch.
 void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPicker& picker, uint64_t batch, double q,
                  BatchOutput& out) {
@@ -130,35 +158,17 @@ void trace_batch(const Scene& scene, const PhotonTraceSettings& s, const LightPi
             const PathVertex& v = forced.vertex;
             const MediumEvent& event = v.medium;
             const SurfaceHit& hit = v.hit;
-            if (s.store_beams && !forced.forced && (s.store_direct || scattered)) {
-                const double flight = event ? event.t : v.on_surface ? hit.t : kInfinity;
-                double t0, t1;
-                if (media_bounds.intersect(ray, flight, t0, t1) && t1 > t0 && std::isfinite(t1)) {
-                    out.beams.push_back(PhotonBeam{ray.at(t0), ray.dir, t1 - t0, power, i});
-                    if (regions) out.beam_regions.push_back(region);   // a free flight crosses no glass
-                }
-            }
+            if (s.store_beams && !forced.forced && (s.store_direct || scattered))
+                record_beam(media_bounds, ray, event ? event.t : v.on_surface ? hit.t : kInfinity, power, i,
+                            regions ? &region : nullptr, out);
             if (v.escaped()) {
                 out.energy.escaped += power;
                 break;
             }
             if (bounces == 0) ++light_stats.landed;
             ++bounces;
-            if (event && forced.forced) {
-                // The share exp(-tau) passes the medium: out of the scene, or into a black surface.
-                const Rgb passed = power * forced.transmittance;
-                (v.on_surface ? out.energy.absorbed : out.energy.escaped) += passed;
-                power -= passed;
-                if (power.maxCoeff() < window) {   // the weight window: roulette up to its floor
-                    const double keep = power.maxCoeff() / window;
-                    if (!(keep > 0.0) || rng.uniform() >= keep) {
-                        out.energy.absorbed += power;
-                        break;
-                    }
-                    out.energy.absorbed += power - power / keep;   // negative: the survivor carries the rest
-                    power /= keep;
-                }
-            }
+            if (event && forced.forced && !forced_passage(forced.transmittance, v.on_surface, window, power, rng, out.energy))
+                break;
             const Rgb power_in = power;
             bool alive;
             if (event) {

@@ -120,6 +120,23 @@ RunRecord run_record(const RunConfig& config, const Integrator& integrator, cons
     return record;
 }
 
+// A group of passes' render options from the render settings: image, crop, seed and sampler.
+RenderOptions group_options(const RenderSettings& rs, int spp, uint64_t stream, bool progress) {
+    RenderOptions ro;
+    ro.width = rs.width;
+    ro.height = rs.height;
+    ro.spp = spp;
+    ro.seed = rs.seed;
+    ro.progress = progress;
+    ro.stream_offset = stream;
+    ro.sampler = rs.sampler;
+    ro.crop_x0 = rs.crop_x0;
+    ro.crop_y0 = rs.crop_y0;
+    ro.crop_x1 = rs.crop_x1;
+    ro.crop_y1 = rs.crop_y1;
+    return ro;
+}
+
 }  // namespace
 
 RunResult run(const RunConfig& config, const RunOptions& options) {
@@ -158,18 +175,7 @@ RunResult run(const RunConfig& config, const RunOptions& options) {
         integrator->prepare(pass_context(rs, options, index, stream, before == 0, progress), result.stats);
         spp = integrator->samples_per_pass(rs.spp_per_pass());
 
-        RenderOptions ro;
-        ro.width = rs.width;
-        ro.height = rs.height;
-        ro.spp = spp;
-        ro.seed = rs.seed;
-        ro.progress = progress;
-        ro.stream_offset = stream;
-        ro.sampler = rs.sampler;
-        ro.crop_x0 = rs.crop_x0;
-        ro.crop_y0 = rs.crop_y0;
-        ro.crop_x1 = rs.crop_x1;
-        ro.crop_y1 = rs.crop_y1;
+        RenderOptions ro = group_options(rs, spp, stream, progress);
         if (budget.clock_stops() && before == 0) {   // the first group: later ones are sized by the measured pass time
             ro.seconds_left = std::max(1e-9, rs.time_limit - budget.elapsed());
             ro.time_limit = rs.time_limit;
