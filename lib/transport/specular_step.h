@@ -10,6 +10,7 @@
 // scale (scene/materials/material.h). The event counts as a scattering event for max_depth, Russian
 // roulette and the photon tracer's max_bounces.
 #include "core/sampling/rng.h"
+#include "scene/materials/material.h"
 #include "scene/scene.h"
 #include "transport/mis.h"
 
@@ -24,6 +25,11 @@ namespace vpm {
 // without it, the roulette judges the throughput as it is.
 bool camera_specular_step(const SurfaceHit& hit, Ray& ray, Rgb& throughput, EmissionWeighting& emission, int vertices,
                           int rr_depth, Rng& rng, double* radiance_scale = nullptr);
+
+// One branch of a split event (Material::both_events): event `s` taken for certain, so the
+// throughput takes s.weight times its probability s.pdf; otherwise as camera_specular_step.
+bool camera_specular_branch(const SurfaceHit& hit, const MaterialSample& s, Ray& ray, Rgb& throughput,
+                            EmissionWeighting& emission, int vertices, int rr_depth, Rng& rng, double* radiance_scale);
 
 // The photon's step: power times the material's weight over the survival probability q = its max
 // channel (as on a Lambertian surface); false: absorbed.

@@ -7,6 +7,7 @@
 #include "core/henyey_greenstein.h"
 #include "render/photon_map/gathers/segment_gather.h"
 #include "scene/dielectric_regions.h"
+#include "scene/materials/material.h"
 #include "transport/direct_light.h"
 #include "transport/equiangular.h"
 #include "transport/march_points.h"
@@ -66,7 +67,6 @@ const PhotonMap* CameraPath::surface_in(RegionMask region) const {
 
 Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCounters& c,
                        const EmissionWeighting& first_emission) const {
-    const int max_depth = settings_.walk.max_depth;
     // The path's region (scene/dielectric_regions.h): where it starts (the camera, or the march point
     // a continued path leaves), toggled at every refraction through glass.
     const bool regions = maps_.volume_regions || maps_.surface_regions || (maps_.segment && maps_.segment->split_by_region());
@@ -74,6 +74,14 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
     // transport/mis.h. A path started deeper (first_depth > 0) continues from a march point: the
     // emission it meets counts as that point's NEE was weighted (transport/single_scattering.h).
     PathState state{first_ray, Rgb::Ones(), Rgb::Zero(), first_emission, start_region};
+    state.from_camera = first_depth == 0;
+    state.splits_left = state.from_camera ? settings_.glass_splits : 0;
+    walk(state, first_depth, rng, c);
+    return state.radiance;
+}
+
+void CameraPath::walk(PathState& state, int first_depth, Rng& rng, CameraCounters& c) const {
+    const int max_depth = settings_.walk.max_depth;
     Ray& ray = state.ray;
     Rgb& throughput = state.throughput;
     Rgb& radiance = state.radiance;
@@ -87,7 +95,7 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
         const double t_end = v.on_surface ? hit.t : kInfinity;
         // A path continued from a march point (first_depth > 0) gathers at its collisions: marching
         // again would branch at every point, a tree that grows without bound where every ball is wide.
-        const bool march = first_depth == 0 && marches(ray, t_end);
+        const bool march = state.from_camera && marches(ray, t_end);
         bool beam = maps_.segment != nullptr;
         // A segment gather with no estimate here (photon beams with balloon widths crossed by fewer
         // than k beams, a region with no discs or beams) is gathered as the collision gather's are
@@ -132,14 +140,35 @@ Rgb CameraPath::trace(const Ray& first_ray, int first_depth, Rng& rng, CameraCou
             break;
         }
         if (hit.specular) {   // mirror or glass (transport/specular_step.h): on to the chain's next vertex
-            if (!camera_specular_step(hit, ray, throughput, emission, depth + 1, settings_.walk.rr_depth, rng)) break;
-            region = region_after_specular(region, hit, ray.dir);
-            continue;
+            if (specular_step(hit, depth, rng, c, state) == Step::next) continue;
+            break;
         }
         if (diffuse_step(hit, depth, rng, c, state) == Step::next) continue;
         break;
     }
-    return radiance;
+}
+
+CameraPath::Step CameraPath::specular_step(const SurfaceHit& hit, int depth, Rng& rng, CameraCounters& c,
+                                           PathState& p) const {
+    const int rr_depth = settings_.walk.rr_depth;
+    MaterialSample events[2];
+    if (p.splits_left > 0 && hit.specular->both_events(p.ray.dir, hit.normal, hit.exiting, Transport::radiance, events)) {
+        --p.splits_left;
+        PathState reflected = p;
+        reflected.radiance = Rgb::Zero();
+        if (camera_specular_branch(hit, events[0], reflected.ray, reflected.throughput, reflected.emission, depth + 1,
+                                   rr_depth, rng, &reflected.radiance_scale)) {
+            walk(reflected, depth + 1, rng, c);
+            p.radiance += reflected.radiance;
+        }
+        if (!camera_specular_branch(hit, events[1], p.ray, p.throughput, p.emission, depth + 1, rr_depth, rng,
+                                    &p.radiance_scale))
+            return Step::end;
+    } else if (!camera_specular_step(hit, p.ray, p.throughput, p.emission, depth + 1, rr_depth, rng, &p.radiance_scale)) {
+        return Step::end;
+    }
+    p.region = region_after_specular(p.region, hit, p.ray.dir);
+    return Step::next;
 }
 
 // The collision gather's segments with direct = "nee", where every collision takes NEE: point and spot
@@ -211,7 +240,7 @@ CameraPath::Step CameraPath::collision_step(const MediumEvent& event, int depth,
     const Vec3 wo = hg_sample(p.ray.dir, m.g(), u1, u2);
     p.emission = continued_emission(settings_.walk.mis, x, p.ray.dir, wo, m.g());
     p.ray = Ray{x, wo};
-    return survive_roulette(p.throughput, depth + 1, settings_.walk.rr_depth, rng) ? Step::next : Step::end;
+    return survive_roulette(p.throughput, depth + 1, settings_.walk.rr_depth, rng, p.radiance_scale) ? Step::next : Step::end;
 }
 
 CameraPath::Step CameraPath::diffuse_step(const SurfaceHit& hit, int depth, Rng& rng, CameraCounters& c, PathState& p) const {
@@ -235,7 +264,7 @@ CameraPath::Step CameraPath::diffuse_step(const SurfaceHit& hit, int depth, Rng&
     p.throughput *= hit.reflectance;
     p.ray = diffuse_bounce(hit, rng);
     p.emission = EmissionWeighting::after(settings_.walk.mis, hit.position, std::max(0.0, p.ray.dir.dot(hit.normal)) * kInvPi);
-    return survive_roulette(p.throughput, depth + 1, settings_.walk.rr_depth, rng) ? Step::next : Step::end;
+    return survive_roulette(p.throughput, depth + 1, settings_.walk.rr_depth, rng, p.radiance_scale) ? Step::next : Step::end;
 }
 
 bool CameraPath::marches(const Ray& ray, double t_end) const {

@@ -15,6 +15,13 @@
 //
 //     L += throughput * (direct by NEE + reflectance / pi * E(x))
 //
+// At its first photons.glass_splits glass hits a path from the camera follows both the reflection
+// (weight F) and the refraction (weight 1 - F) instead of choosing one by F: a lamp seen in the glass
+// is found by every sample, not by ~F of them. Each branch counts its own hits, so a path is a tree
+// of at most 2^glass_splits leaves; paths continued from march points do not split. The roulette
+// judges throughput over the product of the path's 1 / eta^2 factors, as the path tracer's does
+// (transport/walk_steps.h).
+//
 // A CameraPath is a value over one pass's maps (PassMaps): it writes nothing but the counters it is
 // handed, so a pilot traces candidate maps and gathers with counters of its own.
 #include <cstdint>
@@ -107,8 +114,16 @@ private:
         Rgb radiance;
         EmissionWeighting emission;
         RegionMask region;   // scene/dielectric_regions.h: toggled at every refraction through glass
+        bool from_camera = true;    // not continued from a march point: it may march and split
+        int splits_left = 0;        // glass hits at which this path still follows both events
+        double radiance_scale = 1.0;   // the 1 / eta^2 factors of its refractions, for the roulette
     };
     enum class Step { end, next };
+    // The walk from p's ray after `first_depth` scattering events to its end: the radiance it adds to p.
+    void walk(PathState& p, int first_depth, Rng& rng, CameraCounters& c) const;
+    // A mirror or glass hit: at glass with splits left the reflection is walked to its end here and p
+    // goes on along the refraction; else one sampled event.
+    Step specular_step(const SurfaceHit& hit, int depth, Rng& rng, CameraCounters& c, PathState& p) const;
     // A real collision in a medium: single scattering, then the map's estimate ends the path, or too
     // few photons and it scatters on. segment: the collision gather's equiangular segment, if any.
     Step collision_step(const MediumEvent& event, int depth, const EquiangularSegment* segment, Rng& rng,

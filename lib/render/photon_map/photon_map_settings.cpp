@@ -190,6 +190,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
                               {{"fixed", MarchCount::fixed}, {"mass", MarchCount::mass}, {"free_flight", MarchCount::free_flight}});
     s.beam_k = int(p.integer("beam_k", s.beam_k, Range::closed(1, 1 << 20)));
     s.march_max_optical_depth = p.real("march_max_optical_depth", s.march_max_optical_depth, Range::at_least(0.0));
+    s.glass_splits = int(p.integer("glass_splits", s.glass_splits, Range::closed(0, 4)));
     s.clustering = p.choice("clustering", s.clustering,
                             {{"leave_group_out", Clustering::leave_group_out}, {"ignore", Clustering::ignore}});
     check_leave_group_out(p, s);

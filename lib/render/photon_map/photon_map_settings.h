@@ -68,6 +68,9 @@ struct PhotonMapSettings {
     // gathers and the surface estimate.
     Neighbourhood neighbourhood = Neighbourhood::photons;
     double march_max_optical_depth = 2.0;
+    // photons.glass_splits: a camera path follows both the reflection (weight F) and the refraction
+    // (1 - F) at its first this many glass hits (render/photon_map/camera_path.h), each branch counting its own.
+    int glass_splits = 1;
     KSchedule schedule = KSchedule::fixed;
     // render.integrator = "auto": the plan may render the run with the path tracer instead of the
     // map (render/plan/no_map_candidate.h). "photon_map" (false) always estimates from its maps.

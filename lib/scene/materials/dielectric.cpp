@@ -10,6 +10,7 @@
 // The shape must be closed and consistently oriented (box, sphere, or a mesh whose every edge
 // joins two triangles of opposite winding): which side is glass is read from its orientation.
 // Media continue inside glass unchanged (docs/caustics.md).
+#include <cmath>
 #include <sstream>
 
 #include "scene/lights/light_registry.h"
@@ -53,6 +54,11 @@ public:
         out.pdf = 1.0 - f;
         out.transmitted = true;
         return (out.weight > 0.0).any();
+    }
+    bool both_events(const Vec3& d, const Vec3& n, bool exiting, Transport mode, MaterialSample out[2]) const override {
+        // sample() reflects for u1 < F: u1 = 0 takes the reflection, the largest u1 below 1 the refraction.
+        return sample(d, n, exiting, mode, 0.0, 0.0, 0.0, out[0]) && !out[0].transmitted &&
+               sample(d, n, exiting, mode, std::nextafter(1.0, 0.0), 0.0, 0.0, out[1]) && out[1].transmitted;
     }
 
 private:

@@ -49,6 +49,10 @@ public:
     // Draws the next direction from u1, u2, u3 in [0, 1); false when nothing leaves (black).
     virtual bool sample(const Vec3& d, const Vec3& n, bool exiting, Transport mode, double u1, double u2, double u3,
                         MaterialSample& out) const = 0;
+    // Both events of a delta material that reflects and refracts at this incidence (a dielectric
+    // short of total internal reflection): out[0] the reflection, out[1] the refraction, each as
+    // sample() gives it (pdf: the event's probability, the two summing to 1). false: one event only.
+    virtual bool both_events(const Vec3&, const Vec3&, bool, Transport, MaterialSample[2]) const { return false; }
 };
 
 }  // namespace vpm

@@ -243,6 +243,38 @@ TEST(Materials, DielectricTotalInternalReflectionBeyondTheCriticalAngle) {
     EXPECT_TRUE(s.transmitted);   // just inside the cone: refracts out
 }
 
+TEST(Materials, DielectricBothEventsAreSamplesTwoOutcomesWithTheirProbabilities) {
+    // Camera paths that split at glass (render/photon_map/camera_path.h) take both events at once:
+    // the reflection with pdf F and the refraction with pdf 1 - F, each as sample() gives it.
+    const auto m = material("material = 'dielectric'\nior = 2.0\ntransmittance = [1, 0.5, 0.25]");
+    const Vec3 n(0, 0, 1);
+    for (bool exiting : {false, true}) {
+        const double eta = exiting ? 0.5 : 2.0;
+        for (double theta : {0.0, 0.4, 0.52, 1.2}) {
+            const Vec3 d(std::sin(theta), 0.0, -std::cos(theta));
+            const double f = fresnel_dielectric(std::cos(theta), eta);
+            MaterialSample both[2], reflected, refracted;
+            const bool two = m->both_events(d, n, exiting, Transport::radiance, both);
+            EXPECT_EQ(two, f < 1.0) << theta << " exiting " << exiting;   // beyond the critical angle: reflection alone
+            if (!two) continue;
+            ASSERT_TRUE(m->sample(d, n, exiting, Transport::radiance, 0.0, 0.5, 0.5, reflected));
+            ASSERT_TRUE(m->sample(d, n, exiting, Transport::radiance, 0.999999, 0.5, 0.5, refracted));
+            EXPECT_FALSE(both[0].transmitted);
+            EXPECT_TRUE(both[1].transmitted);
+            EXPECT_NEAR(both[0].pdf, f, 1e-12);
+            EXPECT_NEAR(both[0].pdf + both[1].pdf, 1.0, 1e-12);
+            EXPECT_LT((both[0].dir - reflected.dir).norm(), 1e-12);
+            EXPECT_LT((both[1].dir - refracted.dir).norm(), 1e-12);
+            EXPECT_TRUE(both[1].weight.isApprox(refracted.weight, 1e-12));
+            EXPECT_NEAR(both[1].radiance_scale, 1.0 / (eta * eta), 1e-12);
+        }
+    }
+    MaterialSample out[2];
+    EXPECT_FALSE(material("material = 'mirror'")->both_events(Vec3(0, 0.6, -0.8), n, false, Transport::radiance, out));
+    EXPECT_FALSE(material("material = 'dielectric'\ntransmittance = 0")->both_events(Vec3(0, 0, -1), n, false,
+                                                                                       Transport::radiance, out));
+}
+
 TEST(Materials, DielectricTransmittanceTintsEachCrossing) {
     const auto m = material("material = 'dielectric'\nior = 1.33\ntransmittance = [1, 0.5, 0.25]");
     MaterialSample s;
