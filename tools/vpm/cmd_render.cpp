@@ -56,7 +56,10 @@ std::string registered_names() {
            "  photons.kernel     " + registry_list(vpm::Kernel::names()) + "\n"
            "  photons.gather     " + registry_list(vpm::gather_names()) + "\n"
            "  render.sampler     " + registry_list(vpm::sampler_names()) + "\n"
-           "  photons.sampler    " + registry_list(vpm::sampler_names()) + "\n";
+           "  photons.sampler    " + registry_list(vpm::sampler_names()) + "\n"
+           "Camera paths at glass (photon map):\n"
+           "  photons.glass_splits  0-4, default 2: at the first this many glass hits a camera path follows both the\n"
+           "                        reflection (weight F) and the refraction (1 - F); 0: one chosen by Fresnel\n";
 }
 
 // Under render.time_limit, the automatic choices that keys the user set switch off

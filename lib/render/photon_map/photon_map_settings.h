@@ -70,7 +70,7 @@ struct PhotonMapSettings {
     double march_max_optical_depth = 2.0;
     // photons.glass_splits: a camera path follows both the reflection (weight F) and the refraction
     // (1 - F) at its first this many glass hits (render/photon_map/camera_path.h), each branch counting its own.
-    int glass_splits = 1;
+    int glass_splits = 2;
     KSchedule schedule = KSchedule::fixed;
     // render.integrator = "auto": the plan may render the run with the path tracer instead of the
     // map (render/plan/no_map_candidate.h). "photon_map" (false) always estimates from its maps.
