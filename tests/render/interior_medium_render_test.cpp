@@ -92,8 +92,8 @@ TEST(InteriorMediumRender, FurnaceReadsOneInBothIntegrators) {
     for (const char* gather : {"photons.gather=\"collision\"", "photons.gather=\"march\""}) {
         std::vector<std::string> sets = pm;
         sets.push_back(gather);
-        const Sample s = runs(kFurnace, sets, 32);
-        std::printf("interior furnace, photon map, %s, 32 maps: %.5f +- %.5f\n", gather, s.mean(), s.se());
+        const Sample s = runs(kFurnace, sets, 48);
+        std::printf("interior furnace, photon map, %s, 48 maps: %.5f +- %.5f\n", gather, s.mean(), s.se());
         EXPECT_NEAR(s.mean(), 1.0, 3.0 * s.se()) << gather;
         EXPECT_LT(s.se(), 0.004) << gather;   // the check resolves 1.2%
     }
