@@ -54,6 +54,33 @@ RegionMask region_along(const Surfaces& surfaces, const Vec3& x, RegionMask regi
     return region;
 }
 
+// kRegionDiscPoints fixed points filling the unit disc uniformly (radius sqrt(u), the golden angle),
+// in centre-symmetric pairs.
+const std::vector<Vec3>& unit_disc_points() {
+    static const std::vector<Vec3> points = [] {
+        std::vector<Vec3> p;
+        const double golden = kPi * (3.0 - std::sqrt(5.0));
+        for (int i = 0; i < kRegionDiscPoints / 2; ++i) {
+            const double rad = std::sqrt((double(i) + 0.5) / double(kRegionDiscPoints / 2)), phi = golden * double(i);
+            const Vec3 q(rad * std::cos(phi), rad * std::sin(phi), 0.0);
+            p.push_back(q);
+            p.push_back(-q);
+        }
+        return p;
+    }();
+    return points;
+}
+
+// The area common to two discs in one plane: radii a and b, centres d apart.
+double discs_overlap(double a, double b, double d) {
+    if (d >= a + b) return 0.0;
+    if (d <= std::abs(a - b)) return kPi * std::min(a, b) * std::min(a, b);
+    const double ca = std::clamp((d * d + a * a - b * b) / (2.0 * d * a), -1.0, 1.0);
+    const double cb = std::clamp((d * d + b * b - a * a) / (2.0 * d * b), -1.0, 1.0);
+    const double kite = (-d + a + b) * (d + a - b) * (d - a + b) * (d + a + b);
+    return a * a * std::acos(ca) + b * b * std::acos(cb) - 0.5 * std::sqrt(std::max(0.0, kite));
+}
+
 double distance_to_box(const Vec3& x, const Bounds3& b) {
     const Vec3 below = (b.lo - x).cwiseMax(0.0), above = (x - b.hi).cwiseMax(0.0);
     return (below + above).norm();
@@ -110,6 +137,35 @@ double region_ball_fraction(const Surfaces* surfaces, const Vec3& x, double r, R
     for (const Vec3& u : unit_ball_points())
         if (region_along(*surfaces, x, region, x + r * u) == region) ++in;
     return in > 0 ? double(in) / double(kRegionBallPoints) : 1.0;
+}
+
+double region_disc_fraction(const Surfaces* surfaces, const Vec3& x, const Vec3& n, double r, RegionMask region) {
+    if (!surfaces || !(r > 0.0)) return 1.0;
+    const auto& shapes = surfaces->dielectric_shapes();
+    int crossing = -1, crossings = 0;
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        const DielectricShape& s = shapes[i];
+        const bool near = s.sphere ? std::abs((x - s.center).norm() - s.radius) < r : distance_to_box(x, s.bounds) < r;
+        if (near) {
+            crossing = int(i);
+            ++crossings;
+        }
+    }
+    if (crossings == 0) return 1.0;
+    if (crossings == 1 && shapes[size_t(crossing)].sphere) {
+        // The sphere cuts the disc's plane in a circle of radius rho about c's foot in the plane.
+        const DielectricShape& s = shapes[size_t(crossing)];
+        const Vec3 to_center = s.center - x;
+        const double h = to_center.dot(n), rho2 = s.radius * s.radius - h * h;
+        const double inside = rho2 > 0.0 ? discs_overlap(r, std::sqrt(rho2), (to_center - h * n).norm()) / (kPi * r * r) : 0.0;
+        const double f = (region >> crossing) & 1 ? inside : 1.0 - inside;
+        return f > 0.0 ? f : 1.0;   // x on the sphere itself, at round-off: no share to correct by
+    }
+    const Frame frame(n);
+    int in = 0;
+    for (const Vec3& u : unit_disc_points())
+        if (region_along(*surfaces, x, region, x + r * frame.to_world(u)) == region) ++in;
+    return in > 0 ? double(in) / double(kRegionDiscPoints) : 1.0;
 }
 
 ClipMoments shape_ball_moments(const Surfaces& surfaces, const Vec3& x, double r, int shape) {

@@ -7,7 +7,8 @@
 // Walks track it: a light or the camera starts with region_at() (a ray-parity test), and every
 // refraction through a dielectric toggles that shape's bit (region_after_specular; a reflection keeps
 // it). The estimate at x then counts only photons of x's region, and region_ball_fraction() gives the
-// share of its kNN ball that lies in that region: the volume the photons found there came from.
+// share of its kNN ball that lies in that region: the volume the photons found there came from
+// (region_disc_fraction() the same for a surface photon map's disc).
 #include <cstdint>
 
 #include "core/math.h"
@@ -36,6 +37,15 @@ inline RegionMask region_after_specular(RegionMask region, const SurfaceHit& hit
 // region read by toggling x's region at the glass crossings of the segment from x to it.
 constexpr int kRegionBallPoints = 256;
 double region_ball_fraction(const Surfaces* surfaces, const Vec3& x, double r, RegionMask region);
+
+// The share of the disc of radius r about x, in the plane through x normal to n, that lies in
+// `region`: the surface map's kNN disc where a glass shape meets a Lambertian surface (a bottle
+// standing on a floor). x is taken just off the surface, on the side n faces, so the disc's points
+// are read above coplanar glass (a bottle's base on the floor). 1 where no glass crosses the disc.
+// One sphere: the exact lens area of the disc and the sphere's circle in the plane. Otherwise
+// kRegionDiscPoints fixed points over the disc, each point's region read as the ball's are.
+constexpr int kRegionDiscPoints = 128;
+double region_disc_fraction(const Surfaces* surfaces, const Vec3& x, const Vec3& n, double r, RegionMask region);
 
 // The volume moments about x of the part of B(x, r) inside closed dielectric shape `shape` (a mesh's
 // inside for an interior medium's ball integral, scene/interior_medium.h): m0 the volume, m1 the

@@ -129,6 +129,11 @@ std::unique_ptr<Scene> Scene::build(Params& root, int width, int height) {
         scene->surfaces = Surfaces::create(shapes);
         scene->bounds.extend(scene->surfaces->bounds());
         scene->build_log.push_back("Embree: " + scene->surfaces->describe());
+        for (const auto& [glass, other] : scene->surfaces->coplanar_glass_contacts())
+            scene->build_log.push_back("warning: [[shapes]] tables " + std::to_string(glass) + " (glass) and " + std::to_string(other) +
+                                       " touch in one plane: light leaving the glass there misses the other surface while paths "
+                                       "from it enter the glass, so photon-map and path-traced images disagree; leave a small "
+                                       "gap between them (scene/surfaces/coplanar_contact.h)");
         confine_interior_media(*scene, shapes, interior);
     } else {
         scene->build_log.push_back("Embree: not built (no shapes)");

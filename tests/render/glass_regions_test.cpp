@@ -222,6 +222,33 @@ TEST(GlassRegions, BallFractionIsTheLensVolumeAndItsQuadrature) {
     EXPECT_NEAR(box_in, 1.0 - cap, 0.02);   // 256 points: the share to about 1%
 }
 
+TEST(GlassRegions, DiscFractionIsTheCirclesOverlapAndItsQuadrature) {
+    // The surface map's disc (a floor crossing glass): against one sphere the overlap of the disc with
+    // the sphere's circle in the disc's plane, in closed form; against a box's face the 128-point
+    // quadrature gives the straight chord's share.
+    const auto one = test::scene_from_config(std::string(kCamera) + kFog + glass_sphere(0, 0, 0, 1.0));
+    const Vec3 up(0, 0, 1);
+    const double r = 0.2, h = 0.3, rho = std::sqrt(1.0 - h * h), d = 0.9;   // plane z = h cuts a circle of radius rho
+    const Vec3 x(d, 0, h);
+    const double in = region_disc_fraction(one->surfaces.get(), x, up, r, 1), out = region_disc_fraction(one->surfaces.get(), x, up, r, 0);
+    EXPECT_NEAR(in + out, 1.0, 1e-12);
+    // Two circles' lens area, term by term (radii r and rho, centres d apart).
+    const double lens = r * r * std::acos((d * d + r * r - rho * rho) / (2 * d * r)) +
+                        rho * rho * std::acos((d * d + rho * rho - r * r) / (2 * d * rho)) -
+                        0.5 * std::sqrt((-d + r + rho) * (d + r - rho) * (d - r + rho) * (d + r + rho));
+    EXPECT_NEAR(in, lens / (kPi * r * r), 1e-9);
+    EXPECT_GT(in, 0.2);
+    EXPECT_LT(in, 0.8);
+    EXPECT_EQ(region_disc_fraction(one->surfaces.get(), Vec3(0, 0, 0.5), up, 0.1, 1), 1.0);   // wholly inside
+    const auto box = test::scene_from_config(std::string(kCamera) + kFog + kGlassBox);
+    const Vec3 floor_normal(0, 1, 0);
+    // A disc on the plane y = 0 centred 0.05 inside the face x = 0.6: the chord leaves 0.1955 outside.
+    const double chord = (std::acos(0.5) * 0.01 - 0.05 * std::sqrt(0.01 - 0.0025)) / (kPi * 0.01);
+    EXPECT_NEAR(region_disc_fraction(box->surfaces.get(), Vec3(0.55, 0, 0), floor_normal, 0.1, 1), 1.0 - chord, 0.02);
+    EXPECT_NEAR(region_disc_fraction(box->surfaces.get(), Vec3(0.65, 0, 0), floor_normal, 0.1, 0), 1.0 - chord, 0.02);
+    EXPECT_EQ(region_disc_fraction(box->surfaces.get(), Vec3(2.0, 0, 0), floor_normal, 0.1, 0), 1.0);   // glass out of reach
+}
+
 TEST(GlassRegions, GlassSphereInFogIsAFurnace) {
     // 48 maps, each rendered split by region and mixed (one map of all photons, as before regions) on
     // the same camera samples: split within 3 standard errors of 1 at SE <= 0.15%; mixed reads high.

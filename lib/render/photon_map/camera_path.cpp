@@ -256,7 +256,7 @@ CameraPath::Step CameraPath::diffuse_step(const SurfaceHit& hit, int depth, Rng&
                                                     maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats)
                 : estimate_surface_irradiance(*surface, hit.position, hit.normal, *maps_.surface_estimator,
                                               maps_.k, maps_.max_radius, c.scratch.buffers, &c.surface_stats);
-        p.radiance += p.throughput * hit.reflectance * (e.value / kPi);
+        p.radiance += p.throughput * hit.reflectance * (e.value / (kPi * surface_disc_share(hit, e.radius, p.region)));
         ++c.map_used;
         return Step::end;
     }
@@ -265,6 +265,14 @@ CameraPath::Step CameraPath::diffuse_step(const SurfaceHit& hit, int depth, Rng&
     p.ray = diffuse_bounce(hit, rng);
     p.emission = EmissionWeighting::after(settings_.walk.mis, hit.position, std::max(0.0, p.ray.dir.dot(hit.normal)) * kInvPi);
     return survive_roulette(p.throughput, depth + 1, settings_.walk.rr_depth, rng, p.radiance_scale) ? Step::next : Step::end;
+}
+
+// The share of a region map's kNN disc that lies in the path's region (glass standing on the surface
+// cuts it: scene/dielectric_regions.h); the whole map's disc is not divided.
+double CameraPath::surface_disc_share(const SurfaceHit& hit, double radius, RegionMask region) const {
+    if (!maps_.surface_regions) return 1.0;
+    const Vec3 off = hit.position + (hit.epsilon + 1e-4 * radius) * hit.normal;
+    return region_disc_fraction(scene_.surfaces.get(), off, hit.normal, radius, region);
 }
 
 bool CameraPath::marches(const Ray& ray, double t_end) const {

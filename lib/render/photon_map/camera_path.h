@@ -130,6 +130,7 @@ private:
                         CameraCounters& c, PathState& p) const;
     // A diffuse surface: the surface map's estimate ends the path, or it bounces on.
     Step diffuse_step(const SurfaceHit& hit, int depth, Rng& rng, CameraCounters& c, PathState& p) const;
+    double surface_disc_share(const SurfaceHit& hit, double radius, RegionMask region) const;
     // The collision gather's equiangular segment over (0, t_end), its light added to p; none where it
     // finds no point or spot light.
     void equiangular_segment(double t_end, Rng& rng, CameraCounters& c, PathState& p,

@@ -121,7 +121,7 @@ void render_passes(const Camera& camera, const Integrator& integrator, const Ren
     for (int g = 0; g < passes; ++g) {
         double total = 0.0;
         for (size_t y = 0; y < rows; ++y) total += row_sums[size_t(g) * rows + y];
-        pass_means[size_t(g)] = total / double(3 * pixels);
+        pass_means[size_t(g)] = total / double(3 * size_t(x1 - x0) * size_t(y1 - y0));   // over the crop's pixels
     }
     stats.samples = uint64_t(x1 - x0) * uint64_t(y1 - y0) * uint64_t(o.spp) * uint64_t(passes);
     stats.nonfinite_samples = nonfinite.load();

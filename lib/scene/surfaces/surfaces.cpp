@@ -42,6 +42,7 @@
 // (spheres are not in Embree and do not move that centre); spheres to double precision.
 #include "scene/surfaces/surfaces.h"
 #include "scene/surfaces/offsets.h"
+#include "scene/surfaces/coplanar_contact.h"
 
 #include <atomic>
 #include <cfloat>
@@ -86,6 +87,7 @@ struct Geometry {
     Vec3 center = Vec3::Zero();
     double radius = 0.0;
     int dielectric = -1;   // index among the closed dielectric shapes (SurfaceHit::dielectric)
+    size_t table = 0;      // its [[shapes]] table
 };
 
 // Whether the ray from o along d crosses triangle (a, b, c) at t > 0 (Moller-Trumbore, in double).
@@ -229,6 +231,7 @@ public:
         for (Geometry& g : shapes) {
             ++counts_[g.type];
             const size_t this_table = table++;
+            g.table = this_table;
             if (g.material->needs_closed_shape()) {
                 g.dielectric = int(dielectrics_.size());
                 DielectricShape d;
@@ -345,6 +348,17 @@ public:
             for (const Geometry& g : *list)
                 if (g.specular) return true;
         return false;
+    }
+
+    std::vector<std::pair<size_t, size_t>> coplanar_glass_contacts() const override {
+        std::vector<std::pair<size_t, size_t>> contacts;
+        for (const Geometry& glass : geoms_) {
+            if (glass.dielectric < 0) continue;
+            for (const Geometry& other : geoms_)
+                if (&other != &glass && touch_in_a_plane({glass.vertices, glass.triangles}, {other.vertices, other.triangles}))
+                    contacts.emplace_back(glass.table, other.table);
+        }
+        return contacts;
     }
 
     std::string describe() const override {

@@ -4,6 +4,7 @@
 // Materials: Lambertian with an RGB reflectance in [0, 1], or black (reflectance 0: an occluder).
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math.h"
@@ -71,6 +72,9 @@ public:
     virtual const std::vector<DielectricShape>& dielectric_shapes() const = 0;
     // Whether any shape is a mirror or glass (a specular material).
     virtual bool has_specular() const = 0;
+    // Pairs ([[shapes]] table of a glass mesh, table of another triangle shape) that touch in one
+    // plane (scene/surfaces/coplanar_contact.h): the scene warns of each.
+    virtual std::vector<std::pair<size_t, size_t>> coplanar_glass_contacts() const = 0;
     virtual std::string describe() const = 0;
 };
 

@@ -343,6 +343,12 @@ TEST(Passes, CropRendersItsPixelsAsTheWholeImageDoesAndNothingElse) {
             }
     EXPECT_GT(inside, 0);
     EXPECT_EQ(cropped.stats.render.samples, uint64_t(8 * 4 * 2));
+    // The record's pass means are the rectangle's: their mean is the cropped pixels' mean.
+    double crop_sum = 0.0;
+    for (int y = 5; y < 9; ++y)
+        for (int x = 3; x < 11; ++x)
+            for (int c = 0; c < 3; ++c) crop_sum += cropped.image.rgb[3 * (size_t(y) * 16 + size_t(x)) + size_t(c)];
+    EXPECT_NEAR(cropped.stats.pass_summary.image_mean_mean, crop_sum / (8 * 4 * 3), 1e-6 * crop_sum / 96);
 }
 
 TEST(Passes, CropOutsideTheImageIsRefusedNamingTheKey) {

@@ -527,3 +527,25 @@ TEST(Surfaces, EachClosedPartOfADielectricMeshFacesOutOfTheGlass) {
     ASSERT_TRUE(shell->intersect(ray({0.2, 0.2, -2}, {0, 0, 1}), kInfinity, h));     // air into glass
     EXPECT_FALSE(h.exiting);
 }
+
+TEST(Surfaces, GlassRestingFlatOnAnotherShapeIsReported) {
+    // A glass box standing on a floor quad shares its bottom face's plane with the floor: reported
+    // (the scene warns). Lifted by 1e-4, a Lambertian box on the floor, or a glass sphere: not.
+    const std::string floor = "[[shapes]]\ntype = \"quad\"\ncenter = [0, 0, 0]\nu = [2, 0, 0]\nv = [0, 0, -2]\n";
+    const auto box = [](double y0, const char* material) {
+        return "[[shapes]]\ntype = \"box\"\nmin = [-0.3, " + std::to_string(y0) + ", -0.3]\nmax = [0.3, 0.5, 0.3]\nmaterial = \"" +
+               material + "\"\n";
+    };
+    const auto touching = build(floor + box(0.0, "dielectric"))->coplanar_glass_contacts();
+    ASSERT_EQ(touching.size(), 1u);
+    EXPECT_EQ(touching[0].first, 1u);
+    EXPECT_EQ(touching[0].second, 0u);
+    EXPECT_TRUE(build(floor + box(1e-4, "dielectric"))->coplanar_glass_contacts().empty());
+    EXPECT_TRUE(build(floor + box(0.0, "lambertian"))->coplanar_glass_contacts().empty());
+    EXPECT_TRUE(build(floor + "[[shapes]]\ntype = \"sphere\"\ncenter = [0, 0.3, 0]\nradius = 0.3\nmaterial = \"dielectric\"\n")
+                    ->coplanar_glass_contacts()
+                    .empty());
+    // A glass box beside the floor's edge, its face in the floor's plane but off the quad: not touching.
+    const std::string away = "[[shapes]]\ntype = \"box\"\nmin = [2.5, 0, 0]\nmax = [3, 0.5, 0.5]\nmaterial = \"dielectric\"\n";
+    EXPECT_TRUE(build(floor + away)->coplanar_glass_contacts().empty());
+}
