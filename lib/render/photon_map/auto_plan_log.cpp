@@ -30,7 +30,7 @@ void log_candidate(std::ostream& log, const GatherMeasurement& m, double pixels)
         log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance";
     if (m.stopped_early)
         log << "; its pilot stopped after " << m.samples << " samples per pixel, losing by far: relative error^2 x work "
-            << m.stop_low_score << " at its variance's lower bound (" << kNoMapStopSigmas << " standard errors below the figure read), over "
+            << m.stop_low_score << " at its variance's lower bound (" << variance_lower_factor(m.v_camera_rel_se) << " of the figure read), over "
             << kNoMapStopMargin << "x the best map gather's " << m.stop_best_map_score << " (not a choice, render/plan/no_map_stop.h)";
     log << "\n";
 }

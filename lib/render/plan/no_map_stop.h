@@ -6,13 +6,14 @@
 // after each it stops where its score (render/plan/pass_plan.h) at a lower confidence bound on its
 // camera variance still exceeds kNoMapStopMargin times the best map candidate's score, as the plan
 // charges it (its upper bound). Stopped, it is not a choice.
-// The bound is its variance less kNoMapStopSigmas of its standard errors (render/plan/pilot_tail.h:
-// from the few samples that hold it). Where a heavy tail holds the variance, the standard error of
-// its first samples is about their variance's: the bound is 0 and the test waits for more samples.
-// A tail its first samples miss reads the variance low, so that seen it loses by more; a rare
-// large sample that reads it high reads its standard error high with it. Where it wins or is close
-// the test does not fire and its samples, figures and choice are the full pilot's. From counts
-// and fixed samples alone: the same on any thread count.
+// The bound: the variance read is held by k = 1 / rel_se^2 samples' worth (render/plan/pilot_tail.h:
+// rel_se from the few samples that hold it), and a count seen k times has a one-sided Poisson lower
+// limit kNoMapStopSigmas standard deviations down (Wilson-Hilferty: k (1 - 1/9k - z/3 sqrt k)^3); the
+// variance is bounded by that share of it. Where a few rare samples hold it (k of 2-10 in the
+// caustic scenes) the normal bound 1 - z / sqrt k is 0 and could never stop the pilot; the Poisson
+// limit stays above 0 from k ~ 1.3. A tail its first samples miss reads the variance low, so that
+// seen it loses by more. Where it wins or is close the test does not fire and its samples, figures
+// and choice are the full pilot's. From counts and fixed samples alone: the same on any thread count.
 #include <cstddef>
 
 #include "render/plan/pass_plan.h"
@@ -27,6 +28,9 @@ struct NoMapStopTest {
     double low_score = 0.0;        // the candidate's score at its camera variance's lower bound (0: none resolved)
     double best_map_score = 0.0;   // the least score of a map candidate that may be chosen (infinite: none)
 };
+
+// The share of a variance read with relative standard error rel_se that bounds it from below.
+double variance_lower_factor(double rel_se);
 
 // The test on candidate c (without a map) of in.candidates, every figure as measured so far. Map
 // candidates that almost never use their map are no reference (render/plan/no_map_candidate.h: they
