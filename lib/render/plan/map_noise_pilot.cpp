@@ -217,6 +217,7 @@ struct TracedSamples {
     std::vector<std::vector<double>> values, spread;
     int n = 0, most = 0;
     bool halves_too = false;
+    bool stopped = false;   // stopped early (render/plan/no_map_stop.h): its pixel means set no weight
 };
 
 // Each pixel's weight in the relative error (render/plan/relative_error.h), at the pilot pixels and
@@ -236,14 +237,16 @@ void add_pixel_means(const std::vector<double>& values, int pixels, int n, int m
 
 // A pixel's reference R is the mean of the candidates' pixel means (each one estimate of the same
 // pixel, weighted alike whatever its samples: a candidate with many samples whose pixel holds one
-// rare large sample does not set it alone), so the weights are the same for every candidate.
+// rare large sample does not set it alone), so the weights are the same for every candidate. A
+// candidate whose pilot stopped early is no choice and its few samples' means the noisiest: left out,
+// so that the others' figures are those they read without it.
 RelativeWeights relative_weights(const std::vector<TracedSamples>& traced) {
     RelativeWeights w;
     w.pixels.assign(size_t(kPixels), 0.0);
     w.spread.assign(size_t(kSpreadPixels), 0.0);
     int at_pixels = 0, at_spread = 0;
     for (const TracedSamples& t : traced) {
-        if (t.n == 0) continue;   // dropped after its probe
+        if (t.n == 0 || t.stopped) continue;   // dropped after its probe, or stopped early
         add_pixel_means(t.values[0], kPixels, t.n, t.most, w.pixels);
         ++at_pixels;
         if (t.spread.empty()) continue;
@@ -325,10 +328,10 @@ struct PilotRun {
 // Returns the samples traced; g holds the last test's figures and whether it stopped.
 int trace_without_map(PilotRun& run, size_t c, int n, const CountedOperations& before, GatherMeasurement& g) {
     int traced = 1;   // the probe
-    for (int stage = std::min(kNoMapStopFirstStage, n);; stage = std::min(2 * stage, n)) {
+    for (int stage = run.hooks.stop ? std::min(kNoMapStopFirstStage, n) : n;; stage = std::min(2 * stage, n)) {
         run.trace(c, 0, traced, stage);
         traced = stage;
-        if (stage >= n || !run.hooks.stop) return n;
+        if (stage >= n) return n;
         std::vector<GatherMeasurement> so_far = run.out;
         GatherMeasurement& partial = so_far.emplace_back(g);
         run.set_cost(partial, before, stage);
@@ -392,6 +395,7 @@ void measure_candidate(PilotRun& run, size_t c, const PilotCandidate& candidate)
         run.trace(c, m, 0, n);
     }
     g.samples = n;
+    t.stopped = g.stopped_early;
     g.max_weight = hooks.counts().march_weight_max;   // over this candidate's traces (and the earlier ones')
     g.v_map_quarter = -1.0;
     t.n = n;

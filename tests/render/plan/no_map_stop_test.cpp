@@ -179,9 +179,9 @@ TEST(NoMapStop, ThePilotStopsAtTheStageTheTestSaysAndOtherwiseReadsAsWithoutIt) 
 
 TEST(NoMapStop, ThePilotWithThePlansTestStopsWhereTheContinuationLosesByFar) {
     // The plan's test (no_map_stop_test) on the fake pilot: the gather reads variance 1/12 at 40 units
-    // a sample; a continuation of exponential samples times 100 (variance 1e4 at 1 unit) loses by
-    // ~2000x and stops at the first stage; one of 0.5 + 0.01 (u - 0.5) (the gather's mean 0.5,
-    // variance 1/120000) wins and runs its whole pilot.
+    // a sample; a continuation of 0.5 + 100 (x - 1), x exponential (the gather's mean, variance 1e4
+    // at 1 unit) loses by ~2000x and stops at the first stage; one of 0.5 + 0.01 (u - 0.5) (variance
+    // 1/120000) wins and runs its whole pilot.
     PlanInputs in;
     in.pixels = 1024.0;
     in.count = 1000;
@@ -194,7 +194,7 @@ TEST(NoMapStop, ThePilotWithThePlansTestStopsWhereTheContinuationLosesByFar) {
         so_far.back().stop_best_map_score = t.best_map_score;
         return t.stop;
     };
-    const auto loses = pilot([](Rng& rng) { return 100.0 * exponential(rng); }, plans_test);
+    const auto loses = pilot([](Rng& rng) { return 0.5 + 100.0 * (exponential(rng) - 1.0); }, plans_test);
     EXPECT_TRUE(loses[1].stopped_early);
     EXPECT_EQ(loses[1].samples, kNoMapStopFirstStage);
     EXPECT_GT(loses[1].stop_low_score, kNoMapStopMargin * loses[1].stop_best_map_score);
