@@ -9,7 +9,7 @@
 // The bound: the variance read is held by k = 1 / rel_se^2 samples' worth (render/plan/pilot_tail.h:
 // rel_se from the few samples that hold it), and a count seen k times has a one-sided Poisson lower
 // limit kNoMapStopSigmas standard deviations down (Wilson-Hilferty: k (1 - 1/9k - z/3 sqrt k)^3); the
-// variance is bounded by that share of it. Where a few rare samples hold it (k of 2-10 in the
+// variance is bounded by that share of it. Where a few rare samples hold it (small k, as in the
 // caustic scenes) the normal bound 1 - z / sqrt k is 0 and could never stop the pilot; the Poisson
 // limit stays above 0 from k ~ 1.3. A tail its first samples miss reads the variance low, so that
 // seen it loses by more. Where it wins or is close the test does not fire and its samples, figures
