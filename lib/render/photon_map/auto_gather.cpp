@@ -11,6 +11,7 @@
 #include "render/plan/map_noise_pilot.h"
 #include "render/photon_map/auto_plan_log.h"
 #include "render/plan/no_map_candidate.h"
+#include "render/plan/no_map_stop.h"
 #include "render/photon_map/photon_map_integrator.h"
 #include "render/plan/work_units.h"
 #include "scene/media/tracking_counter.h"
@@ -202,6 +203,18 @@ std::vector<GatherMeasurement> PhotonMapIntegrator::measure_candidates(const Pas
         const double wide = std::max(0.0, c.queries - c.map_used);   // searches whose estimate was not used
         return query * (c.queries - wide) + w.query_wide * wide + w.ray * c.rays + w.lookup * c.lookups + w.step * c.steps +
                w.density_lookup * c.density_lookups + w.cell * c.cells;
+    };
+    // The candidate without a map stops where it loses by far (render/plan/no_map_stop.h), tested as
+    // the plan would score it with the work counted so far taken off the budget.
+    hooks.stop = [&](std::vector<GatherMeasurement>& so_far) {
+        PlanInputs test = in;
+        test.candidates = so_far;
+        test.pilot_work += hooks.work(hooks.counts());
+        if (context.pass == 0 && maps_.owns) test.pilot_map_work = in.photon_cost * double(in.pilot_count);
+        const NoMapStopTest t = no_map_stop_test(test, so_far.size() - 1);
+        so_far.back().stop_low_score = t.low_score;
+        so_far.back().stop_best_map_score = t.best_map_score;
+        return t.stop;
     };
     std::vector<GatherMeasurement> measured = measure_gathers(scene_.camera, *map, candidates.pilot, hooks,
                                                               mix64(context.seed ^ 0x6d61706e6f697365ULL),

@@ -6,6 +6,7 @@
 
 #include "core/math.h"
 #include "render/plan/map_noise_pilot.h"
+#include "render/plan/no_map_stop.h"
 #include "render/plan/pass_plan.h"
 
 namespace vpm {
@@ -27,6 +28,10 @@ void log_candidate(std::ostream& log, const GatherMeasurement& m, double pixels)
         log << " (not a choice: it almost never used the map, so it is the continuation plus a photon pass, render/plan/no_map_candidate.h)";
     if (!m.uses_map)
         log << ", its largest 1/1024 samples hold " << m.tail_share << " of its variance";
+    if (m.stopped_early)
+        log << "; its pilot stopped after " << m.samples << " samples per pixel, losing by far: relative error^2 x work "
+            << m.stop_low_score << " at its variance's lower bound (" << variance_lower_factor(m.v_camera_rel_se) << " of the figure read), over "
+            << kNoMapStopMargin << "x the best map gather's " << m.stop_best_map_score << " (not a choice, render/plan/no_map_stop.h)";
     log << "\n";
 }
 
@@ -59,7 +64,7 @@ void log_auto_plan(std::ostream& log, const AutoGatherStats& a, const AutoPlanRe
         log << "gather: \"" << a.chosen << "\" (photons.gather), measured to size the passes under render.time_limit";
     log << " (pilot: "
         << kPilotSide * kPilotSide << " pixels x up to " << kPilotSamples << " samples with the map and its halves, up to "
-        << kNoMapPilotSamples << " without a map; work " << a.photon_cost << " per photon)\n";
+        << kNoMapPilotSamples << " without a map, stopped early where it loses by far; work " << a.photon_cost << " per photon)\n";
     if (r.map_empty)
         log << (r.measured_by_pilot ? "  the volume map is empty: its queries continue the path\n"
                                     : "  the volume map is empty, nothing to measure\n");

@@ -145,6 +145,9 @@ void write_auto_gather(const AutoGatherStats& a, RunRecord& record) {
     write_per_candidate<int>(c, "pilot_samples", [](const M& m) { return m.samples; }, record);
     write_per_candidate<bool>(c, "dropped", [](const M& m) { return m.dropped; }, record);
     write_per_candidate<bool>(c, "excluded", [](const M& m) { return m.excluded; }, record);
+    write_per_candidate<bool>(c, "stopped_early", [](const M& m) { return m.stopped_early; }, record);
+    write_per_candidate<double>(c, "stop_low_score", [](const M& m) { return m.stop_low_score; }, record);
+    write_per_candidate<double>(c, "stop_best_map_score", [](const M& m) { return m.stop_best_map_score; }, record);
     record.set("photons.auto_gather.photon_pass", a.photon_pass);
     nlohmann::json score = nlohmann::json::array();
     for (double v : a.score) score.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));

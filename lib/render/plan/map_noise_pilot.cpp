@@ -217,6 +217,7 @@ struct TracedSamples {
     std::vector<std::vector<double>> values, spread;
     int n = 0, most = 0;
     bool halves_too = false;
+    bool stopped = false;   // stopped early (render/plan/no_map_stop.h): its pixel means set no weight
 };
 
 // Each pixel's weight in the relative error (render/plan/relative_error.h), at the pilot pixels and
@@ -236,14 +237,16 @@ void add_pixel_means(const std::vector<double>& values, int pixels, int n, int m
 
 // A pixel's reference R is the mean of the candidates' pixel means (each one estimate of the same
 // pixel, weighted alike whatever its samples: a candidate with many samples whose pixel holds one
-// rare large sample does not set it alone), so the weights are the same for every candidate.
+// rare large sample does not set it alone), so the weights are the same for every candidate. A
+// candidate whose pilot stopped early is no choice and its few samples' means the noisiest: left out,
+// so that the others' figures are those they read without it.
 RelativeWeights relative_weights(const std::vector<TracedSamples>& traced) {
     RelativeWeights w;
     w.pixels.assign(size_t(kPixels), 0.0);
     w.spread.assign(size_t(kSpreadPixels), 0.0);
     int at_pixels = 0, at_spread = 0;
     for (const TracedSamples& t : traced) {
-        if (t.n == 0) continue;   // dropped after its probe
+        if (t.n == 0 || t.stopped) continue;   // dropped after its probe, or stopped early
         add_pixel_means(t.values[0], kPixels, t.n, t.most, w.pixels);
         ++at_pixels;
         if (t.spread.empty()) continue;
@@ -253,6 +256,154 @@ RelativeWeights relative_weights(const std::vector<TracedSamples>& traced) {
     for (double& x : w.pixels) x = relative_error_weight(at_pixels > 0 ? x / at_pixels : 0.0);
     for (double& x : w.spread) x = relative_error_weight(at_spread > 0 ? x / at_spread : 0.0);
     return w;
+}
+
+// Every candidate's figures in `out` (those traced so far), from their samples and the weights their
+// pixel means give together; f: the share of the image the pilot pixels stand for.
+void add_figures(const std::vector<TracedSamples>& traced, double f, std::vector<GatherMeasurement>& out) {
+    const RelativeWeights w = relative_weights(traced);
+    for (size_t c = 0; c < out.size(); ++c) {
+        const TracedSamples& t = traced[c];
+        GatherMeasurement& g = out[c];
+        if (g.dropped) continue;
+        const double v = summed_pixel_variance(t.values[0], t.n, t.most, w.pixels);
+        g.v_camera = v / kPixels;
+        if (!t.spread.empty()) g.v_camera = (v + summed_spread_variance(t.spread[0], w.spread)) / (kPixels + kSpreadPixels);
+        add_sample_statistics(t.values[0], t.n, t.most, w.pixels, g);
+        if (t.halves_too) add_map_noise(t.values, t.spread, t.n, w.pixels, w.spread, g);
+        // Averages over the image: the pixels that can vary, times their share (the rest add 0). The
+        // mean stays theirs (the background's radiance need not be 0): it only compares candidates.
+        for (double* x : {&g.v_camera, &g.v_map_half, &g.v_map_half_se, &g.bias2, &g.bias_mean, &g.bias_se}) *x *= f;
+    }
+}
+
+// What the candidates' measurements share (measure_gathers), and the samples they traced.
+struct PilotRun {
+    PilotRun(const Camera& c, const PhotonMap& m, MapNoisePilotHooks& h) : camera(c), map(m), hooks(h) {}
+    const Camera& camera;
+    const PhotonMap& map;
+    MapNoisePilotHooks& hooks;
+    uint64_t seed = 0, stream = 0;
+    PilotBudget budget;
+    double image_pixels = 0.0;
+    PilotPixels where;
+    CountedOperations background;   // a background pixel's sample (background_work)
+    double work_before = 0.0;       // work counted before the first candidate
+    std::vector<PhotonMap> halves;  // built once a candidate's samples used the map
+    std::vector<TracedSamples> traced;
+    std::vector<GatherMeasurement> out;
+    bool one_fits = false;          // an earlier candidate's one-sample pass fits the cap (render/plan/pilot_budget.h)
+
+    // One camera sample's luminance, jittered within pixel (px, py).
+    double sample(int px, int py, Rng& rng) const {
+        const double jx = rng.uniform(), jy = rng.uniform();
+        return luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
+    }
+
+    // Samples s0 .. s1 - 1 of every pilot pixel for candidate c with its map m. The same numbers for
+    // every map and candidate: the differences are the maps'. Samples past kPilotSamples (a
+    // candidate without a map) draw from streams of their own.
+    void trace(size_t c, size_t m, int s0, int s1) {
+        TracedSamples& t = traced[c];
+        tbb::parallel_for(0, kPixels, [&](int j) {
+            const auto [px, py] = where.pixels[size_t(j)];
+            for (int s = s0; s < s1; ++s) {
+                Rng rng = s < kPilotSamples
+                              ? Rng(seed, stream * uint64_t(kPixels * kPilotSamples) + uint64_t(j * kPilotSamples + s))
+                              : Rng(mix64(seed ^ kLongPilotSalt), stream * uint64_t(kPixels * kNoMapPilotSamples) + at(j, s, t.most));
+                t.values[m][at(j, s, t.most)] = sample(px, py, rng);
+            }
+        });
+    }
+
+    // g's operations per sample over the image after n samples per pilot pixel since `before`.
+    void set_cost(GatherMeasurement& g, const CountedOperations& before, int n) const {
+        g.per_sample = mixed(where.seen_fraction, per_sample(before, hooks.counts(), double(kPixels * n)), background);
+        g.sample_cost = hooks.work(g.per_sample);
+    }
+};
+
+// The candidate without a map (c) traced to n samples per pilot pixel in stages of kNoMapStopFirstStage,
+// doubling, each tested by hooks.stop on every candidate's figures so far (render/plan/no_map_stop.h).
+// Returns the samples traced; g holds the last test's figures and whether it stopped.
+int trace_without_map(PilotRun& run, size_t c, int n, const CountedOperations& before, GatherMeasurement& g) {
+    int traced = 1;   // the probe
+    for (int stage = run.hooks.stop ? std::min(kNoMapStopFirstStage, n) : n;; stage = std::min(2 * stage, n)) {
+        run.trace(c, 0, traced, stage);
+        traced = stage;
+        if (stage >= n) return n;
+        std::vector<GatherMeasurement> so_far = run.out;
+        GatherMeasurement& partial = so_far.emplace_back(g);
+        run.set_cost(partial, before, stage);
+        partial.samples = stage;
+        run.traced[c].n = stage;
+        add_figures(run.traced, run.where.seen_fraction, so_far);
+        run.traced[c].n = 0;
+        const bool stop = run.hooks.stop(so_far);
+        g.stop_low_score = so_far.back().stop_low_score;
+        g.stop_best_map_score = so_far.back().stop_best_map_score;
+        if (stop) {
+            g.stopped_early = true;
+            return stage;
+        }
+    }
+}
+
+// Candidate c's probe, samples with the full map and (where it used the map) its halves, and the
+// spread grid's; appended to run.out (its figures come later: add_figures).
+void measure_candidate(PilotRun& run, size_t c, const PilotCandidate& candidate) {
+    MapNoisePilotHooks& hooks = run.hooks;
+    const bool may_use_halves = candidate.uses_map;
+    TracedSamples& t = run.traced[c];
+    t.most = may_use_halves ? kPilotSamples : kNoMapPilotSamples;
+    t.values.assign(may_use_halves ? 3 : 1, std::vector<double>(size_t(kPixels) * size_t(t.most)));
+    GatherMeasurement g;
+    g.name = candidate.name;
+    g.uses_map = candidate.uses_map;
+    // The probe: one sample per pixel with the full map gives the counted cost per sample.
+    hooks.use(int(c), &run.map);
+    const CountedOperations before = hooks.counts();
+    run.trace(c, 0, 0, 1);
+    const CountedOperations probe = per_sample(before, hooks.counts(), double(kPixels));
+    const double probe_cost = hooks.work(probe);   // at the pilot's pixels: what its samples cost
+    const double image_probe_cost = hooks.work(mixed(run.where.seen_fraction, probe, run.background));   // over the image
+    const bool over_cap = run.image_pixels * image_probe_cost > run.budget.max_pass_cost;
+    if (run.budget.per_candidate > 0.0 && run.one_fits && over_cap) {
+        g.dropped = true;
+        g.samples = 1;
+        g.per_sample = mixed(run.where.seen_fraction, probe, run.background);
+        g.sample_cost = image_probe_cost;
+        g.max_weight = hooks.counts().march_weight_max;
+        run.out.push_back(g);
+        return;
+    }
+    run.one_fits = run.one_fits || !over_cap;
+    // Share the budget as if the halves were traced (render/plan/pilot_budget.h), whether or not they are.
+    int n = candidate_samples(run.budget, probe_cost, may_use_halves ? 3 : 1, may_use_halves, hooks.work(before) - run.work_before);
+    if (may_use_halves) run.trace(c, 0, 1, n);
+    else n = trace_without_map(run, c, n, before, g);
+    run.set_cost(g, before, n);
+    std::vector<const PhotonMap*> maps = {&run.map};
+    t.halves_too = may_use_halves && g.per_sample.map_used > 0.0;
+    if (t.halves_too) {
+        if (run.halves.empty()) run.halves = split_by_walk_group(run.map, 2);
+        maps.push_back(&run.halves[0]);
+        maps.push_back(&run.halves[1]);
+    }
+    for (size_t m = 1; m < maps.size(); ++m) {
+        hooks.use(int(c), maps[m]);
+        run.trace(c, m, 0, n);
+    }
+    g.samples = n;
+    t.stopped = g.stopped_early;
+    g.max_weight = hooks.counts().march_weight_max;   // over this candidate's traces (and the earlier ones')
+    g.v_map_quarter = -1.0;
+    t.n = n;
+    // The spread grid's samples with each map (the full map, then the halves where traced).
+    if (may_use_halves)
+        t.spread = spread_samples(run.where, maps, int(c), hooks, run.seed, run.stream,
+                                  [&run](int px, int py, Rng& rng) { return run.sample(px, py, rng); });
+    run.out.push_back(g);
 }
 
 }  // namespace
@@ -265,106 +416,23 @@ std::vector<GatherMeasurement> measure_gathers(const Camera& camera, const Photo
     // ball wider than max_radius_mfp, the dense boxes) a half map's balls, wider still, are not used
     // either, V_map and bias^2 are exactly 0, and the split (two kd-trees: most of a 1 s pilot in the
     // dense boxes at 0.8 M stored photons) is skipped.
-    std::vector<PhotonMap> halves;
-    const int width = camera.width(), height = camera.height();
-    std::vector<GatherMeasurement> out;
-    std::vector<TracedSamples> traced(candidates.size());
-    bool one_fits = false;   // an earlier candidate's one-sample pass fits the cap (render/plan/pilot_budget.h)
-    // The pixels that can vary (render/plan/pilot_pixels.h): the figures are theirs times f, their share.
-    const PilotPixels where = choose_pilot_pixels(width, height, kPilotSide, kPilotSpreadSide, [&](int x, int y) {
+    PilotRun run(camera, map, hooks);
+    run.seed = seed;
+    run.stream = stream;
+    run.budget = budget;
+    run.image_pixels = image_pixels;
+    run.traced.resize(candidates.size());
+    // The pixels that can vary (render/plan/pilot_pixels.h): the figures are theirs times their share.
+    run.where = choose_pilot_pixels(camera.width(), camera.height(), kPilotSide, kPilotSpreadSide, [&](int x, int y) {
         return !hooks.sees || hooks.sees(camera.generate_ray(x + 0.5, y + 0.5));
     });
-    const double f = where.seen_fraction;
-    // One camera sample's luminance, jittered within pixel (px, py).
-    auto sample = [&](int px, int py, Rng& rng) {
-        const double jx = rng.uniform(), jy = rng.uniform();
-        return luminance_of(hooks.trace(camera.generate_ray(px + jx, py + jy), rng));
-    };
-    const CountedOperations background = background_work(where, map, hooks, seed, stream, sample);
-    const double work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
-    for (size_t c = 0; c < candidates.size(); ++c) {
-        const bool may_use_halves = candidates[c].uses_map;
-        // Share the budget as if the halves were traced (render/plan/pilot_budget.h), whether or not they are.
-        const int budget_maps = may_use_halves ? 3 : 1;
-        std::vector<const PhotonMap*> maps = {&map};
-        const int most = may_use_halves ? kPilotSamples : kNoMapPilotSamples;
-        std::vector<std::vector<double>> values(may_use_halves ? 3 : 1, std::vector<double>(size_t(kPixels) * size_t(most)));
-        // Samples s0 .. s1 - 1 of every pilot pixel with map m.
-        auto trace = [&](size_t m, int s0, int s1) {
-            tbb::parallel_for(0, kPixels, [&](int j) {
-                const auto [px, py] = where.pixels[size_t(j)];
-                for (int s = s0; s < s1; ++s) {
-                    // The same numbers for every map and candidate: the differences are the maps'.
-                    // Samples past kPilotSamples (a candidate without a map) draw from streams of their own.
-                    Rng rng = s < kPilotSamples
-                                  ? Rng(seed, stream * uint64_t(kPixels * kPilotSamples) + uint64_t(j * kPilotSamples + s))
-                                  : Rng(mix64(seed ^ kLongPilotSalt), stream * uint64_t(kPixels * kNoMapPilotSamples) + at(j, s, most));
-                    values[m][at(j, s, most)] = sample(px, py, rng);
-                }
-            });
-        };
-        GatherMeasurement g;
-        g.name = candidates[c].name;
-        g.uses_map = candidates[c].uses_map;
-        // The probe: one sample per pixel with the full map gives the counted cost per sample.
-        hooks.use(int(c), maps[0]);
-        const CountedOperations before = hooks.counts();
-        trace(0, 0, 1);
-        const CountedOperations probe = per_sample(before, hooks.counts(), double(kPixels));
-        const double probe_cost = hooks.work(probe);   // at the pilot's pixels: what its samples cost
-        const double image_probe_cost = hooks.work(mixed(f, probe, background));   // over the image
-        if (budget.per_candidate > 0.0 && one_fits && image_pixels * image_probe_cost > budget.max_pass_cost) {
-            g.dropped = true;
-            g.samples = 1;
-            g.per_sample = mixed(f, probe, background);
-            g.sample_cost = image_probe_cost;
-            g.max_weight = hooks.counts().march_weight_max;
-            out.push_back(g);
-            continue;
-        }
-        one_fits = one_fits || !(image_pixels * image_probe_cost > budget.max_pass_cost);
-        const int n = candidate_samples(budget, probe_cost, budget_maps, may_use_halves, hooks.work(before) - work_before);
-        trace(0, 1, n);
-        g.per_sample = mixed(f, per_sample(before, hooks.counts(), double(kPixels * n)), background);
-        g.sample_cost = hooks.work(g.per_sample);
-        const bool halves_too = may_use_halves && g.per_sample.map_used > 0.0;
-        if (halves_too) {
-            if (halves.empty()) halves = split_by_walk_group(map, 2);
-            maps.push_back(&halves[0]);
-            maps.push_back(&halves[1]);
-        }
-        for (size_t m = 1; m < maps.size(); ++m) {
-            hooks.use(int(c), maps[m]);
-            trace(m, 0, n);
-        }
-        g.samples = n;
-        g.max_weight = hooks.counts().march_weight_max;   // over this candidate's traces (and the earlier ones')
-        g.v_map_quarter = -1.0;
-        TracedSamples& t = traced[c];
-        t.values = std::move(values);
-        t.n = n;
-        t.most = most;
-        t.halves_too = halves_too;
-        // The spread grid's samples with each map (the full map, then the halves where traced).
-        if (may_use_halves) t.spread = spread_samples(where, maps, int(c), hooks, seed, stream, sample);
-        out.push_back(g);
-    }
+    run.background = background_work(run.where, map, hooks, seed, stream,
+                                      [&run](int px, int py, Rng& rng) { return run.sample(px, py, rng); });
+    run.work_before = hooks.work(hooks.counts());   // the earlier candidates' work: what this pilot spent
+    for (size_t c = 0; c < candidates.size(); ++c) measure_candidate(run, c, candidates[c]);
     // The figures, once every candidate's samples give the pixels' weights in the relative error.
-    const RelativeWeights w = relative_weights(traced);
-    for (size_t c = 0; c < out.size(); ++c) {
-        const TracedSamples& t = traced[c];
-        if (out[c].dropped) continue;
-        GatherMeasurement& g = out[c];
-        const double v = summed_pixel_variance(t.values[0], t.n, t.most, w.pixels);
-        g.v_camera = v / kPixels;
-        if (!t.spread.empty()) g.v_camera = (v + summed_spread_variance(t.spread[0], w.spread)) / (kPixels + kSpreadPixels);
-        add_sample_statistics(t.values[0], t.n, t.most, w.pixels, g);
-        if (t.halves_too) add_map_noise(t.values, t.spread, t.n, w.pixels, w.spread, g);
-        // Averages over the image: the pixels that can vary, times their share (the rest add 0). The
-        // mean stays theirs (the background's radiance need not be 0): it only compares candidates.
-        for (double* x : {&g.v_camera, &g.v_map_half, &g.v_map_half_se, &g.bias2, &g.bias_mean, &g.bias_se}) *x *= f;
-    }
-    return out;
+    add_figures(run.traced, run.where.seen_fraction, run.out);
+    return run.out;
 }
 
 }  // namespace vpm

@@ -48,6 +48,10 @@ struct MapNoisePilotHooks {
     // Whether a camera ray meets a surface or a medium (render/plan/pilot_pixels.h); unset: the pilot's
     // pixels are the block centres, as if every pixel did.
     std::function<bool(const Ray&)> sees;
+    // Called on the candidate without a map between its stages (kNoMapStopFirstStage samples per
+    // pilot pixel, doubling) with every candidate's figures so far, itself last: whether its pilot
+    // stops there (render/plan/no_map_stop.h); it may set the last one's stop_ figures. Unset: never.
+    std::function<bool(std::vector<GatherMeasurement>& so_far)> stop;
 };
 
 constexpr int kPilotSide = 8;       // pilot pixels: the centres of an 8 x 8 grid of image blocks
@@ -61,6 +65,7 @@ constexpr int kPilotSpreadSamples = 2;
 // or without a budget no more counted work than the candidates before it spent (render/plan/no_map_candidate.h:
 // its variance sits in a tail that 8 samples per pixel do not reach).
 constexpr int kNoMapPilotSamples = 1024;
+constexpr int kNoMapStopFirstStage = kPilotSamples;
 // The largest samples whose share of the variance the pilot reports (render/plan/pilot_tail.h).
 constexpr double kPilotTailFraction = 1.0 / 1024.0;
 

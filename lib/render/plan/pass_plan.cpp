@@ -172,6 +172,22 @@ Sizing size_passes(const PlanInputs& in, const GatherMeasurement& m, double v_ca
     return best;
 }
 
+// Per candidate, whether the plan may choose it on its figures: its march weights bounded, its
+// mean trusted (means_trusted), measured beyond its probe and not excluded.
+std::vector<bool> candidates_trusted(const std::vector<GatherMeasurement>& candidates) {
+    std::vector<bool> trusted = means_trusted(candidates);
+    for (size_t c = 0; c < candidates.size(); ++c) {
+        const GatherMeasurement& m = candidates[c];
+        trusted[c] = trusted[c] && !(m.max_weight > kPlanMaxMarchWeight) && !m.dropped && !m.excluded;
+    }
+    return trusted;
+}
+
+// The map variance at N/2 a candidate is chosen on: its upper bound (kPlanVarianceSigmas).
+double upper_map_variance(const GatherMeasurement& m) {
+    return std::max(0.0, m.v_map_half) + kPlanVarianceSigmas * m.v_map_half_se;
+}
+
 }  // namespace
 
 PassPlan plan_passes(const PlanInputs& in) {
@@ -182,19 +198,16 @@ PassPlan plan_passes(const PlanInputs& in) {
     plan.count = in.count;
     plan.spp = in.spp;
     double best = kInfinity, best_cost = kInfinity;
-    const std::vector<bool> agrees = means_trusted(in.candidates);
-    auto trusted = [&](size_t c) {
-        const GatherMeasurement& m = in.candidates[c];
-        return !(m.max_weight > kPlanMaxMarchWeight) && agrees[c] && !m.dropped && !m.excluded;
-    };
+    const std::vector<bool> trusted = candidates_trusted(in.candidates);
     for (size_t c = 0; c < in.candidates.size(); ++c) {
         const GatherMeasurement& m = in.candidates[c];
         bool measured = false;
         const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
         // Chosen on its variances at their upper bounds (pass_plan.h: kPlanVarianceSigmas).
         const Sizing bound = size_passes(in, m, m.v_camera * (1.0 + kPlanVarianceSigmas * m.v_camera_rel_se),
-                                         std::max(0.0, m.v_map_half) + kPlanVarianceSigmas * m.v_map_half_se, beta, trusted(c));
+                                         upper_map_variance(m), beta, trusted[c]);
         plan.score.push_back(bound.score);
+        if (m.stopped_early) continue;   // scored for the record, not a choice
         // Least score; equal scores (nothing lit: every variance 0; or no candidate trusted) go to the cheaper pass.
         if (bound.score < best || (bound.score == best && bound.cost < best_cost)) {
             best = bound.score;
@@ -206,10 +219,17 @@ PassPlan plan_passes(const PlanInputs& in) {
     }
     // Sized on the variance read: the bound only guards the choice between candidates.
     const GatherMeasurement& chosen = in.candidates[size_t(plan.chosen)];
-    const Sizing sized = size_passes(in, chosen, chosen.v_camera, chosen.v_map_half, plan.beta, trusted(size_t(plan.chosen)));
+    const Sizing sized = size_passes(in, chosen, chosen.v_camera, chosen.v_map_half, plan.beta, trusted[size_t(plan.chosen)]);
     plan.count = sized.count;
     plan.spp = sized.spp;
     return plan;
+}
+
+double score_at_camera_variance(const PlanInputs& in, size_t c, double v_camera) {
+    const GatherMeasurement& m = in.candidates.at(c);
+    bool measured = false;
+    const double beta = map_variance_exponent(m.v_map_half, m.v_map_quarter, measured);
+    return size_passes(in, m, v_camera, upper_map_variance(m), beta, true).score;
 }
 
 }  // namespace vpm

@@ -59,6 +59,9 @@ struct GatherMeasurement {
     bool excluded = false;        // not a choice (render/plan/no_map_candidate.h: a map that goes unused)
     double bias_mean = 0.0;       // the pilot's pooled, signed bias at Np behind bias2
     double bias_se = 0.0;         // and its standard error
+    bool stopped_early = false;   // its pilot stopped where it lost by far (render/plan/no_map_stop.h): not a choice
+    double stop_low_score = 0.0;  // at its last stop test: its score at its camera variance's lower bound
+    double stop_best_map_score = 0.0;   // and the best map candidate's score (0: not tested)
 };
 
 struct PlanInputs {
@@ -162,5 +165,9 @@ double plan_budget(const PlanInputs& in, bool pilot_map_reused);
 double map_variance_exponent(double v_half, double v_quarter, bool& measured);
 
 PassPlan plan_passes(const PlanInputs& in);
+
+// Candidate c's score as plan_passes gives it, with its camera variance at `v_camera` (its map
+// variance at its upper bound), as if its mean were trusted (render/plan/no_map_stop.h).
+double score_at_camera_variance(const PlanInputs& in, size_t c, double v_camera);
 
 }  // namespace vpm
