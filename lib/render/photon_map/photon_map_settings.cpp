@@ -182,7 +182,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& render, Params& p, bool choose
                             {{"importance", PhotonAllocationRule::importance}, {"power", PhotonAllocationRule::power}});
     s.gather = read_gather(p, s.gather);
     s.beam_widths = p.choice("beam_widths", BeamWidths::balloon,
-                             {{"balloon", BeamWidths::balloon}, {"sample_point", BeamWidths::sample_point}});
+                             {{"balloon", BeamWidths::balloon}, {"sample_point", BeamWidths::sample_point}, {"density", BeamWidths::density}});
     check_photon_beams(p, s);
     read_pass_sizing(render, s);
     s.gather_queries = int(p.integer("gather_queries", s.gather_queries, Range::closed(1, 1024)));

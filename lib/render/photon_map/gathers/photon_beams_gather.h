@@ -32,6 +32,11 @@
 //                   field for every k and kernel (no k-1 factor). A beam crossed by m < k others
 //                   within its bound takes the bound (a fixed width); with no bound at all, u_m k / m,
 //                   else (m = 0) the median width: every beam keeps its light (counted in the stats).
+//   "density"       each piece of a beam gets a width from the beams' length per volume at its middle
+//                   (photon/map/beam_density_widths.h): the u within which a segment of the beams'
+//                   mean length crosses k beams, bounded as sample_point's. No k-nearest search: a
+//                   camera segment weighs the pieces whose own-width cylinders it crosses. Unbiased
+//                   for the blurred field as sample_point's (the widths do not depend on the ray).
 //
 // In a scene with closed glass shapes the beams are split by region (scene/dielectric_regions.h): a
 // beam is one free flight, which crosses no glass, so it lies in one region. Each region's beams get
@@ -55,7 +60,7 @@
 
 namespace vpm {
 
-enum class BeamWidths { balloon, sample_point };
+enum class BeamWidths { balloon, sample_point, density };
 const char* beam_widths_name(BeamWidths w);
 
 class PhotonBeamsGather : public SegmentGather {
@@ -116,6 +121,9 @@ private:
     // beam_widths = "sample_point": each beam's width from its own k nearest other beams within its
     // bound (the widths' counts into built_); refuses a run where most widths would be guessed.
     std::vector<double> sample_point_widths(const std::vector<PhotonBeam>& beams, double max_width, double max_width_mfp);
+    // beam_widths = "density": one width per piece of `piece` length from the beams' density
+    // (photon/map/beam_density_widths.h), bounded as sample_point's, times width_scale_.
+    std::vector<double> density_widths(const std::vector<PhotonBeam>& beams, double piece);
     // The part's BVH (and sample-point widths), its counts into built_.
     void build_part(Part& part);
     // The part of `region` (the only one when not split); null where that region has no beam.
