@@ -58,6 +58,11 @@ BeamWorkUnits point_beam_work_units(double radius_query);
 // (N discs of radius ~N^(-1/3): N r^2), read N^0.32 in glass_sphere_fog from 25,000 to 100,000 photons.
 constexpr double kLeastBeamTestGrowth = 0.5;
 constexpr double kLeastDiscTestGrowth = 1.0 / 3.0;
+// The least growth of the width tests per beam beyond the pilots: sample-point widths N^0.75 (between
+// pilots of 1,024 and 4,096 photons it reads near 0; from 12,500 to 50,000 photons N^0.77); density
+// widths 0 (a fixed number of neighbours per beam; the log N of the tree is left out).
+constexpr double kLeastWidthGrowth = 0.75;
+constexpr double kLeastDensityWidthGrowth = 0.0;
 
 struct BeamPassInputs {
     BeamPilotCounts small, large;   // the pilots, small.photons < large.photons
@@ -69,6 +74,10 @@ struct BeamPassInputs {
     bool size_photons = false;      // false: N stays count
     bool size_samples = false;      // false: S stays spp
     double least_test_growth = kLeastBeamTestGrowth;   // kLeastDiscTestGrowth for point_beam
+    double least_width_growth = kLeastWidthGrowth;     // kLeastDensityWidthGrowth for density widths
+    // Where both N and S are sized: move work from photons to camera samples until the photon side
+    // holds at most half of the pass (photon_beams; point_beam keeps the largest N).
+    bool balance_camera = false;
     double budget = 0.0;            // render.time_limit in work units (kWorkUnitsPerSecond per second)
 };
 
