@@ -25,6 +25,7 @@
 #include "render/run/image_io.h"
 #include "render/integrator_registry.h"
 #include "render/photon_map/gathers/gather_registry.h"
+#include "render/photon_map/gathers/photon_beams_gather.h"
 #include "render/run/run.h"
 #include "render/run/run_outputs.h"
 #include "render/run/staged_file.h"
@@ -55,6 +56,7 @@ std::string registered_names() {
            "  photons.estimator  " + registry_list(vpm::Estimator::names()) + "\n"
            "  photons.kernel     " + registry_list(vpm::Kernel::names()) + "\n"
            "  photons.gather     " + registry_list(vpm::gather_names()) + "\n"
+           "  photons.beam_widths " + registry_list(vpm::beam_widths_names()) + "\n"
            "  render.sampler     " + registry_list(vpm::sampler_names()) + "\n"
            "  photons.sampler    " + registry_list(vpm::sampler_names()) + "\n";
 }

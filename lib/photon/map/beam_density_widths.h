@@ -29,7 +29,7 @@ struct BeamDensityWidths {
 };
 
 // Neighbours of the density estimate: enough that lambda's relative noise (~1/sqrt(n)) stays small.
-constexpr size_t kBeamDensityNeighbours = 32;
+constexpr size_t kBeamDensityNeighbours = 16;
 
 // bound(x): the largest width at x (kInfinity for none). scale multiplies every width (a
 // progressive pass's width scale, in (0, 1]).

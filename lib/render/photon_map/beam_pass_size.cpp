@@ -109,12 +109,14 @@ BeamPassSize size_beam_pass(const BeamPassInputs& in) {
     out.pass_budget = std::max(0.0, in.budget - out.pilot_units) / kBeamPlanMinPasses;
     auto fits = [&](double n, double s) { return beam_pass_units(in, n, s) <= out.pass_budget; };
     int64_t n = in.count;
-    int s = in.size_samples ? 1 : in.spp;
+    int s = in.size_samples ? std::min(in.spp, std::max(1, in.least_spp)) : in.spp;
     if (in.size_photons) {
         // Halve N until the pass fits, down to the small pilot's photons (at least 1).
         const int64_t floor_n = std::max<int64_t>(1, int64_t(S.photons));
         while (n > floor_n && !fits(double(n), double(s))) n = std::max(floor_n, n / 2);
     }
+    if (in.size_samples)   // the least S does not fit even at the fewest photons: fewer samples
+        while (s > 1 && !fits(double(n), double(s))) s /= 2;
     if (in.size_samples)
         while (s * 2 <= in.spp && fits(double(n), double(s * 2))) s *= 2;
     if (in.balance_camera && in.size_photons && in.size_samples) balance_camera_share(in, fits, n, s);

@@ -30,6 +30,12 @@ const char* beam_widths_name(BeamWidths w) {
     return "balloon";
 }
 
+std::vector<std::string> beam_widths_names() {
+    std::vector<std::string> names;
+    for (BeamWidths w : {BeamWidths::balloon, BeamWidths::sample_point, BeamWidths::density}) names.push_back(beam_widths_name(w));
+    return names;
+}
+
 PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k,
                                      bool keep_kth, const Kernel& kernel, double max_width, double max_width_mfp,
                                      const std::vector<RegionMask>* regions, double width_scale)

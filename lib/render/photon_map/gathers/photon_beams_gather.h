@@ -44,6 +44,7 @@
 // R's beams, as the point gathers' maps are split. A region with no beam is starved: the caller
 // gathers its segments as the collision gather does.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -62,6 +63,7 @@ namespace vpm {
 
 enum class BeamWidths { balloon, sample_point, density };
 const char* beam_widths_name(BeamWidths w);
+std::vector<std::string> beam_widths_names();   // photons.beam_widths' values, in enum order
 
 class PhotonBeamsGather : public SegmentGather {
 public:
