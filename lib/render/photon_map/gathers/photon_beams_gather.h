@@ -40,8 +40,8 @@
 //
 // In a scene with closed glass shapes the beams are split by region (scene/dielectric_regions.h): a
 // beam is one free flight, which crosses no glass, so it lies in one region. Each region's beams get
-// their own BVH (and their own sample-point widths), and a camera segment in region R weighs only
-// R's beams, as the point gathers' maps are split. A region with no beam is starved: the caller
+// their own BVH (and their own sample-point or density widths), and a camera segment in region R
+// weighs only R's beams, as the point gathers' maps are split. A region with no beam is starved: the caller
 // gathers its segments as the collision gather does.
 #include <cstdint>
 #include <string>
@@ -61,9 +61,10 @@
 
 namespace vpm {
 
-enum class BeamWidths { balloon, sample_point, density };
+// density first: PhotonMapSettings::beam_widths{} (the default) is its value 0.
+enum class BeamWidths { density, balloon, sample_point };
 const char* beam_widths_name(BeamWidths w);
-std::vector<std::string> beam_widths_names();   // photons.beam_widths' values, in enum order
+std::vector<std::string> beam_widths_names();   // photons.beam_widths' values
 
 class PhotonBeamsGather : public SegmentGather {
 public:
@@ -123,7 +124,7 @@ private:
     // beam_widths = "sample_point": each beam's width from its own k nearest other beams within its
     // bound (the widths' counts into built_); refuses a run where most widths would be guessed.
     std::vector<double> sample_point_widths(const std::vector<PhotonBeam>& beams, double max_width, double max_width_mfp);
-    // beam_widths = "density": one width per piece of `piece` length from the beams' density
+    // beam_widths = "density": one width per beam from the beams' density, repeated for its pieces of `piece` length
     // (photon/map/beam_density_widths.h), bounded as sample_point's, times width_scale_.
     std::vector<double> density_widths(const std::vector<PhotonBeam>& beams, double piece);
     // The part's BVH (and sample-point widths), its counts into built_.

@@ -30,7 +30,8 @@ TEST(PhotonBeamsGather, FurnaceBalloonCorrectedAndSamplePointUnbiasedClassicHigh
     auto config = [&](const std::string& set) {
         return RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
                                {"render.width=16", "render.height=16", "render.spp=1", "photons.count=3000",
-                                "photons.gather=\"photon_beams\"", "photons.k=" + std::to_string(k), set});
+                                "photons.gather=\"photon_beams\"", "photons.beam_widths=\"balloon\"",
+                                "photons.k=" + std::to_string(k), set});
     };
     const RunConfig corrected_config = config("photons.estimator=\"corrected\""),
                     classic_config = config("photons.estimator=\"classic\""),
@@ -59,7 +60,7 @@ TEST(PhotonBeamsGather, FurnaceBalloonCorrectedAndSamplePointUnbiasedClassicHigh
 }
 
 TEST(PhotonBeamsGather, SameImageOnOneAndTwoThreadsInAGrid) {
-    for (const char* widths : {"balloon", "sample_point"}) {
+    for (const char* widths : {"balloon", "sample_point", "density"}) {
         auto image = [&](int threads) {
             RunOptions o;
             o.progress = false;
@@ -119,13 +120,13 @@ test::Sample beam_brightness(const std::string& config, const std::vector<std::s
     return test::repeated_run_brightness(RunConfig::load(VPM_SOURCE_DIR "/configs/" + config, all), repeats);
 }
 
-// Both width forms against the path tracer within 3 combined standard errors; "sample_point" also
+// Every width form against the path tracer within 3 combined standard errors; "sample_point" also
 // `sample_point_allowance` of the path tracer's mean for its kNN widths' smoothing, not derived yet
 // (plume, 32 maps: -1.38% +- 0.32%). Balloon widths, 64 maps (16 x 16, 20000 photons, 2 spp per
 // map): thin cube +0.28% +- 0.33%, plume +0.01% +- 0.50%.
 void expect_beams_match_path_tracer(const std::string& config, double sample_point_allowance) {
     const test::Sample path = beam_brightness(config, {"render.integrator=\"path\"", "render.spp=64"}, 6);
-    for (const char* widths : {"balloon", "sample_point"}) {
+    for (const char* widths : {"balloon", "sample_point", "density"}) {
         const test::Sample beams = beam_brightness(
             config, {"render.integrator=\"photon_map\"", "render.spp=2", "photons.gather=\"photon_beams\"",
                      std::string("photons.beam_widths=\"") + widths + "\""},
@@ -158,7 +159,7 @@ TEST(PhotonBeamsGather, ProgressiveWidthsStayUnbiasedInTheFurnace) {
     auto config = [&](const std::string& set) {
         return RunConfig::load(VPM_SOURCE_DIR "/configs/uniform_furnace.toml",
                                {"render.width=16", "render.height=16", "render.spp=1", "photons.count=3000",
-                                "photons.gather=\"photon_beams\"", "photons.k=8", "photons.k_floor=8",
+                                "photons.gather=\"photon_beams\"", "photons.beam_widths=\"balloon\"", "photons.k=8", "photons.k_floor=8",
                                 "photons.schedule=\"progressive\"", "render.first_pass=16", "render.passes=1", set});
     };
     const RunConfig balloon = config("photons.estimator=\"corrected\""),
@@ -227,7 +228,7 @@ TEST(PhotonBeamsGather, StarvedSegmentsGoOnAsTheCollisionGathersDo) {
     };
     const test::Sample path = test::repeated_run_brightness(with({"render.integrator=\"path\"", "render.spp=64"}), 6);
     const RunConfig config = with({"render.integrator=\"photon_map\"", "render.spp=64", "photons.gather=\"photon_beams\"",
-                                   "photons.k=100000"});
+                                   "photons.beam_widths=\"balloon\"", "photons.k=100000"});
     const test::Sample beams = test::repeated_run_brightness(config, 6);
     const double se = std::hypot(beams.se(), path.se());
     std::printf("k above the beams: photon_beams %.5f +- %.5f, path %.5f +- %.5f\n", beams.mean(), beams.se(), path.mean(),
@@ -259,7 +260,8 @@ RunConfig dense_cube(const std::vector<std::string>& more) {
 // unbounded widths (tens of mean free paths: the blur left the lit layer).
 TEST(PhotonBeamsGather, DenseCubeBalloonMatchesThePathTracer) {
     const test::Sample path = test::repeated_run_brightness(dense_cube({"render.integrator=\"path\"", "render.spp=64"}), 4);
-    const RunConfig config = dense_cube({"render.integrator=\"photon_map\"", "render.spp=2", "photons.gather=\"photon_beams\""});
+    const RunConfig config = dense_cube({"render.integrator=\"photon_map\"", "render.spp=2", "photons.gather=\"photon_beams\"",
+                                                  "photons.beam_widths=\"balloon\""});
     const test::Sample beams = test::repeated_run_brightness(config, 10);
     const double se = std::hypot(beams.se(), path.se());
     std::printf("dense cube balloon: photon_beams %.5f +- %.5f, path %.5f +- %.5f\n", beams.mean(), beams.se(), path.mean(),
