@@ -6,19 +6,23 @@
 # 1.2 x LIMIT + 1 s.
 #
 # Usage: bench/beam_time_limits.sh [LIMIT] [VPM] [OUT_DIR]    (defaults: 8, build/vpm, out/beam_time_limits)
-# EXTRA="--set photons.beam_widths=\"balloon\"" adds keys to every run.
+# EXTRA="--set photons.beam_widths=\"balloon\"" adds keys to every run; CONFIGS="configs/a.toml ..." picks configs.
 set -euo pipefail
 limit="${1:-8}"
 vpm="${2:-build/vpm}"
 out="${3:-out/beam_time_limits}"
 mkdir -p "$out"
 echo "config,wall_s,cpu_s,within"
-for config in configs/*.toml; do
+for config in ${CONFIGS:-configs/*.toml}; do
     name=$(basename "$config" .toml)
     args=(--set render.integrator=photon_map --set 'photons.gather="photon_beams"' --set render.time_limit="$limit")
-    grep -q '^count *=' "$config" && args+=(--unset photons.count)
-    grep -q '^spp *=' "$config" && args+=(--unset render.spp)
-    grep -q '^passes *=' "$config" && args+=(--unset render.passes)
+    # The config and its base (base = "FILE"): where either sets a size, the limit sizes it instead.
+    files=("$config")
+    base=$(sed -n 's/^base *= *"\(.*\)"/\1/p' "$config")
+    [ -n "$base" ] && files+=("configs/$base")
+    grep -q '^count *=' "${files[@]}" && args+=(--unset photons.count)
+    grep -q '^spp *=' "${files[@]}" && args+=(--unset render.spp)
+    grep -q '^passes *=' "${files[@]}" && args+=(--unset render.passes)
     # shellcheck disable=SC2086
     if ! /usr/bin/time -o "$out/$name.time" -f "%e %U %S" nice -n 5 timeout $((limit * 20 + 60)) "$vpm" render "$config" \
             -q --threads 2 "${args[@]}" ${EXTRA:-} -o "$out/$name.exr" 2> "$out/$name.log"; then

@@ -62,11 +62,10 @@ constexpr double kLeastDiscTestGrowth = 1.0 / 3.0;
 // pilots of 1,024 and 4,096 photons it reads near 0; from 12,500 to 50,000 photons N^0.77); density
 // widths 0 (a fixed number of neighbours per beam; the log N of the tree is left out).
 constexpr double kLeastWidthGrowth = 0.75;
-// photon_beams' least samples per pass: a beams pass's camera noise, not its beams, dominated the
-// caustic scenes' error at 1 spp (docs/photon_beams.md, "Time limits": at 8 s water_caustics relMSE
-// 0.114 at 50,000 photons x 1 spp, 0.022 at 12,500 x 4, 0.046 at 3,125 x 16).
-constexpr int kBeamLeastSpp = 4;
 constexpr double kLeastDensityWidthGrowth = 0.0;
+// photon_beams' least samples per pass: the camera's noise, not the beams', dominates a pass of
+// 1 spp on the caustic scenes (docs/photon_beams.md, "Density widths").
+constexpr int kBeamLeastSpp = 4;
 
 struct BeamPassInputs {
     BeamPilotCounts small, large;   // the pilots, small.photons < large.photons
