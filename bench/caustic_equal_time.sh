@@ -2,6 +2,7 @@
 # Equal-time comparison on the caustic scenes (issue 59, docs/studies/caustic_scenes.md): path,
 # photon_map, auto, point_beam and photon_beams, each under render.time_limit with photons.count and
 # render.spp unset (the automatic sizes), seeds 1 and 2, interleaved (seed, scene, method), 2 threads.
+# METHODS may also name photon_beams_WIDTHS (photons.beam_widths = WIDTHS: balloon, sample_point, density).
 # Wall and CPU (user + system) seconds from /usr/bin/time; relMSE, relRMSE and relative bias from
 # `vpm compare --json --reference-halves` against scripts/caustic_references.sh's halves.
 #
@@ -29,6 +30,8 @@ for seed in $seeds; do
                 auto) args=(--set render.integrator=auto) ;;
                 point_beam) args=(--set render.integrator=photon_map --set 'photons.gather="point_beam"') ;;
                 photon_beams) args=(--set render.integrator=photon_map --set 'photons.gather="photon_beams"') ;;
+                photon_beams_*) args=(--set render.integrator=photon_map --set 'photons.gather="photon_beams"'
+                                      --set "photons.beam_widths=\"${method#photon_beams_}\"") ;;
             esac
             image="$out/${scene}_${method}_${seed}.exr"
             { /usr/bin/time -f "%e %U %S" nice -n 5 timeout $((seconds * 20 + 60)) "$vpm" render \

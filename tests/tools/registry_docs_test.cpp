@@ -17,6 +17,7 @@
 #include "photon/estimate/walk_estimate.h"
 #include "render/integrator_registry.h"
 #include "render/photon_map/gathers/gather_registry.h"
+#include "render/photon_map/gathers/photon_beams_gather.h"
 #include "scene/lights/light_registry.h"
 #include "scene/materials/material_registry.h"
 #include "scene/media/medium_registry.h"
@@ -120,6 +121,7 @@ TEST(RegistryDocs, RenderHelpListsEveryRegisteredName) {
     const vpm::test::Outcome o = vpm::test::run_vpm("render --help", dir);
     std::filesystem::remove_all(dir);
     ASSERT_EQ(o.code, 0) << o.err;
-    for (const auto& names : {light_names(), medium_names(), material_names(), integrator_names(), Estimator::names(), Kernel::names()})
+    for (const auto& names : {light_names(), medium_names(), material_names(), integrator_names(), Estimator::names(), Kernel::names(),
+                              beam_widths_names()})
         for (const std::string& n : names) EXPECT_NE(o.out.find(n), std::string::npos) << n << "\n" << o.out;
 }

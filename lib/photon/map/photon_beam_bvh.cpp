@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
+#include "core/error.h"
 #include "photon/map/segment_box_distance.h"
 
 namespace vpm {
@@ -44,35 +46,42 @@ double PhotonBeamBvh::automatic_piece_length(const std::vector<PhotonBeam>& beam
     return std::clamp(spacing, mean / kPiecesPerMeanLength, mean);
 }
 
-PhotonBeamBvh::PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii, double max_piece) {
+uint32_t PhotonBeamBvh::pieces(const PhotonBeam& b, double max_piece) {
+    if (!(b.length > 0.0) || !std::isfinite(b.length) || !b.origin.allFinite() || !b.dir.allFinite()) return 0;
+    const double m = max_piece > 0.0 && std::isfinite(max_piece) ? std::min(std::ceil(b.length / max_piece), 1e6) : 1.0;
+    return uint32_t(std::max(m, 1.0));
+}
+
+PhotonBeamBvh::PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii, double max_piece,
+                             bool per_piece) {
     // Pieces of beam i (0: left out). Counted first so that the items are allocated once, at their
     // size (max_bytes_per_beam, the photon pass's memory projection, counts no growth).
     auto pieces_of = [&](size_t i) -> uint32_t {
-        const PhotonBeam& b = beams[i];
-        const double w = radii.empty() ? 0.0 : radii[i];
-        if (!(b.length > 0.0) || !std::isfinite(b.length) || !std::isfinite(w) || !(w >= 0.0) || !b.origin.allFinite() ||
-            !b.dir.allFinite())
-            return 0;
-        if (!radii.empty() && !(w > 0.0)) return 0;   // a sample-point width of 0 crosses nothing
-        const double pieces =
-            max_piece > 0.0 && std::isfinite(max_piece) ? std::min(std::ceil(b.length / max_piece), 1e6) : 1.0;
-        return uint32_t(std::max(pieces, 1.0));
+        if (per_piece || radii.empty()) return pieces(beams[i], max_piece);
+        const double w = radii[i];
+        if (!std::isfinite(w) || !(w > 0.0)) return 0;   // a sample-point width of 0 crosses nothing
+        return pieces(beams[i], max_piece);
     };
+    auto usable = [](double w) { return std::isfinite(w) && w > 0.0; };
     size_t total = 0;
     for (size_t i = 0; i < beams.size(); ++i) total += pieces_of(i);
+    if (per_piece && radii.size() != total)
+        throw Error("photon beam BVH: " + std::to_string(radii.size()) + " piece widths for " + std::to_string(total) + " pieces");
     items_.reserve(total);
+    size_t piece = 0;   // per_piece: the running index into radii
     for (size_t i = 0; i < beams.size(); ++i) {
         const uint32_t m = pieces_of(i);
         if (m == 0) continue;
         const PhotonBeam& b = beams[i];
-        const double w = radii.empty() ? 0.0 : radii[i];
-        ++beam_count_;
-        for (uint32_t p = 0; p < m; ++p) {
+        bool kept = false;
+        for (uint32_t p = 0; p < m; ++p, ++piece) {
+            const double w = per_piece ? radii[piece] : radii.empty() ? 0.0 : radii[i];
+            if (per_piece && !usable(w)) continue;
             // The same expression for a piece's end and the next one's start: the pieces tile [0, length].
-            const double v0 = p == 0 ? 0.0 : b.length * double(p) / double(m);
-            const double v1 = p + 1 == m ? b.length : b.length * double(p + 1) / double(m);
-            items_.push_back({b.origin, b.dir, b.length, w, v0, v1, uint32_t(i)});
+            items_.push_back({b.origin, b.dir, b.length, w, piece_start(b, p, m), piece_end(b, p, m), uint32_t(i)});
+            kept = true;
         }
+        if (kept) ++beam_count_;
     }
     if (items_.empty()) return;
     nodes_.reserve(node_count_for(uint32_t(items_.size())));

@@ -65,7 +65,16 @@ public:
     // is mostly empty space; its pieces' boxes hug it. A crossing has one foot v on the beam, so it
     // is found in exactly one piece (pieces own [v0, v1), the last [v0, length]) and every query's
     // answer is the same for any max_piece.
-    PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii, double max_piece = 0.0);
+    // per_piece: radii holds one width per piece instead, in the order of the beams and, within a
+    // beam, of v (pieces(beam, max_piece) of each); a piece of no positive finite width is left out.
+    PhotonBeamBvh(const std::vector<PhotonBeam>& beams, const std::vector<double>& radii, double max_piece = 0.0,
+                  bool per_piece = false);
+
+    // The pieces the BVH cuts a beam into for max_piece (0 for a beam it leaves out: non-finite or
+    // no length), and piece p's extent [v0, v1] along it.
+    static uint32_t pieces(const PhotonBeam& b, double max_piece);
+    static double piece_start(const PhotonBeam& b, uint32_t p, uint32_t m) { return p == 0 ? 0.0 : b.length * double(p) / double(m); }
+    static double piece_end(const PhotonBeam& b, uint32_t p, uint32_t m) { return p + 1 == m ? b.length : b.length * double(p + 1) / double(m); }
 
     // The piece length the gather uses: 4 / sqrt(lambda), lambda the beams' total length over the
     // volume of their bounding box (1 / sqrt(lambda) is the spacing of a field of lines of that

@@ -15,16 +15,27 @@ double growth(double y_small, double y_large, double x_small, double x_large) {
 
 double per(double a, double b) { return b > 0.0 ? a / b : 0.0; }
 
-// Least growth of the width tests per beam assumed beyond the pilots, whatever they read (between
-// pilots of 1,024 and 4,096 photons it reads near 0; from 12,500 to 50,000 photons N^0.77). The
-// tests per camera query: BeamPassInputs::least_test_growth.
-constexpr double kLeastWidthGrowth = 0.75;
-
 // The camera side's operations other than the beams' queries, per probe sample.
 double other_camera_units(const BeamPilotCounts& c, const WorkUnits& w) {
     return per(c.camera.queries * w.query + c.camera.rays * w.ray + c.camera.lookups * w.lookup +
                    c.camera.steps * w.step + c.camera.density_lookups * w.density_lookup + c.camera.cells * w.cell,
                c.samples);
+}
+
+// Halves N and doubles S while the photon side (map) holds more than half of the pass and the pair
+// still fits: the error of a pass falls with both photons and camera samples, and neither side gains
+// from more than its share of the work (the photon map's plan balances them by measured variances;
+// the beams have no variance pilot, so the work is split).
+template <class Fits>
+void balance_camera_share(const BeamPassInputs& in, const Fits& fits, int64_t& n, int& s) {
+    const int64_t floor_n = std::max<int64_t>(1, int64_t(in.small.photons));
+    for (;;) {
+        double map = 0.0;
+        const double pass = beam_pass_units(in, double(n), double(s), &map);
+        if (!(2.0 * map > pass) || n / 2 < floor_n || s * 2 > in.spp || !fits(double(n / 2), double(s * 2))) return;
+        n /= 2;
+        s *= 2;
+    }
 }
 
 }  // namespace
@@ -76,7 +87,7 @@ double beam_pass_units(const BeamPassInputs& in, double n, double s, double* map
     const double pieces_growth = growth(per(S.pieces, S.beams), per(L.pieces, L.beams), S.photons, L.photons);
     map += beams * per(L.pieces, L.beams) * std::pow(scale, pieces_growth) * b.piece;
     const double width_growth =
-        std::max(kLeastWidthGrowth, growth(per(S.width_tests, S.beams), per(L.width_tests, L.beams), S.photons, L.photons));
+        std::max(in.least_width_growth, growth(per(S.width_tests, S.beams), per(L.width_tests, L.beams), S.photons, L.photons));
     map += beams * per(L.width_tests, L.beams) * std::pow(scale, width_growth) * b.width_test;
     const double test_growth =
         std::max(in.least_test_growth, growth(per(S.beam_tests, S.beam_queries), per(L.beam_tests, L.beam_queries), S.photons, L.photons));
@@ -93,19 +104,22 @@ BeamPassSize size_beam_pass(const BeamPassInputs& in) {
     out.test_growth =
         std::max(in.least_test_growth, growth(per(S.beam_tests, S.beam_queries), per(L.beam_tests, L.beam_queries), S.photons, L.photons));
     out.width_growth =
-        std::max(kLeastWidthGrowth, growth(per(S.width_tests, S.beams), per(L.width_tests, L.beams), S.photons, L.photons));
+        std::max(in.least_width_growth, growth(per(S.width_tests, S.beams), per(L.width_tests, L.beams), S.photons, L.photons));
     out.pilot_units = beam_pilot_units(S, in.units, in.beam_units) + beam_pilot_units(L, in.units, in.beam_units);
     out.pass_budget = std::max(0.0, in.budget - out.pilot_units) / kBeamPlanMinPasses;
     auto fits = [&](double n, double s) { return beam_pass_units(in, n, s) <= out.pass_budget; };
     int64_t n = in.count;
-    int s = in.size_samples ? 1 : in.spp;
+    int s = in.size_samples ? std::min(in.spp, std::max(1, in.least_spp)) : in.spp;
     if (in.size_photons) {
         // Halve N until the pass fits, down to the small pilot's photons (at least 1).
         const int64_t floor_n = std::max<int64_t>(1, int64_t(S.photons));
         while (n > floor_n && !fits(double(n), double(s))) n = std::max(floor_n, n / 2);
     }
+    if (in.size_samples)   // the least S does not fit even at the fewest photons: fewer samples
+        while (s > 1 && !fits(double(n), double(s))) s /= 2;
     if (in.size_samples)
         while (s * 2 <= in.spp && fits(double(n), double(s * 2))) s *= 2;
+    if (in.balance_camera && in.size_photons && in.size_samples) balance_camera_share(in, fits, n, s);
     out.count = n;
     out.spp = s;
     out.pass_units = beam_pass_units(in, double(n), double(s), &out.map_units);

@@ -58,6 +58,14 @@ BeamWorkUnits point_beam_work_units(double radius_query);
 // (N discs of radius ~N^(-1/3): N r^2), read N^0.32 in glass_sphere_fog from 25,000 to 100,000 photons.
 constexpr double kLeastBeamTestGrowth = 0.5;
 constexpr double kLeastDiscTestGrowth = 1.0 / 3.0;
+// The least growth of the width tests per beam beyond the pilots: sample-point widths N^0.75 (between
+// pilots of 1,024 and 4,096 photons it reads near 0; from 12,500 to 50,000 photons N^0.77); density
+// widths 0 (a fixed number of neighbours per beam; the log N of the tree is left out).
+constexpr double kLeastWidthGrowth = 0.75;
+constexpr double kLeastDensityWidthGrowth = 0.0;
+// photon_beams' least samples per pass: the camera's noise, not the beams', dominates a pass of
+// 1 spp on the caustic scenes (docs/photon_beams.md, "Density widths").
+constexpr int kBeamLeastSpp = 4;
 
 struct BeamPassInputs {
     BeamPilotCounts small, large;   // the pilots, small.photons < large.photons
@@ -69,6 +77,13 @@ struct BeamPassInputs {
     bool size_photons = false;      // false: N stays count
     bool size_samples = false;      // false: S stays spp
     double least_test_growth = kLeastBeamTestGrowth;   // kLeastDiscTestGrowth for point_beam
+    double least_width_growth = kLeastWidthGrowth;     // kLeastDensityWidthGrowth for density widths
+    // Where both N and S are sized: move work from photons to camera samples until the photon side
+    // holds at most half of the pass (photon_beams; point_beam keeps the largest N).
+    bool balance_camera = false;
+    // Samples per pass the sizing starts from where it sizes S (at most spp): photons are halved
+    // until a pass of least_spp fits, then S doubles while it fits. photon_beams: kBeamLeastSpp.
+    int least_spp = 1;
     double budget = 0.0;            // render.time_limit in work units (kWorkUnitsPerSecond per second)
 };
 

@@ -120,6 +120,9 @@ void PhotonMapIntegrator::plan_beam_pass(const PassContext& context, RunStats& s
         in.least_test_growth = kLeastDiscTestGrowth;
     } else {
         in.beam_units = beam_work_units();
+        in.balance_camera = true;
+        in.least_spp = kBeamLeastSpp;
+        if (settings_.beam_widths == BeamWidths::density) in.least_width_growth = kLeastDensityWidthGrowth;
     }
     in.pixels = double(scene_.camera.width()) * double(scene_.camera.height());
     in.count = settings_.count;

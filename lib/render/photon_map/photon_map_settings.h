@@ -58,7 +58,7 @@ struct PhotonMapSettings {
     int gather_queries = 4;
     MarchCount march_points = MarchCount::mass;   // points per crossed medium (transport/march_points.h)
     int beam_k = 32;
-    BeamWidths beam_widths{};   // "balloon" (0)
+    BeamWidths beam_widths{};   // "density" (0)
     double store_probability = 1.0;
     SamplerKind sampler = SamplerKind::independent;   // photons.sampler
     bool store_auto = false;   // store_probability = "auto": from the pass's walk statistics (photon/trace/store_thinning.h)

@@ -109,3 +109,42 @@ TEST(BeamPassSize, PointBeamGrowthFloorIsTheDiscs) {
     beams.beam_units = in.beam_units;
     EXPECT_GE(b.count, size_beam_pass(beams).count);
 }
+
+TEST(BeamPassSize, LeastSamplesComeBeforePhotonsAndGiveWayWhereNothingFits) {
+    // photon_beams: S starts at least_spp, the photons are halved until that pass fits.
+    BeamPassInputs in = inputs(8.0, true, true);
+    in.pixels = 4096.0;   // 64 x 64
+    in.least_spp = 4;
+    const BeamPassSize b = size_beam_pass(in);
+    EXPECT_TRUE(b.fits);
+    EXPECT_GE(b.spp, 4);
+    BeamPassInputs one = in;
+    one.least_spp = 1;
+    const BeamPassSize from_one = size_beam_pass(one);
+    EXPECT_LE(b.count, from_one.count);   // fewer photons (or as many) for the samples
+    // A budget too small for least_spp at the fewest photons: S falls back as far as 1.
+    in.pixels = 65536.0 * 64.0;
+    const BeamPassSize tight = size_beam_pass(in);
+    EXPECT_EQ(tight.count, 1024);
+    EXPECT_EQ(tight.spp, 1);
+}
+
+TEST(BeamPassSize, BalanceMovesWorkFromPhotonsToSamples) {
+    // Photons priced high: at the largest N that fits at 1 spp the photon side holds most of the
+    // pass; balanced, N halves and S doubles while the photons hold more than half and it fits.
+    BeamPassInputs in = inputs(8.0, true, true);
+    in.units.path = 20000.0;
+    in.pixels = 4096.0;
+    const BeamPassSize largest = size_beam_pass(in);
+    in.balance_camera = true;
+    const BeamPassSize b = size_beam_pass(in);
+    EXPECT_TRUE(b.fits);
+    EXPECT_LT(b.count, largest.count);
+    EXPECT_GT(b.spp, largest.spp);
+    // One more step would leave the photons at most half, or not fit.
+    double map = 0.0;
+    const double pass = beam_pass_units(in, double(b.count), double(b.spp), &map);
+    const bool photons_half_or_less = !(2.0 * map > pass);
+    const bool next_does_not_fit = beam_pass_units(in, double(b.count / 2), double(b.spp * 2)) > b.pass_budget;
+    EXPECT_TRUE(photons_half_or_less || next_does_not_fit || b.spp * 2 > in.spp || b.count / 2 < 1024);
+}

@@ -13,6 +13,7 @@
 #include "core/henyey_greenstein.h"
 #include "core/progress.h"
 #include "photon/estimate/bounded_radius.h"
+#include "photon/map/beam_density_widths.h"
 #include "render/photon_map/photon_map_settings.h"
 #include "render/run/run_record.h"
 #include "render/run/run_stats.h"
@@ -20,7 +21,20 @@
 
 namespace vpm {
 
-const char* beam_widths_name(BeamWidths w) { return w == BeamWidths::balloon ? "balloon" : "sample_point"; }
+const char* beam_widths_name(BeamWidths w) {
+    switch (w) {
+        case BeamWidths::balloon: return "balloon";
+        case BeamWidths::sample_point: return "sample_point";
+        case BeamWidths::density: return "density";
+    }
+    return "balloon";
+}
+
+std::vector<std::string> beam_widths_names() {
+    std::vector<std::string> names;
+    for (BeamWidths w : {BeamWidths::balloon, BeamWidths::sample_point, BeamWidths::density}) names.push_back(beam_widths_name(w));
+    return names;
+}
 
 PhotonBeamsGather::PhotonBeamsGather(const Scene& scene, std::vector<PhotonBeam> beams, BeamWidths widths, size_t k,
                                      bool keep_kth, const Kernel& kernel, double max_width, double max_width_mfp,
@@ -73,9 +87,11 @@ void PhotonBeamsGather::build_part(Part& part) {
         radii = sample_point_widths(part.beams, max_width_, max_width_mfp_);
         if (width_scale_ < 1.0)
             for (double& r : radii) r *= width_scale_;
+    } else if (widths_ == BeamWidths::density) {
+        radii = density_widths(part.beams, piece);
     }
     const Timer bvh_timer;
-    part.bvh = PhotonBeamBvh(part.beams, radii, piece);
+    part.bvh = PhotonBeamBvh(part.beams, radii, piece, widths_ == BeamWidths::density);
     built_.bvh_seconds += bvh_timer.seconds();
     built_.recorded += part.beams.size();
     built_.beams += part.bvh.size();
@@ -171,6 +187,20 @@ double PhotonBeamsGather::segment_bound(const Ray& ray, double t_end) const {
     return bounded_radius(max_width_, max_width_mfp_, majorant);
 }
 
+std::vector<double> PhotonBeamsGather::density_widths(const std::vector<PhotonBeam>& beams, double piece) {
+    const Timer timer;
+    auto bound = [&](const Vec3& x) {
+        double sigma_t = 0.0;
+        for (const auto& m : scene_.media) sigma_t += m->sigma_t(x);
+        return bounded_radius(max_width_, max_width_mfp_, sigma_t);
+    };
+    BeamDensityWidths w = beam_density_widths(beams, piece, k_, bound, width_scale_);
+    built_.widths_seconds += timer.seconds();
+    built_.widths_tested += w.queries * kBeamDensityNeighbours;
+    built_.widths_bounded += w.bounded;
+    return std::move(w.widths);
+}
+
 Rgb PhotonBeamsGather::in_scattering(const Ray& ray, double t_end, RegionMask region, Rng& rng, bool* starved) const {
     if (starved) *starved = false;
     Local& local = local_.local();
@@ -258,7 +288,7 @@ PhotonBeamsGatherStats PhotonBeamsGather::stats() const {
 void PhotonBeamsGather::report_build(RunStats* stats, std::ostream* log) const {
     const PhotonBeamsGatherStats b = this->stats();
     if (stats) {
-        if (widths_ == BeamWidths::sample_point) stats->phase("build_beam_widths", b.widths_seconds);
+        if (widths_ != BeamWidths::balloon) stats->phase("build_beam_widths", b.widths_seconds);
         stats->phase("build_photon_beam_bvh", b.bvh_seconds);
     }
     if (!log) return;
@@ -268,7 +298,7 @@ void PhotonBeamsGather::report_build(RunStats* stats, std::ostream* log) const {
     if (split_) *log << " in " << b.regions << " regions (glass interfaces: a segment weighs its own region's)";
     *log << ", widths \"" << b.widths << "\" (k = " << b.k << ", " << estimator
          << " in 1D)";
-    if (widths_ == BeamWidths::sample_point) *log << ", widths " << b.widths_seconds << " s";
+    if (widths_ != BeamWidths::balloon) *log << ", widths " << b.widths_seconds << " s";
     *log << ", BVH " << b.bvh_seconds << " s, " << b.bytes_per_beam << " bytes/beam\n";
     // No beam at all (no media, or every flight outside them): the segments gather like "march".
     if (!usable() && scene_.has_media())
@@ -296,7 +326,7 @@ void PhotonBeamsGather::add_to(RunStats& run, std::ostream* log) const {
              "photons.max_radius bound them";
         if (std::find(run.warnings.begin(), run.warnings.end(), w.str()) == run.warnings.end()) run.warn(w.str(), log);
     }
-    if (2 * total.widths_bounded > total.recorded) {
+    if (widths_ == BeamWidths::sample_point && 2 * total.widths_bounded > total.recorded) {
         std::ostringstream w;
         w << "photons.beam_widths = \"sample_point\": " << total.widths_bounded << " of " << total.recorded
           << " beams are crossed by fewer than photons.k others within their bound (photons.max_radius_mfp mean free "

@@ -32,13 +32,19 @@
 //                   field for every k and kernel (no k-1 factor). A beam crossed by m < k others
 //                   within its bound takes the bound (a fixed width); with no bound at all, u_m k / m,
 //                   else (m = 0) the median width: every beam keeps its light (counted in the stats).
+//   "density"       each piece of a beam gets a width from the beams' length per volume at its middle
+//                   (photon/map/beam_density_widths.h): the u within which a segment of the beams'
+//                   mean length crosses k beams, bounded as sample_point's. No k-nearest search: a
+//                   camera segment weighs the pieces whose own-width cylinders it crosses. Unbiased
+//                   for the blurred field as sample_point's (the widths do not depend on the ray).
 //
 // In a scene with closed glass shapes the beams are split by region (scene/dielectric_regions.h): a
 // beam is one free flight, which crosses no glass, so it lies in one region. Each region's beams get
-// their own BVH (and their own sample-point widths), and a camera segment in region R weighs only
-// R's beams, as the point gathers' maps are split. A region with no beam is starved: the caller
+// their own BVH (and their own sample-point or density widths), and a camera segment in region R
+// weighs only R's beams, as the point gathers' maps are split. A region with no beam is starved: the caller
 // gathers its segments as the collision gather does.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -55,8 +61,10 @@
 
 namespace vpm {
 
-enum class BeamWidths { balloon, sample_point };
+// density first: PhotonMapSettings::beam_widths{} (the default) is its value 0.
+enum class BeamWidths { density, balloon, sample_point };
 const char* beam_widths_name(BeamWidths w);
+std::vector<std::string> beam_widths_names();   // photons.beam_widths' values
 
 class PhotonBeamsGather : public SegmentGather {
 public:
@@ -116,6 +124,9 @@ private:
     // beam_widths = "sample_point": each beam's width from its own k nearest other beams within its
     // bound (the widths' counts into built_); refuses a run where most widths would be guessed.
     std::vector<double> sample_point_widths(const std::vector<PhotonBeam>& beams, double max_width, double max_width_mfp);
+    // beam_widths = "density": one width per beam from the beams' density, repeated for its pieces of `piece` length
+    // (photon/map/beam_density_widths.h), bounded as sample_point's, times width_scale_.
+    std::vector<double> density_widths(const std::vector<PhotonBeam>& beams, double piece);
     // The part's BVH (and sample-point widths), its counts into built_.
     void build_part(Part& part);
     // The part of `region` (the only one when not split); null where that region has no beam.

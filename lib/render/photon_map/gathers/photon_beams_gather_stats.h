@@ -8,7 +8,7 @@
 namespace vpm {
 
 struct PhotonBeamsGatherStats : StatsSectionOf<PhotonBeamsGatherStats> {
-    std::string widths;              // photons.beam_widths: "balloon" | "sample_point"
+    std::string widths;              // photons.beam_widths: "balloon" | "sample_point" | "density"
     uint64_t k = 0;                  // photons.k of the last pass (photons.schedule may shrink it)
     uint64_t recorded = 0;           // beams the photon pass recorded (last pass)
     uint64_t beams = 0;              // beams in the BVHs (last pass)
@@ -17,8 +17,8 @@ struct PhotonBeamsGatherStats : StatsSectionOf<PhotonBeamsGatherStats> {
     double piece_length = 0.0;       // the longest piece (PhotonBeamBvh::automatic_piece_length)
     uint64_t bvh_bytes = 0;          // BVH items + nodes + the beams' records (last pass)
     double bytes_per_beam = 0.0;
-    double widths_seconds = 0.0;     // sample_point: each beam's k nearest (summed over passes)
-    uint64_t widths_tested = 0;      // sample_point: crossing tests of those queries (summed over passes)
+    double widths_seconds = 0.0;     // sample_point: each beam's k nearest; density: the pieces' density (summed over passes)
+    uint64_t widths_tested = 0;      // sample_point: crossing tests of those queries; density: neighbours sought (summed over passes)
     double bvh_seconds = 0.0;        // summed over passes
     uint64_t queries = 0;            // camera segments answered by one BVH query
     uint64_t crossed = 0;            // beams weighed (within the width, feet inside both segments)
@@ -27,7 +27,8 @@ struct PhotonBeamsGatherStats : StatsSectionOf<PhotonBeamsGatherStats> {
     uint64_t band_zeros = 0;         // balloon: segments crossed by exactly k - 1 within the mfp bound (0: bounded_radius.h's split)
     // Rules that would leave light out, counted (last pass). sample_point widths of beams crossed by
     // fewer than k others: bounded (photons.max_radius), extrapolated (u_m k / m from the m < k
-    // found) or typical (none found: the median width); beams_left_out: non-finite or empty flights.
+    // found) or typical (none found: the median width); density: pieces whose width took the bound;
+    // beams_left_out: non-finite or empty flights.
     uint64_t widths_bounded = 0;
     uint64_t widths_extrapolated = 0;
     uint64_t widths_typical = 0;
