@@ -2,9 +2,8 @@
 // Glass resting flat on another surface (a bottle's base on a floor, in one plane) is not
 // reciprocal in a ray tracer: light refracted out of the glass face starts past the surface under it
 // and misses it, while paths leaving that surface pass into the glass. Photons (from the lights) and
-// camera paths then see different scenes, and the photon map disagrees with the path tracer (the
-// bottle in configs/smoke_in_glass_bottle.toml read 1.6% low before it was lifted 2 mm). The scene
-// warns; a small gap between the two removes it.
+// camera paths then see different scenes, and the photon map disagrees with the path tracer
+// (docs/interior_medium.md). The scene warns; a small gap between the two removes it.
 #include <array>
 #include <cstdint>
 #include <vector>
