@@ -158,8 +158,9 @@ class Cell:
         positive, measured: reported, not asserted)."""
 
     def __init__(self, geometry, gather, estimator, k, sampler="independent", neighbours=None, photons=None, pair=None,
-                 extinction=None):
+                 extinction=None, widths=None):
         self.geometry, self.gather, self.estimator, self.k, self.sampler = geometry, gather, estimator, k, sampler
+        self.widths = widths
         # The point gathers count walks unless named: exact for any k however one walk's photons cluster.
         self.neighbours = neighbours or ("walks" if gather in POINT_GATHERS and estimator == "corrected" else "photons")
         _, self.truth, self.share = GEOMETRIES[geometry]
@@ -177,8 +178,10 @@ class Cell:
             self.sets.append(f"photons.count={photons}")
         if extinction:
             self.sets.append(f'photons.extinction="{extinction}"')
+        if widths:   # photon_beams' beam widths (photons.beam_widths)
+            self.sets.append(f'photons.beam_widths="{widths}"')
         self.name = (f"{geometry} {gather} {estimator} k{k} {sampler}" + (" walks" if self.neighbours == "walks" else "") +
-                     (f" {extinction}-extinction" if extinction else ""))
+                     (f" {extinction}-extinction" if extinction else "") + (f" {widths}-widths" if widths else ""))
 
     def verdict(self, v, partner):
         """(mean, exact, se of the checked difference, z, asserted) for this cell's per-map means v."""
@@ -213,13 +216,17 @@ def ball_estimators(gather, maps, ci=False):
         photons = Cell("ball", gather, "corrected", 4, neighbours="photons", pair=walks.name, extinction="ball")
         out.append((photons, 2 * maps))
     else:
-        # photon_beams' corrected balloon at k 4 scatters by ~18% per map (a heavy tail): CI checks k 32.
-        photons = Cell("ball", gather, "corrected", 32 if ci else 4)
-        out += [(photons, maps)] + ([] if ci else [(Cell("ball", gather, "corrected", 32), maps)])
+        # photon_beams' balloon widths (the k nearest beams: the estimators' k - 1 factor applies) and its
+        # density widths (fixed per beam: no estimator factor). The corrected balloon at k 4 scatters by
+        # ~18% per map (a heavy tail): CI checks k 32.
+        photons = Cell("ball", gather, "corrected", 32 if ci else 4, widths="balloon")
+        out += [(photons, maps), (Cell("ball", gather, "corrected", 32, widths="density"), 2 * maps)]
+        out += [] if ci else [(Cell("ball", gather, "corrected", 32, widths="balloon"), maps)]
     for estimator in ESTIMATORS[gather]:
         if estimator != "corrected":
             out.append((Cell("ball", gather, estimator, photons.k, pair=photons.name,
-                             extinction="ball" if gather in POINT_GATHERS else None), dict(out)[photons]))
+                             extinction="ball" if gather in POINT_GATHERS else None,
+                             widths=photons.widths if gather == "photon_beams" else None), dict(out)[photons]))
     return out
 
 

@@ -22,6 +22,7 @@
 #include "render/run/run.h"
 #include "render/run/run_config.h"
 #include "scene/camera.h"
+#include "support/fake_map_pilot.h"
 
 using namespace vpm;
 
@@ -106,35 +107,11 @@ TEST(NoMapStop, AStoppedCandidateIsScoredButNotChosen) {
 
 namespace {
 
-// Pilot hooks: candidate 0 (a gather, with a map) returns uniform samples at 40 units each,
-// candidate 1 (no map) `no_map(rng)` at 1 unit.
-struct FakePilot {
-    std::atomic<int64_t> work{0};
-    int current = 0;
-    std::function<double(Rng&)> no_map;
-    MapNoisePilotHooks hooks() {
-        MapNoisePilotHooks h;
-        h.use = [this](int c, const PhotonMap*) { current = c; };
-        h.trace = [this](const Ray&, Rng& rng) {
-            work += current == 1 ? 1 : 40;
-            return Rgb::Constant(current == 1 ? no_map(rng) : rng.uniform());
-        };
-        h.counts = [this] {
-            CountedOperations c;
-            c.rays = double(work.load());
-            c.queries = c.map_used = c.rays;
-            return c;
-        };
-        h.work = [](const CountedOperations& c) { return c.rays; };
-        return h;
-    }
-};
-
 std::vector<GatherMeasurement> pilot(const std::function<double(Rng&)>& no_map,
                                      const std::function<bool(std::vector<GatherMeasurement>&)>& stop) {
     const Camera camera(Vec3(0, 0, 4), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 32, 32);
     const PhotonMap map;
-    FakePilot fake;
+    test::FakeMapPilot fake(1);
     fake.no_map = no_map;
     MapNoisePilotHooks h = fake.hooks();
     h.stop = stop;

@@ -20,6 +20,7 @@
 #include "support/vpm_process.h"
 #include "render/run/run.h"
 #include "scene/camera.h"
+#include "support/fake_map_pilot.h"
 #include "render/photon_map/photon_map_stats.h"
 
 using namespace vpm;
@@ -50,34 +51,10 @@ TEST(PilotTail, RelativeStandardErrorOfTheVarianceRead) {
 
 namespace {
 
-// Pilot hooks whose candidates 0 and 1 ("gathers", with a map) return light samples and cost 40
-// units each, and whose candidate 2 (no map) costs 1 unit and returns `no_map(rng)`.
-struct FakePilot {
-    std::atomic<int64_t> work{0};
-    int current = 0;
-    std::function<double(Rng&)> no_map;
-    MapNoisePilotHooks hooks() {
-        MapNoisePilotHooks h;
-        h.use = [this](int c, const PhotonMap*) { current = c; };
-        h.trace = [this](const Ray&, Rng& rng) {
-            work += current == 2 ? 1 : 40;
-            return Rgb::Constant(current == 2 ? no_map(rng) : rng.uniform());
-        };
-        h.counts = [this] {
-            CountedOperations c;
-            c.rays = double(work.load());
-            c.queries = c.map_used = c.rays;   // the gathers use the map
-            return c;
-        };
-        h.work = [](const CountedOperations& c) { return c.rays; };
-        return h;
-    }
-};
-
 std::vector<GatherMeasurement> pilot(const std::function<double(Rng&)>& no_map) {
     const Camera camera(Vec3(0, 0, 4), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 32, 32);
     const PhotonMap map;
-    FakePilot fake;
+    test::FakeMapPilot fake(2);
     fake.no_map = no_map;
     MapNoisePilotHooks h = fake.hooks();
     const std::vector<PilotCandidate> candidates = {{"collision", true}, {"march", true}, {kNoMapCandidate, false}};
