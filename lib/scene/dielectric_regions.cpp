@@ -86,6 +86,20 @@ double distance_to_box(const Vec3& x, const Bounds3& b) {
     return (below + above).norm();
 }
 
+// How many glass shapes may cross the ball B(x, r) (spheres by their surface's distance, meshes by
+// their bounds); `last` the index of the last.
+int shapes_within(const std::vector<DielectricShape>& shapes, const Vec3& x, double r, int& last) {
+    int count = 0;
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        const DielectricShape& s = shapes[i];
+        if (s.sphere ? std::abs((x - s.center).norm() - s.radius) < r : distance_to_box(x, s.bounds) < r) {
+            last = int(i);
+            ++count;
+        }
+    }
+    return count;
+}
+
 }  // namespace
 
 RegionMask region_at(const Surfaces* surfaces, const Vec3& x) {
@@ -116,15 +130,8 @@ RegionMask region_at(const Surfaces* surfaces, const Vec3& x) {
 double region_ball_fraction(const Surfaces* surfaces, const Vec3& x, double r, RegionMask region) {
     if (!surfaces || !(r > 0.0)) return 1.0;
     const auto& shapes = surfaces->dielectric_shapes();
-    int crossing = -1, crossings = 0;
-    for (size_t i = 0; i < shapes.size(); ++i) {
-        const DielectricShape& s = shapes[i];
-        const bool crosses = s.sphere ? std::abs((x - s.center).norm() - s.radius) < r : distance_to_box(x, s.bounds) < r;
-        if (crosses) {
-            crossing = int(i);
-            ++crossings;
-        }
-    }
+    int crossing = -1;
+    const int crossings = shapes_within(shapes, x, r, crossing);
     if (crossings == 0) return 1.0;
     if (crossings == 1 && shapes[size_t(crossing)].sphere) {
         const DielectricShape& s = shapes[size_t(crossing)];
@@ -142,15 +149,8 @@ double region_ball_fraction(const Surfaces* surfaces, const Vec3& x, double r, R
 double region_disc_fraction(const Surfaces* surfaces, const Vec3& x, const Vec3& n, double r, RegionMask region) {
     if (!surfaces || !(r > 0.0)) return 1.0;
     const auto& shapes = surfaces->dielectric_shapes();
-    int crossing = -1, crossings = 0;
-    for (size_t i = 0; i < shapes.size(); ++i) {
-        const DielectricShape& s = shapes[i];
-        const bool near = s.sphere ? std::abs((x - s.center).norm() - s.radius) < r : distance_to_box(x, s.bounds) < r;
-        if (near) {
-            crossing = int(i);
-            ++crossings;
-        }
-    }
+    int crossing = -1;
+    const int crossings = shapes_within(shapes, x, r, crossing);
     if (crossings == 0) return 1.0;
     if (crossings == 1 && shapes[size_t(crossing)].sphere) {
         // The sphere cuts the disc's plane in a circle of radius rho about c's foot in the plane.
