@@ -13,7 +13,6 @@ namespace vpm {
 
 namespace {
 
-
 // The pieces' middles and lengths, in PhotonBeamBvh's per-piece order.
 struct PieceCloud {
     std::vector<Vec3> middle;
@@ -55,7 +54,6 @@ double mean_density(const PieceCloud& c) {
 }
 
 // lambda at x: the nearest pieces' lengths (all but the farthest found) over the ball of the farthest.
-template <class Tree>
 double local_density(const Tree& tree, const PieceCloud& cloud, const Vec3& x, std::vector<uint32_t>& index,
                      std::vector<double>& d2, double fallback) {
     nanoflann::KNNResultSet<double, uint32_t> result(index.size());

@@ -46,9 +46,9 @@ bool boxes_touch(const Bounds3& p, const Bounds3& q, double tol) {
     return (p.lo.array() <= q.hi.array() + tol).all() && (q.lo.array() <= p.hi.array() + tol).all();
 }
 
-bool pair_touches(const Triangle& s, const Triangle& t) {
+// tol: how far apart two planes count as one (float rounding at their coordinates).
+bool pair_touches(const Triangle& s, const Triangle& t, double tol) {
     if (s.n.isZero() || t.n.isZero() || std::abs(s.n.dot(t.n)) < 1.0 - 1e-9) return false;
-    const double tol = 8.0 * FLT_EPSILON * (magnitude(s.a) + magnitude(t.a));
     if (std::abs(t.n.dot(s.a - t.a)) > tol) return false;
     for (const Vec3& p : interior_points(s))
         if (inside(t, p)) return true;
@@ -65,7 +65,7 @@ bool touch_in_a_plane(const TriangleMeshView& a, const TriangleMeshView& b) {
     for (const Triangle& s : ta)
         for (const Triangle& t : tb) {
             const double tol = 8.0 * FLT_EPSILON * (magnitude(s.a) + magnitude(t.a));
-            if (boxes_touch(s.bounds, t.bounds, tol) && pair_touches(s, t)) return true;
+            if (boxes_touch(s.bounds, t.bounds, tol) && pair_touches(s, t, tol)) return true;
         }
     return false;
 }
