@@ -46,7 +46,15 @@ bool boxes_touch(const Bounds3& p, const Bounds3& q, double tol) {
     return (p.lo.array() <= q.hi.array() + tol).all() && (q.lo.array() <= p.hi.array() + tol).all();
 }
 
-// tol: how far apart two planes count as one (float rounding at their coordinates).
+// How far apart two triangles' planes count as one: a spawned ray's offset at their coordinates
+// (offsets.h), or float rounding at their own size (Embree sees coordinates about the scene's
+// centre, so a triangle far from the origin is resolved at its size, not at its distance).
+double plane_tolerance(const Triangle& s, const Triangle& t) {
+    const double size = (s.bounds.hi - s.bounds.lo).maxCoeff() + (t.bounds.hi - t.bounds.lo).maxCoeff();
+    return std::max(kSpawnOffset * (magnitude(s.a) + magnitude(t.a)), 8.0 * FLT_EPSILON * size);
+}
+
+// tol: plane_tolerance.
 bool pair_touches(const Triangle& s, const Triangle& t, double tol) {
     if (s.n.isZero() || t.n.isZero() || std::abs(s.n.dot(t.n)) < 1.0 - 1e-9) return false;
     if (std::abs(t.n.dot(s.a - t.a)) > tol) return false;
@@ -64,7 +72,7 @@ bool touch_in_a_plane(const TriangleMeshView& a, const TriangleMeshView& b) {
     const std::vector<Triangle> ta = triangles_of(a), tb = triangles_of(b);
     for (const Triangle& s : ta)
         for (const Triangle& t : tb) {
-            const double tol = 8.0 * FLT_EPSILON * (magnitude(s.a) + magnitude(t.a));
+            const double tol = plane_tolerance(s, t);
             if (boxes_touch(s.bounds, t.bounds, tol) && pair_touches(s, t, tol)) return true;
         }
     return false;

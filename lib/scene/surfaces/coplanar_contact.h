@@ -20,8 +20,8 @@ struct TriangleMeshView {
 // Pairs of triangles tested at most: a pair of larger meshes is not checked (false).
 constexpr double kCoplanarPairLimit = 2e7;
 
-// Whether a triangle of `a` and one of `b` lie in one plane (parallel within 1e-9, within float
-// rounding of each other's plane) and overlap (a centroid or a vertex of one inside the other).
+// Whether a triangle of `a` and one of `b` lie in one plane (parallel within 1e-9, within rounding
+// at their size of each other's plane) and overlap (a centroid or a vertex of one inside the other).
 bool touch_in_a_plane(const TriangleMeshView& a, const TriangleMeshView& b);
 
 }  // namespace vpm

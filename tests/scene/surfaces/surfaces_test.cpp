@@ -548,4 +548,13 @@ TEST(Surfaces, GlassRestingFlatOnAnotherShapeIsReported) {
     // A glass box beside the floor's edge, its face in the floor's plane but off the quad: not touching.
     const std::string away = "[[shapes]]\ntype = \"box\"\nmin = [2.5, 0, 0]\nmax = [3, 0.5, 0.5]\nmaterial = \"dielectric\"\n";
     EXPECT_TRUE(build(floor + away)->coplanar_glass_contacts().empty());
+    // A million units from the origin: touching is reported, a 1e-3 gap is not (rounding is judged at
+    // the triangles' size, as Embree sees them about the scene's centre).
+    const auto far = [](double y0) {
+        return std::string("[[shapes]]\ntype = \"quad\"\ncenter = [1e6, 0, 1e6]\nu = [2, 0, 0]\nv = [0, 0, -2]\n") +
+               "[[shapes]]\ntype = \"box\"\nmin = [999999.7, " + std::to_string(y0) +
+               ", 999999.7]\nmax = [1000000.3, 0.5, 1000000.3]\nmaterial = \"dielectric\"\n";
+    };
+    EXPECT_EQ(build(far(0.0))->coplanar_glass_contacts().size(), 1u);
+    EXPECT_TRUE(build(far(1e-3))->coplanar_glass_contacts().empty());
 }
